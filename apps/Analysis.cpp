@@ -1,0 +1,139 @@
+// runAnalysis: builds the displacement model from a Problem, steps through the load factors,
+// prints a progress line per step, and writes HDF5/XDMF/summary.json.
+#include <apps/Analysis.hpp>
+#include <solver/DisplacementModel.hpp>
+#include <solver/Environment.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+
+namespace mixcon {
+
+RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  RunResult result;
+  result.outputDirectory = options.outputDirectory.empty() ? p.outputDirectory
+                                                           : options.outputDirectory;
+  std::ostream *log = options.log;
+
+  // Materials per element through regions.
+  std::vector<PlaneMatrix> stiffness;
+  std::vector<int> materialOfRegion(p.mesh.regionNames.size(), -1);
+  for (const auto &m : p.materials) {
+    materialOfRegion[p.mesh.regionIndex(m.region)] = static_cast<int>(stiffness.size());
+    stiffness.push_back(m.stiffness);
+  }
+  std::vector<int> elementMaterial(p.mesh.numElements());
+  for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
+    elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
+
+  LinearDisplacementModel model(p.mesh, elementMaterial, stiffness, p.model.thickness);
+  for (const auto &bc : p.dirichlet)
+    for (LocalIndex n : p.mesh.nodesOf(bc.target)) {
+      if (bc.ux)
+        model.prescribe(n, 0, *bc.ux);
+      if (bc.uy)
+        model.prescribe(n, 1, *bc.uy);
+    }
+  for (const auto &l : p.loads) {
+    switch (l.kind) {
+    case LoadKind::Traction:
+      model.addEdgeLoad(p.mesh.boundaries.at(l.target), l.vector[0], l.vector[1], 0.0);
+      break;
+    case LoadKind::Pressure:
+      model.addEdgeLoad(p.mesh.boundaries.at(l.target), 0.0, 0.0, l.pressure);
+      break;
+    case LoadKind::Force:
+      for (LocalIndex n : p.mesh.nodesOf(l.target))
+        model.addNodalForce(n, l.vector[0], l.vector[1]);
+      break;
+    case LoadKind::BodyForce: {
+      const int region = p.mesh.regionIndex(l.target);
+      const auto f = l.vector;
+      model.addBodyForce([&, region, f](double, double, LocalIndex e) {
+        return p.mesh.elementRegion[e] == region ? f : std::array<double, 2>{0.0, 0.0};
+      });
+      break;
+    }
+    }
+  }
+
+  ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
+  if (log)
+    *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, "
+         << p.mesh.numElements() << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4")
+         << " elements, " << model.dofs().numGlobal << " unknowns, " << model.numConstrained()
+         << " constrained; " << Environment::describe() << "\n";
+
+  model.setup(p.solver, comm);
+  if (log) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "mixcon: assembly %.3f s, solver setup %.3f s (%s)\n",
+                  model.assemblySeconds(), model.solverSetupSeconds(), model.solverName().c_str());
+    *log << buf;
+  }
+  const double setupCharged = model.assemblySeconds() + model.solverSetupSeconds();
+  const int nsteps = static_cast<int>(p.loadFactors.size());
+  result.converged = true;
+  for (int k = 0; k < nsteps; ++k) {
+    const auto stepStart = clock::now();
+    const double lambda = p.loadFactors[k];
+    const LinearSolveStats s = model.solve(lambda);
+    StepRecord r;
+    r.step = k + 1;
+    r.loadFactor = lambda;
+    r.iterations = 1;
+    r.linearIterations = s.iterations;
+    r.residual = s.relativeResidual;
+    r.setupSeconds = k == 0 ? setupCharged : 0.0;
+    r.solveSeconds = s.solveSeconds;
+    r.converged = s.converged;
+
+    StepFields f;
+    f.displacement = model.displacementHost();
+    f.stress = model.nodalStressHost();
+    f.reaction = model.reactionHost(lambda);
+    model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
+    r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
+    writer.writeStep(r, f);
+    result.steps.push_back(r);
+    result.displacement = std::move(f.displacement);
+    result.stress = std::move(f.stress);
+
+    if (log) {
+      const double elapsed = std::chrono::duration<double>(clock::now() - start).count();
+      const double eta = elapsed / (k + 1) * (nsteps - k - 1);
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "step %d/%d  load factor %.4g  iterations %d  linear its %d  rel. residual "
+                    "%.2e  %s  %.3f s  ETA %.1f s\n",
+                    k + 1, nsteps, lambda, r.iterations, r.linearIterations, r.residual,
+                    r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
+      *log << line << std::flush;
+    }
+    if (!s.converged) {
+      result.converged = false;
+      writer.finish(false, "step " + std::to_string(k + 1) +
+                               ": the linear solver did not converge (relative residual " +
+                               std::to_string(s.relativeResidual) + " after " +
+                               std::to_string(s.iterations) + " iterations)");
+      return result;
+    }
+  }
+
+  if (!p.verification.type.empty()) {
+    result.verification = verify(p, result.displacement, result.stress, p.loadFactors.back());
+    writer.setSummaryExtra("verification", result.verification->json());
+    if (log)
+      *log << result.verification->table();
+  }
+  writer.finish(true, "");
+  if (log)
+    *log << "mixcon: wrote " << result.outputDirectory << "/{"
+         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "") << "summary.json}\n";
+  return result;
+}
+
+} // namespace mixcon

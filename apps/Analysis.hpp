@@ -1,0 +1,33 @@
+// The analysis driver behind `mixcon run`: problem -> model -> load steps -> results. Reusable by
+// embedding codes and tests. Data flow: apps (uses mesh, kernels, solver, io).
+#pragma once
+
+#include <apps/Verification.hpp>
+#include <io/Problem.hpp>
+#include <io/Results.hpp>
+
+#include <iosfwd>
+#include <optional>
+#include <vector>
+
+namespace mixcon {
+
+struct RunOptions {
+  std::string outputDirectory; ///< overrides the problem's output.directory when not empty
+  std::ostream *log = nullptr; ///< progress lines; nullptr: silent
+};
+
+struct RunResult {
+  std::vector<StepRecord> steps;
+  bool converged = false;
+  std::optional<VerificationResult> verification;
+  std::vector<double> displacement; ///< last step, N x 2
+  std::vector<double> stress;       ///< last step, N x 3
+  std::string outputDirectory;
+};
+
+/// Runs the analysis a problem describes and writes its results. Non-convergence of a step is
+/// reported in the result (converged = false, and in summary.json), not thrown.
+RunResult runAnalysis(const Problem &problem, const RunOptions &options, MPI_Comm comm);
+
+} // namespace mixcon

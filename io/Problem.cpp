@@ -1,0 +1,490 @@
+// YAML problem-file reader (yaml-cpp). Every map is checked against its allowed keys; every error
+// names file:line:column and the key path (e.g. "materials[1].E").
+#include <io/Problem.hpp>
+#include <mesh/Generators.hpp>
+#include <mesh/GmshReader.hpp>
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace mixcon {
+
+namespace {
+
+/// A YAML node with its path in the document, for messages.
+struct Item {
+  YAML::Node node;
+  std::string path;
+  const std::string *file;
+
+  [[noreturn]] void fail(const std::string &msg) const {
+    std::ostringstream s;
+    s << *file;
+    const auto m = node.Mark();
+    if (m.line >= 0)
+      s << ":" << m.line + 1 << ":" << m.column + 1;
+    s << ": " << (path.empty() ? "" : path + ": ") << msg;
+    throw InputError(s.str());
+  }
+  int line() const { return node.Mark().line + 1; }
+  bool has(const char *key) const { return node.IsMap() && node[key]; }
+  Item operator[](const char *key) const {
+    return Item{node[key], path.empty() ? key : path + "." + key, file};
+  }
+  Item at(std::size_t i) const {
+    return Item{node[i], path + "[" + std::to_string(i) + "]", file};
+  }
+  Item required(const char *key) const {
+    if (!has(key))
+      fail(std::string("missing required key '") + key + "'");
+    return (*this)[key];
+  }
+  void requireMap() const {
+    if (!node.IsMap())
+      fail("expected a map of key: value");
+  }
+  void requireSequence() const {
+    if (!node.IsSequence())
+      fail("expected a list");
+  }
+  /// Rejects keys outside `allowed` (typos must not be silently ignored).
+  void allowOnly(std::initializer_list<const char *> allowed) const {
+    requireMap();
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      const std::string key = it->first.as<std::string>();
+      bool ok = false;
+      for (const char *a : allowed)
+        ok = ok || key == a;
+      if (!ok) {
+        std::string list;
+        for (const char *a : allowed)
+          list += std::string(list.empty() ? "" : ", ") + a;
+        Item{it->first, path, file}.fail("unknown key '" + key + "' (allowed: " + list + ")");
+      }
+    }
+  }
+  double number() const {
+    if (!node.IsScalar())
+      fail("expected a number");
+    try {
+      const double v = node.as<double>();
+      if (!std::isfinite(v))
+        fail("expected a finite number");
+      return v;
+    } catch (const YAML::Exception &) {
+      fail("expected a number, found '" + node.Scalar() + "'");
+    }
+  }
+  double positive() const {
+    const double v = number();
+    if (!(v > 0.0))
+      fail("must be positive");
+    return v;
+  }
+  int integer() const {
+    if (!node.IsScalar())
+      fail("expected an integer");
+    try {
+      return node.as<int>();
+    } catch (const YAML::Exception &) {
+      fail("expected an integer, found '" + node.Scalar() + "'");
+    }
+  }
+  std::string string() const {
+    if (!node.IsScalar())
+      fail("expected a string");
+    return node.Scalar();
+  }
+  bool boolean() const {
+    try {
+      return node.as<bool>();
+    } catch (const YAML::Exception &) {
+      fail("expected true or false");
+    }
+  }
+  std::array<double, 2> pair() const {
+    if (!node.IsSequence() || node.size() != 2)
+      fail("expected a list of two numbers [x, y]");
+    return {at(0).number(), at(1).number()};
+  }
+  std::array<int, 2> intPair() const {
+    if (!node.IsSequence() || node.size() != 2)
+      fail("expected a list of two integers");
+    return {at(0).integer(), at(1).integer()};
+  }
+  /// One of the listed words.
+  std::string choice(std::initializer_list<const char *> options) const {
+    const std::string v = string();
+    std::string list;
+    for (const char *o : options) {
+      if (v == o)
+        return v;
+      list += std::string(list.empty() ? "" : ", ") + o;
+    }
+    fail("unknown value '" + v + "' (expected one of: " + list + ")");
+  }
+};
+
+ElementType elementType(const Item &i) {
+  const std::string v = i.string();
+  if (v == "quad4")
+    return ElementType::Quad4;
+  if (v == "quad8")
+    return ElementType::Quad8;
+  i.fail("unsupported element '" + v + "' (supported: quad4, quad8)");
+}
+
+std::string joinPath(const std::string &base, const std::string &file) {
+  if (file.empty() || file[0] == '/' || base.empty())
+    return file;
+  return base + "/" + file;
+}
+
+Mesh readMesh(const Item &m, const std::string &baseDir) {
+  m.allowOnly({"file", "generator", "element"});
+  if (m.has("file") == m.has("generator"))
+    m.fail("give exactly one of 'file' or 'generator'");
+  Mesh mesh;
+  if (m.has("file")) {
+    const std::string path = joinPath(baseDir, m["file"].string());
+    std::ifstream probe(path);
+    if (!probe)
+      m["file"].fail("cannot open mesh file '" + path + "'");
+    mesh = readGmsh(path);
+    if (m.has("element")) {
+      const ElementType want = elementType(m["element"]);
+      if (want != mesh.elementType)
+        m["element"].fail(std::string("the mesh file has ") +
+                          (mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") +
+                          " elements but the problem asks for " + m["element"].string());
+    }
+  } else {
+    if (m.has("element"))
+      m["element"].fail("for a generator, give 'element' inside 'generator'");
+    const Item g = m["generator"];
+    g.requireMap();
+    const std::string type =
+        g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk"});
+    const ElementType et = g.has("element") ? elementType(g["element"]) : ElementType::Quad4;
+    try {
+      if (type == "rectangle") {
+        g.allowOnly({"type", "element", "size", "divisions", "origin"});
+        const auto size = g.required("size").pair();
+        const auto div = g.required("divisions").intPair();
+        const auto origin = g.has("origin") ? g["origin"].pair() : std::array<double, 2>{0, 0};
+        mesh = rectangleMesh(size[0], size[1], div[0], div[1], et, origin[0], origin[1]);
+      } else if (type == "quarter_annulus") {
+        g.allowOnly({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
+        const auto div = g.required("divisions").intPair();
+        mesh = quarterAnnulusMesh(g.required("inner_radius").number(),
+                                  g.required("outer_radius").number(), div[0], div[1], et,
+                                  g.has("grading") ? g["grading"].number() : 1.0);
+      } else if (type == "plate_with_hole") {
+        g.allowOnly({"type", "element", "hole_radius", "width", "height", "divisions", "grading"});
+        const auto div = g.required("divisions").intPair();
+        mesh = plateWithHoleMesh(g.required("hole_radius").number(), g.required("width").number(),
+                                 g.required("height").number(), div[0], div[1], et,
+                                 g.has("grading") ? g["grading"].number() : 1.0);
+      } else {
+        g.allowOnly({"type", "element", "radius", "divisions"});
+        const auto div = g.required("divisions").intPair();
+        mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et);
+      }
+    } catch (const InputError &e) {
+      g.fail(e.what());
+    }
+  }
+  validateMesh(mesh);
+  return mesh;
+}
+
+ModelSpec readModel(const Item &m) {
+  m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity"});
+  ModelSpec s;
+  if (m.has("formulation")) {
+    const std::string f = m["formulation"].choice({"displacement", "mixed"});
+    if (f == "mixed")
+      m["formulation"].fail("the mixed formulation is not available in this version yet "
+                            "(use formulation: displacement)");
+  }
+  if (m.has("analysis"))
+    s.analysis = m["analysis"].choice({"plane_stress", "plane_strain"}) == "plane_strain"
+                     ? PlaneAnalysis::PlaneStrain
+                     : PlaneAnalysis::PlaneStress;
+  if (m.has("thickness"))
+    s.thickness = m["thickness"].positive();
+  if (m.has("geometric_nonlinearity")) {
+    s.geometricNonlinearity = m["geometric_nonlinearity"].boolean();
+    if (s.geometricNonlinearity)
+      m["geometric_nonlinearity"].fail("geometrically nonlinear analysis is not available in this "
+                                       "version yet (use false)");
+  }
+  return s;
+}
+
+MaterialSpec readMaterial(const Item &m, PlaneAnalysis analysis) {
+  MaterialSpec s;
+  s.line = m.line();
+  m.requireMap();
+  s.region = m.required("region").string();
+  s.type = m.required("type").choice({"isotropic", "orthotropic", "anisotropic"});
+  const double deg = m.has("angle") ? m["angle"].number() : 0.0;
+  const double theta = deg * M_PI / 180.0;
+  if (s.type == "isotropic") {
+    m.allowOnly({"region", "type", "E", "nu"});
+    s.youngs = m.required("E").positive();
+    s.poisson = m.required("nu").number();
+    if (!(s.poisson > -1.0 && s.poisson < 0.5))
+      m["nu"].fail("Poisson's ratio must lie in (-1, 0.5)");
+    s.stiffness = isotropicStiffness(s.youngs, s.poisson, analysis);
+  } else if (s.type == "orthotropic") {
+    m.allowOnly({"region", "type", "E1", "E2", "E3", "G12", "nu12", "nu13", "nu23", "angle"});
+    OrthotropicConstants k{};
+    k.e1 = m.required("E1").positive();
+    k.e2 = m.required("E2").positive();
+    k.g12 = m.required("G12").positive();
+    k.nu12 = m.required("nu12").number();
+    if (analysis == PlaneAnalysis::PlaneStrain) {
+      k.e3 = m.required("E3").positive();
+      k.nu13 = m.required("nu13").number();
+      k.nu23 = m.required("nu23").number();
+    } else { // out-of-plane constants do not enter plane stress
+      k.e3 = m.has("E3") ? m["E3"].positive() : k.e2;
+      k.nu13 = m.has("nu13") ? m["nu13"].number() : 0.0;
+      k.nu23 = m.has("nu23") ? m["nu23"].number() : 0.0;
+    }
+    s.stiffness = orthotropicStiffness(k, analysis, theta);
+  } else {
+    m.allowOnly({"region", "type", "C11", "C12", "C16", "C22", "C26", "C66", "angle"});
+    PlaneMatrix c{};
+    c.m[0][0] = m.required("C11").number();
+    c.m[0][1] = c.m[1][0] = m.required("C12").number();
+    c.m[0][2] = c.m[2][0] = m.has("C16") ? m["C16"].number() : 0.0;
+    c.m[1][1] = m.required("C22").number();
+    c.m[1][2] = c.m[2][1] = m.has("C26") ? m["C26"].number() : 0.0;
+    c.m[2][2] = m.required("C66").number();
+    s.stiffness = rotateStiffness(c, theta);
+  }
+  if (!isPositiveDefinite(s.stiffness))
+    m.fail("the material's constitutive matrix is not positive definite (check the constants)");
+  return s;
+}
+
+} // namespace
+
+Problem parseProblem(const std::string &yamlText, const std::string &name,
+                     const std::string &baseDirectory) {
+  Problem p;
+  p.file = name;
+  YAML::Node root;
+  try {
+    root = YAML::Load(yamlText);
+  } catch (const YAML::ParserException &e) {
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
+                     std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
+  }
+  const Item top{root, "", &p.file};
+  if (!root.IsMap())
+    top.fail("a problem file is a YAML map with keys mesh, model, materials, ...");
+  top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "steps", "solver",
+                 "output", "verification", "title"});
+
+  p.mesh = readMesh(top.required("mesh"), baseDirectory);
+  if (top.has("model"))
+    p.model = readModel(top["model"]);
+
+  // Materials: one per region, every region covered.
+  const Item mats = top.required("materials");
+  mats.requireSequence();
+  for (std::size_t i = 0; i < mats.node.size(); ++i) {
+    const Item m = mats.at(i);
+    MaterialSpec s = readMaterial(m, p.model.analysis);
+    if (p.mesh.regionIndex(s.region) < 0) {
+      std::string known;
+      for (const auto &r : p.mesh.regionNames)
+        known += " " + r;
+      m["region"].fail("unknown region '" + s.region + "' (mesh regions:" + known + ")");
+    }
+    for (const auto &o : p.materials)
+      if (o.region == s.region)
+        m["region"].fail("region '" + s.region + "' already has a material");
+    p.materials.push_back(s);
+  }
+  for (const auto &r : p.mesh.regionNames) {
+    bool found = false;
+    for (const auto &m : p.materials)
+      found = found || m.region == r;
+    if (!found)
+      mats.fail("region '" + r + "' has no material");
+  }
+
+  auto checkTarget = [&](const Item &i, const std::string &target) {
+    if (!p.mesh.hasBoundary(target) && !p.mesh.hasNodeSet(target)) {
+      std::string known;
+      for (const auto &[n, v] : p.mesh.boundaries)
+        known += " " + n;
+      for (const auto &[n, v] : p.mesh.nodeSets)
+        known += " " + n;
+      i.fail("unknown boundary or node set '" + target + "' (mesh has:" + known + ")");
+    }
+  };
+
+  const Item bcs = top.required("boundary_conditions");
+  bcs.requireSequence();
+  for (std::size_t i = 0; i < bcs.node.size(); ++i) {
+    const Item b = bcs.at(i);
+    b.allowOnly({"boundary", "node_set", "ux", "uy"});
+    if (b.has("boundary") == b.has("node_set"))
+      b.fail("give exactly one of 'boundary' or 'node_set'");
+    DirichletSpec d;
+    d.line = b.line();
+    const Item t = b.has("boundary") ? b["boundary"] : b["node_set"];
+    d.target = t.string();
+    checkTarget(t, d.target);
+    if (b.has("ux"))
+      d.ux = b["ux"].number();
+    if (b.has("uy"))
+      d.uy = b["uy"].number();
+    if (!d.ux && !d.uy)
+      b.fail("a boundary condition needs 'ux' and/or 'uy'");
+    p.dirichlet.push_back(d);
+  }
+  if (p.dirichlet.empty())
+    bcs.fail("no Dirichlet condition anywhere: the body is free to move as a rigid body");
+
+  if (top.has("loads")) {
+    const Item loads = top["loads"];
+    loads.requireSequence();
+    for (std::size_t i = 0; i < loads.node.size(); ++i) {
+      const Item l = loads.at(i);
+      l.allowOnly({"boundary", "node_set", "region", "traction", "pressure", "force", "body_force"});
+      LoadSpec s;
+      s.line = l.line();
+      const int kinds = l.has("traction") + l.has("pressure") + l.has("force") + l.has("body_force");
+      if (kinds != 1)
+        l.fail("give exactly one of 'traction', 'pressure', 'force' or 'body_force'");
+      if (l.has("traction") || l.has("pressure")) {
+        const Item t = l.required("boundary");
+        s.target = t.string();
+        if (!p.mesh.hasBoundary(s.target))
+          t.fail("unknown boundary '" + s.target + "' (tractions and pressures act on boundaries)");
+        if (l.has("traction")) {
+          s.kind = LoadKind::Traction;
+          s.vector = l["traction"].pair();
+        } else {
+          s.kind = LoadKind::Pressure;
+          s.pressure = l["pressure"].number();
+        }
+      } else if (l.has("force")) {
+        const Item t = l.has("node_set") ? l["node_set"] : l.required("boundary");
+        s.target = t.string();
+        checkTarget(t, s.target);
+        s.kind = LoadKind::Force;
+        s.vector = l["force"].pair();
+      } else {
+        const Item t = l.required("region");
+        s.target = t.string();
+        if (p.mesh.regionIndex(s.target) < 0)
+          t.fail("unknown region '" + s.target + "'");
+        s.kind = LoadKind::BodyForce;
+        s.vector = l["body_force"].pair();
+      }
+      p.loads.push_back(s);
+    }
+  }
+
+  if (top.has("steps")) {
+    const Item s = top["steps"];
+    s.allowOnly({"increments", "load_factors"});
+    if (s.has("increments") && s.has("load_factors"))
+      s.fail("give 'increments' or 'load_factors', not both");
+    if (s.has("increments")) {
+      const int n = s["increments"].integer();
+      if (n < 1)
+        s["increments"].fail("must be at least 1");
+      p.loadFactors.clear();
+      for (int k = 1; k <= n; ++k)
+        p.loadFactors.push_back(static_cast<double>(k) / n);
+    } else if (s.has("load_factors")) {
+      const Item f = s["load_factors"];
+      f.requireSequence();
+      if (f.node.size() == 0)
+        f.fail("needs at least one load factor");
+      p.loadFactors.clear();
+      for (std::size_t k = 0; k < f.node.size(); ++k)
+        p.loadFactors.push_back(f.at(k).number());
+    }
+  }
+
+  if (top.has("solver")) {
+    const Item s = top["solver"];
+    s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
+                 "print_level"});
+    if (s.has("type"))
+      p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
+                                                                       : LinearSolverType::Amg;
+    if (s.has("tolerance"))
+      p.solver.tolerance = s["tolerance"].positive();
+    if (s.has("max_iterations"))
+      p.solver.maxIterations = s["max_iterations"].integer();
+    if (s.has("strong_threshold"))
+      p.solver.strongThreshold = s["strong_threshold"].number();
+    if (s.has("aggressive_levels"))
+      p.solver.aggressiveLevels = s["aggressive_levels"].integer();
+    if (s.has("print_level"))
+      p.solver.printLevel = s["print_level"].integer();
+  }
+
+  if (top.has("output")) {
+    const Item o = top["output"];
+    o.allowOnly({"directory", "hdf5"});
+    if (o.has("directory"))
+      p.outputDirectory = o["directory"].string();
+    if (o.has("hdf5"))
+      p.writeHdf5 = o["hdf5"].boolean();
+  }
+
+  if (top.has("verification")) {
+    const Item v = top["verification"];
+    v.requireMap();
+    auto &s = p.verification;
+    s.type = v.required("type").choice({"lame_cylinder", "cantilever"});
+    if (v.has("tolerance"))
+      s.tolerance = v["tolerance"].positive();
+    if (s.type == "lame_cylinder") {
+      v.allowOnly({"type", "tolerance", "inner_radius", "outer_radius", "inner_pressure",
+                   "outer_pressure"});
+      s.innerRadius = v.required("inner_radius").positive();
+      s.outerRadius = v.required("outer_radius").positive();
+      s.innerPressure = v.required("inner_pressure").number();
+      s.outerPressure = v.has("outer_pressure") ? v["outer_pressure"].number() : 0.0;
+    } else {
+      v.allowOnly({"type", "tolerance", "length", "height", "load", "tip"});
+      s.length = v.required("length").positive();
+      s.height = v.required("height").positive();
+      s.load = v.required("load").number();
+      s.tipNodeSet = v.required("tip").string();
+      checkTarget(v["tip"], s.tipNodeSet);
+    }
+    if (p.materials.size() != 1 || p.materials[0].type != "isotropic")
+      v.fail("closed-form verification needs a single isotropic material");
+  }
+  return p;
+}
+
+Problem readProblem(const std::string &path) {
+  std::ifstream in(path);
+  if (!in)
+    throw InputError(path + ": cannot open problem file");
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto slash = path.find_last_of('/');
+  const std::string base = slash == std::string::npos ? "" : path.substr(0, slash);
+  return parseProblem(text.str(), path, base);
+}
+
+} // namespace mixcon

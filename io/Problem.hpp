@@ -1,0 +1,83 @@
+// The problem description: everything a run needs (mesh, model, materials, boundary conditions,
+// loads, steps, solver, output, closed-form verification), read from a YAML problem file whose
+// format docs/problem-format.md documents key by key. Data flow: io (input side).
+#pragma once
+
+#include <kernels/Material.hpp>
+#include <mesh/Mesh.hpp>
+#include <solver/LinearSolver.hpp>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+enum class Formulation { Displacement, Mixed };
+
+struct ModelSpec {
+  Formulation formulation = Formulation::Displacement;
+  PlaneAnalysis analysis = PlaneAnalysis::PlaneStress;
+  double thickness = 1.0;
+  bool geometricNonlinearity = false;
+};
+
+struct MaterialSpec {
+  std::string region;
+  std::string type;      ///< isotropic | orthotropic | anisotropic
+  PlaneMatrix stiffness; ///< [C] in global axes for the model's plane analysis
+  double youngs = 0.0;   ///< isotropic only (for verification); 0 otherwise
+  double poisson = 0.0;  ///< isotropic only
+  int line = 0;
+};
+
+/// Prescribed displacement components on a boundary or node set (scaled by the load factor).
+struct DirichletSpec {
+  std::string target;
+  std::optional<double> ux, uy;
+  int line = 0;
+};
+
+enum class LoadKind { Traction, Pressure, Force, BodyForce };
+
+struct LoadSpec {
+  LoadKind kind = LoadKind::Traction;
+  std::string target; ///< boundary, node set or region
+  std::array<double, 2> vector{0.0, 0.0};
+  double pressure = 0.0;
+  int line = 0;
+};
+
+struct VerificationSpec {
+  std::string type; ///< empty: none; lame_cylinder | cantilever
+  double innerRadius = 0, outerRadius = 0, innerPressure = 0, outerPressure = 0;
+  double length = 0, height = 0, load = 0;
+  std::string tipNodeSet;
+  double tolerance = 0.02;
+};
+
+struct Problem {
+  std::string file; ///< the problem file (for messages)
+  Mesh mesh;
+  ModelSpec model;
+  std::vector<MaterialSpec> materials;
+  std::vector<DirichletSpec> dirichlet;
+  std::vector<LoadSpec> loads;
+  std::vector<double> loadFactors{1.0};
+  LinearSolverOptions solver;
+  std::string outputDirectory = "out";
+  bool writeHdf5 = true;
+  VerificationSpec verification;
+};
+
+/// Reads and validates a problem file; throws InputError ("file:line:column: what") on any
+/// invalid content: unknown keys, missing files, unknown names, regions without material, no
+/// Dirichlet condition, unsupported or mismatched elements, inverted elements.
+Problem readProblem(const std::string &path);
+
+/// Same, from YAML text; relative mesh paths resolve against `baseDirectory`.
+Problem parseProblem(const std::string &yamlText, const std::string &name,
+                     const std::string &baseDirectory);
+
+} // namespace mixcon

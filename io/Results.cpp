@@ -1,0 +1,234 @@
+// HDF5 (C API), XDMF 3 and JSON writers.
+#include <io/Results.hpp>
+
+#include <mixcon_version.hpp>
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace mixcon {
+
+namespace {
+
+void writeDataset(hid_t loc, const std::string &name, const void *data, hid_t type, hsize_t rows,
+                  hsize_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
+  const hid_t set = H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT);
+  if (set < 0) {
+    H5Sclose(space);
+    throw std::runtime_error("HDF5: cannot create dataset " + name);
+  }
+  if (rows > 0)
+    H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  H5Dclose(set);
+  H5Sclose(space);
+}
+
+template <class T> void writeAttribute(hid_t loc, const char *name, T value, hid_t type) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, &value);
+  H5Aclose(a);
+  H5Sclose(space);
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v))
+    return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
+} // namespace
+
+std::string jsonString(const std::string &s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+    case '"':
+      out += "\\\"";
+      break;
+    case '\\':
+      out += "\\\\";
+      break;
+    case '\n':
+      out += "\\n";
+      break;
+    case '\t':
+      out += "\\t";
+      break;
+    default:
+      if (static_cast<unsigned char>(c) < 0x20) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\u%04x", c);
+        out += buf;
+      } else {
+        out += c;
+      }
+    }
+  }
+  return out + "\"";
+}
+
+ResultsWriter::ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5,
+                             std::string problemFile)
+    : directory_(std::move(directory)), problemFile_(std::move(problemFile)), mesh_(mesh),
+      hdf5_(hdf5) {
+  std::error_code ec;
+  std::filesystem::create_directories(directory_, ec);
+  if (ec)
+    throw std::runtime_error("cannot create output directory '" + directory_ +
+                             "': " + ec.message());
+  if (hdf5_) {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported by return codes
+    const std::string path = directory_ + "/results.h5";
+    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (f < 0)
+      throw std::runtime_error("cannot create " + path);
+    file_ = f;
+    const hid_t m = H5Gcreate2(f, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
+    writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
+                 mesh.nodesPerElement);
+    writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT,
+                 mesh.numElements(), 0);
+    writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
+    writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
+    writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
+    H5Gclose(m);
+    const hid_t s = H5Gcreate2(f, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Gclose(s);
+    H5Fflush(f, H5F_SCOPE_GLOBAL);
+  }
+  writeSummary();
+}
+
+ResultsWriter::~ResultsWriter() {
+  if (file_ >= 0)
+    H5Fclose(static_cast<hid_t>(file_));
+}
+
+void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
+  steps_.push_back(r);
+  if (hdf5_) {
+    const hid_t file = static_cast<hid_t>(file_);
+    const std::string name = "/steps/" + std::to_string(r.step);
+    const hid_t g = H5Gcreate2(file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0)
+      throw std::runtime_error("HDF5: cannot create group " + name);
+    const hsize_t nn = mesh_.numNodes();
+    writeDataset(g, "displacement", f.displacement.data(), H5T_NATIVE_DOUBLE, nn, 2);
+    writeDataset(g, "stress", f.stress.data(), H5T_NATIVE_DOUBLE, nn, 3);
+    if (!f.reaction.empty())
+      writeDataset(g, "reaction", f.reaction.data(), H5T_NATIVE_DOUBLE, nn, 2);
+    const hsize_t nq = f.gaussStress.size() / 3;
+    const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
+    writeDataset(gp, "stress", f.gaussStress.data(), H5T_NATIVE_DOUBLE, nq, 3);
+    writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
+    H5Gclose(gp);
+    writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
+    writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
+    writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
+    writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
+    writeAttribute(g, "converged", static_cast<int>(r.converged), H5T_NATIVE_INT);
+    H5Gclose(g);
+    H5Fflush(file, H5F_SCOPE_GLOBAL);
+    writeXdmf();
+  }
+  writeSummary();
+}
+
+void ResultsWriter::setSummaryExtra(const std::string &key, const std::string &jsonValue) {
+  extra_.emplace_back(key, jsonValue);
+  writeSummary();
+}
+
+void ResultsWriter::finish(bool success, const std::string &message) {
+  status_ = success ? "completed" : "failed";
+  message_ = message;
+  writeSummary();
+}
+
+void ResultsWriter::writeXdmf() const {
+  const bool q8 = mesh_.elementType == ElementType::Quad8;
+  const auto ne = mesh_.numElements(), nn = mesh_.numNodes();
+  std::ostringstream x;
+  auto item = [&](const std::string &path, std::size_t rows, int cols, bool isInt) {
+    x << "        <DataItem Dimensions=\"" << rows << " " << cols << "\" NumberType=\""
+      << (isInt ? "Int\" Precision=\"4" : "Float\" Precision=\"8")
+      << "\" Format=\"HDF\">results.h5:" << path << "</DataItem>\n";
+  };
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
+    << "    <Grid Name=\"mixcon\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto &s : steps_) {
+    const std::string base = "/steps/" + std::to_string(s.step);
+    x << "     <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
+      << "      <Time Value=\"" << number(s.loadFactor) << "\"/>\n"
+      << "      <Topology TopologyType=\"" << (q8 ? "Quadrilateral_8" : "Quadrilateral")
+      << "\" NumberOfElements=\"" << ne << "\">\n";
+    item("/mesh/elements", ne, mesh_.nodesPerElement, true);
+    x << "      </Topology>\n      <Geometry GeometryType=\"XY\">\n";
+    item("/mesh/nodes", nn, 2, false);
+    x << "      </Geometry>\n";
+    for (const char *field : {"displacement", "stress"}) {
+      x << "      <Attribute Name=\"" << field
+        << "\" AttributeType=\"Matrix\" Center=\"Node\">\n";
+      item(base + "/" + field, nn, field[0] == 'd' ? 2 : 3, false);
+      x << "      </Attribute>\n";
+    }
+    x << "      <Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
+      << "        <DataItem Dimensions=\"" << ne
+      << "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">results.h5:/mesh/element_region"
+      << "</DataItem>\n      </Attribute>\n     </Grid>\n";
+  }
+  x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  std::ofstream out(directory_ + "/results.xdmf");
+  out << x.str();
+}
+
+void ResultsWriter::writeSummary() const {
+  std::ostringstream j;
+  j << "{\n  \"mixcon_version\": " << jsonString(MIXCON_VERSION_STRING)
+    << ",\n  \"problem\": " << jsonString(problemFile_) << ",\n  \"status\": "
+    << jsonString(status_);
+  if (!message_.empty())
+    j << ",\n  \"message\": " << jsonString(message_);
+  j << ",\n  \"nodes\": " << mesh_.numNodes() << ",\n  \"elements\": " << mesh_.numElements()
+    << ",\n  \"converged\": "
+    << ((status_ == "completed" && !steps_.empty() && steps_.back().converged) ? "true" : "false")
+    << ",\n  \"steps\": [";
+  for (std::size_t i = 0; i < steps_.size(); ++i) {
+    const auto &s = steps_[i];
+    j << (i ? "," : "") << "\n    {\"step\": " << s.step
+      << ", \"load_factor\": " << number(s.loadFactor) << ", \"iterations\": " << s.iterations
+      << ", \"linear_iterations\": " << s.linearIterations
+      << ", \"residual\": " << number(s.residual)
+      << ", \"setup_seconds\": " << number(s.setupSeconds)
+      << ", \"solve_seconds\": " << number(s.solveSeconds)
+      << ", \"total_seconds\": " << number(s.totalSeconds)
+      << ", \"converged\": " << (s.converged ? "true" : "false") << "}";
+  }
+  j << "\n  ]";
+  for (const auto &[k, v] : extra_)
+    j << ",\n  " << jsonString(k) << ": " << v;
+  j << "\n}\n";
+  // Write then rename, so a reader never sees a half-written summary.
+  const std::string path = directory_ + "/summary.json", tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.str();
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+} // namespace mixcon

@@ -1,0 +1,74 @@
+// Result output: HDF5 (mesh + one group per step), an XDMF index that ParaView opens, and
+// summary.json with per-step convergence data. Each step is flushed when written, so results of
+// completed steps stay valid if a later step fails. Layout: docs/output-format.md.
+// Data flow: io (output side, host data only).
+#pragma once
+
+#include <mesh/Mesh.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+/// Convergence record of one load step.
+struct StepRecord {
+  int step = 0;
+  double loadFactor = 0.0;
+  int iterations = 0;        ///< nonlinear (Newton) iterations; 1 for a linear step
+  int linearIterations = 0;  ///< Krylov iterations summed over the step
+  double residual = 0.0;     ///< relative residual of the last solve
+  double setupSeconds = 0.0; ///< solver setup (AMG hierarchy / factorization) charged to the step
+  double solveSeconds = 0.0;
+  double totalSeconds = 0.0;
+  bool converged = false;
+};
+
+/// Host arrays of one step's fields (row-major).
+struct StepFields {
+  std::vector<double> displacement; ///< N x 2
+  std::vector<double> stress;       ///< N x 3 nodal Cauchy stress xx, yy, xy
+  std::vector<double> reaction;     ///< N x 2 (internal minus external force; nonzero at supports)
+  std::vector<double> gaussCoordinates; ///< (E * nq) x 2
+  std::vector<double> gaussStress;      ///< (E * nq) x 3
+  int pointsPerElement = 0;
+};
+
+class ResultsWriter {
+public:
+  /// Creates `directory` (and parents) and, if `hdf5`, results.h5 with the mesh; throws
+  /// std::runtime_error when the directory or file cannot be written.
+  ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5, std::string problemFile);
+  ~ResultsWriter();
+  ResultsWriter(const ResultsWriter &) = delete;
+  ResultsWriter &operator=(const ResultsWriter &) = delete;
+
+  /// Appends a step to results.h5 and rewrites results.xdmf and summary.json.
+  void writeStep(const StepRecord &record, const StepFields &fields);
+  /// Adds a raw JSON member (e.g. "verification": {...}) to summary.json and rewrites it.
+  void setSummaryExtra(const std::string &key, const std::string &jsonValue);
+  /// Marks the run finished (or failed, with a message) in summary.json.
+  void finish(bool success, const std::string &message);
+
+  const std::string &directory() const { return directory_; }
+
+private:
+  void writeXdmf() const;
+  void writeSummary() const;
+
+  std::string directory_;
+  std::string problemFile_;
+  const Mesh &mesh_;
+  bool hdf5_;
+  long long file_ = -1; ///< hid_t of results.h5
+  std::vector<StepRecord> steps_;
+  std::vector<std::pair<std::string, std::string>> extra_;
+  std::string status_ = "running";
+  std::string message_;
+};
+
+/// JSON string literal with escapes.
+std::string jsonString(const std::string &s);
+
+} // namespace mixcon

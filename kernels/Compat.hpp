@@ -1,0 +1,28 @@
+// Portability shims between Kokkos 3.4 (Debian's trilinos sources) and Kokkos 4.x.
+// Sits at the bottom of the data flow: every kernel header may include it.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+
+namespace mixcon {
+
+/// Unsigned 64-bit offsets into CSR value arrays (3D meshes overflow 32-bit nonzero counts).
+using Offset = std::int64_t;
+/// Local (on-rank) indices of nodes, dofs and elements.
+using LocalIndex = int;
+
+namespace detail {
+#if KOKKOS_VERSION >= 30700
+using Kokkos::cos;
+using Kokkos::fabs;
+using Kokkos::sin;
+using Kokkos::sqrt;
+#else
+using Kokkos::Experimental::cos;
+using Kokkos::Experimental::fabs;
+using Kokkos::Experimental::sin;
+using Kokkos::Experimental::sqrt;
+#endif
+} // namespace detail
+
+} // namespace mixcon

@@ -1,0 +1,185 @@
+// Element types as compile-time traits: shape functions, natural-coordinate derivatives,
+// quadrature rules and edge topology for the 2D isoparametric quadrilaterals of the report.
+// Everything here is device-callable and allocation free. Data flow: mesh -> kernels.
+#pragma once
+
+#include <kernels/Compat.hpp>
+
+namespace mixcon {
+
+/// Runtime tag used on the host to choose the compile-time traits once (switch, then template).
+enum class ElementType { Quad4, Quad8 };
+
+namespace detail {
+// Gauss-Legendre abscissae and weights on [-1, 1].
+KOKKOS_INLINE_FUNCTION void gauss1d(int order, int i, double &x, double &w) {
+  if (order == 2) {
+    constexpr double a = 0.57735026918962576451; // 1/sqrt(3)
+    x = (i == 0) ? -a : a;
+    w = 1.0;
+  } else { // order 3
+    constexpr double a = 0.77459666924148337704; // sqrt(3/5)
+    x = (i == 0) ? -a : (i == 1 ? 0.0 : a);
+    w = (i == 1) ? 8.0 / 9.0 : 5.0 / 9.0;
+  }
+}
+// Natural coordinates of the four corners, counter-clockwise from (-1,-1).
+KOKKOS_INLINE_FUNCTION double cornerXi(int a) { return (a == 0 || a == 3) ? -1.0 : 1.0; }
+KOKKOS_INLINE_FUNCTION double cornerEta(int a) { return (a < 2) ? -1.0 : 1.0; }
+} // namespace detail
+
+/// 4-node bilinear quadrilateral, 2x2 Gauss quadrature, 2-node edges.
+struct Quad4 {
+  static constexpr ElementType kType = ElementType::Quad4;
+  static constexpr int kDim = 2;
+  static constexpr int kNumNodes = 4;
+  static constexpr int kGaussOrder = 2;
+  static constexpr int kNumQp = 4;
+  static constexpr int kNumEdges = 4;
+  static constexpr int kNodesPerEdge = 2;
+  static constexpr int kNumEdgeQp = 2;
+  static constexpr const char *kName = "quad4";
+
+  /// Shape functions N and derivatives dN/dxi (dN[a][0]) and dN/deta (dN[a][1]).
+  KOKKOS_INLINE_FUNCTION static void shape(double xi, double eta, double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][2]) {
+    for (int a = 0; a < kNumNodes; ++a) {
+      const double xa = detail::cornerXi(a), ea = detail::cornerEta(a);
+      n[a] = 0.25 * (1.0 + xi * xa) * (1.0 + eta * ea);
+      dn[a][0] = 0.25 * xa * (1.0 + eta * ea);
+      dn[a][1] = 0.25 * ea * (1.0 + xi * xa);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double &xi, double &eta) {
+    xi = detail::cornerXi(a);
+    eta = detail::cornerEta(a);
+  }
+  /// Local node k (0..kNodesPerEdge-1) of edge e; edge e runs from corner e to corner e+1.
+  KOKKOS_INLINE_FUNCTION static int edgeNode(int e, int k) { return k == 0 ? e : (e + 1) % 4; }
+  /// Quadrature point q of the element rule (tensor Gauss), natural coordinates and weight.
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double &xi, double &eta, double &w) {
+    double wx, we;
+    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi, wx);
+    detail::gauss1d(kGaussOrder, q / kGaussOrder, eta, we);
+    w = wx * we;
+  }
+};
+
+/// 8-node serendipity quadrilateral, 3x3 Gauss quadrature, 3-node edges. Node order as Gmsh:
+/// corners 0..3 counter-clockwise, then mid-side nodes 4 (0-1), 5 (1-2), 6 (2-3), 7 (3-0).
+struct Quad8 {
+  static constexpr ElementType kType = ElementType::Quad8;
+  static constexpr int kDim = 2;
+  static constexpr int kNumNodes = 8;
+  static constexpr int kGaussOrder = 3;
+  static constexpr int kNumQp = 9;
+  static constexpr int kNumEdges = 4;
+  static constexpr int kNodesPerEdge = 3;
+  static constexpr int kNumEdgeQp = 3;
+  static constexpr const char *kName = "quad8";
+
+  KOKKOS_INLINE_FUNCTION static void shape(double xi, double eta, double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][2]) {
+    for (int a = 0; a < 4; ++a) {
+      const double xa = detail::cornerXi(a), ea = detail::cornerEta(a);
+      const double p = 1.0 + xi * xa, q = 1.0 + eta * ea, s = xi * xa + eta * ea - 1.0;
+      n[a] = 0.25 * p * q * s;
+      dn[a][0] = 0.25 * xa * q * (s + p);
+      dn[a][1] = 0.25 * ea * p * (s + q);
+    }
+    // Mid-sides on eta = -1 and eta = +1 (nodes 4, 6): xi_a = 0.
+    for (int k = 0; k < 2; ++k) {
+      const int a = 4 + 2 * k;
+      const double ea = (k == 0) ? -1.0 : 1.0;
+      n[a] = 0.5 * (1.0 - xi * xi) * (1.0 + eta * ea);
+      dn[a][0] = -xi * (1.0 + eta * ea);
+      dn[a][1] = 0.5 * ea * (1.0 - xi * xi);
+    }
+    // Mid-sides on xi = +1 and xi = -1 (nodes 5, 7): eta_a = 0.
+    for (int k = 0; k < 2; ++k) {
+      const int a = 5 + 2 * k;
+      const double xa = (k == 0) ? 1.0 : -1.0;
+      n[a] = 0.5 * (1.0 + xi * xa) * (1.0 - eta * eta);
+      dn[a][0] = 0.5 * xa * (1.0 - eta * eta);
+      dn[a][1] = -eta * (1.0 + xi * xa);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double &xi, double &eta) {
+    if (a < 4) {
+      xi = detail::cornerXi(a);
+      eta = detail::cornerEta(a);
+    } else {
+      constexpr double mx[4] = {0.0, 1.0, 0.0, -1.0}, me[4] = {-1.0, 0.0, 1.0, 0.0};
+      xi = mx[a - 4];
+      eta = me[a - 4];
+    }
+  }
+  /// Edge e: corner e, corner e+1, mid-side 4+e (the order of a 3-node Gmsh line).
+  KOKKOS_INLINE_FUNCTION static int edgeNode(int e, int k) {
+    return k == 0 ? e : (k == 1 ? (e + 1) % 4 : 4 + e);
+  }
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double &xi, double &eta, double &w) {
+    double wx, we;
+    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi, wx);
+    detail::gauss1d(kGaussOrder, q / kGaussOrder, eta, we);
+    w = wx * we;
+  }
+};
+
+/// 1D shape functions along an element edge, parameter s in [-1, 1] from the edge's first to
+/// its second node (a 3-node edge has its middle node last).
+template <int NodesPerEdge>
+KOKKOS_INLINE_FUNCTION void edgeShape(double s, double (&n)[NodesPerEdge],
+                                      double (&dn)[NodesPerEdge]) {
+  if constexpr (NodesPerEdge == 2) {
+    n[0] = 0.5 * (1.0 - s);
+    n[1] = 0.5 * (1.0 + s);
+    dn[0] = -0.5;
+    dn[1] = 0.5;
+  } else {
+    n[0] = 0.5 * s * (s - 1.0);
+    n[1] = 0.5 * s * (s + 1.0);
+    n[2] = 1.0 - s * s;
+    dn[0] = s - 0.5;
+    dn[1] = s + 0.5;
+    dn[2] = -2.0 * s;
+  }
+}
+
+/// Jacobian of the isoparametric map at one point: J[i][j] = d x_i / d xi_j, its determinant,
+/// and the physical shape-function gradients dNdx[a][i] = d N_a / d x_i.
+/// Coordinates come as xe[a][i] of the element's nodes.
+template <class Elem>
+KOKKOS_INLINE_FUNCTION double physicalGradients(const double (&xe)[Elem::kNumNodes][2],
+                                                const double (&dn)[Elem::kNumNodes][2],
+                                                double (&dndx)[Elem::kNumNodes][2]) {
+  double j00 = 0, j01 = 0, j10 = 0, j11 = 0;
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    j00 += xe[a][0] * dn[a][0];
+    j01 += xe[a][0] * dn[a][1];
+    j10 += xe[a][1] * dn[a][0];
+    j11 += xe[a][1] * dn[a][1];
+  }
+  const double det = j00 * j11 - j01 * j10;
+  const double inv = 1.0 / det;
+  // d xi_j / d x_i = (J^-1)[j][i]
+  const double i00 = j11 * inv, i01 = -j01 * inv, i10 = -j10 * inv, i11 = j00 * inv;
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    dndx[a][0] = dn[a][0] * i00 + dn[a][1] * i10;
+    dndx[a][1] = dn[a][0] * i01 + dn[a][1] * i11;
+  }
+  return det;
+}
+
+/// Calls f(ElemTraits{}) with the traits matching a runtime element type (host-side dispatch).
+template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
+  switch (type) {
+  case ElementType::Quad8:
+    return f(Quad8{});
+  case ElementType::Quad4:
+  default:
+    return f(Quad4{});
+  }
+}
+
+} // namespace mixcon

@@ -1,0 +1,101 @@
+// Sparse matrix structures for element assembly: the node adjacency graph of a mesh, its
+// expansion to a dof-level CSR matrix with interleaved nodal unknowns (node * dofsPerNode + comp),
+// and the precomputed element-to-CSR scatter map. Data flow: mesh -> kernels (this) -> solver.
+#pragma once
+
+#include <mesh/Mesh.hpp>
+
+namespace mixcon {
+
+/// Compressed sparse rows on `MemorySpace`. Rows are the locally owned unknowns; columns are local
+/// indices (single rank: equal to global ones; with MPI the DofMap translates them).
+template <class MemorySpace> struct CsrMatrix {
+  Kokkos::View<Offset *, MemorySpace> rowOffsets; ///< numRows + 1
+  Kokkos::View<LocalIndex *, MemorySpace> columns; ///< sorted within each row
+  Kokkos::View<double *, MemorySpace> values;
+  LocalIndex numRows = 0;
+  LocalIndex numColumns = 0;
+  Offset numNonzeros() const { return static_cast<Offset>(columns.extent(0)); }
+};
+
+/// Node-to-node adjacency (every pair of nodes sharing an element, self included), host side.
+struct NodeGraph {
+  std::vector<Offset> rowOffsets;
+  std::vector<LocalIndex> columns;
+  LocalIndex numNodes() const { return static_cast<LocalIndex>(rowOffsets.size()) - 1; }
+};
+
+NodeGraph buildNodeGraph(const Mesh &mesh);
+
+/// Expands the node graph to a CSR pattern with `dofsPerNode` interleaved unknowns per node,
+/// values zero-initialized, on `MemorySpace`.
+template <class MemorySpace>
+CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int dofsPerNode) {
+  const LocalIndex nn = graph.numNodes();
+  CsrMatrix<MemorySpace> a;
+  a.numRows = a.numColumns = nn * dofsPerNode;
+  const Offset nnz = static_cast<Offset>(graph.columns.size()) * dofsPerNode * dofsPerNode;
+  a.rowOffsets = Kokkos::View<Offset *, MemorySpace>("mixcon::csr::rowOffsets", a.numRows + 1);
+  a.columns = Kokkos::View<LocalIndex *, MemorySpace>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::columns"), nnz);
+  a.values = Kokkos::View<double *, MemorySpace>("mixcon::csr::values", nnz);
+  auto hr = Kokkos::create_mirror_view(a.rowOffsets);
+  auto hc = Kokkos::create_mirror_view(a.columns);
+  hr(0) = 0;
+  for (LocalIndex n = 0; n < nn; ++n) {
+    const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
+    for (int c = 0; c < dofsPerNode; ++c) {
+      const LocalIndex row = n * dofsPerNode + c;
+      Offset k = hr(row);
+      for (Offset j = 0; j < len; ++j)
+        for (int d = 0; d < dofsPerNode; ++d)
+          hc(k++) = graph.columns[begin + j] * dofsPerNode + d;
+      hr(row + 1) = k;
+    }
+  }
+  Kokkos::deep_copy(a.rowOffsets, hr);
+  Kokkos::deep_copy(a.columns, hc);
+  return a;
+}
+
+/// Element-to-graph scatter map: map(e, a, b) is the position of node(e, b) within the graph row
+/// of node(e, a). The dof entry (a, i; b, j) of element e lives at CSR offset
+/// rowOffsets[node(e,a)*d + i] + map(e, a, b) * d + j for d unknowns per node.
+template <class MemorySpace>
+Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const Mesh &mesh,
+                                                                         const NodeGraph &graph) {
+  const int npe = mesh.nodesPerElement;
+  Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> map("mixcon::assembly::scatterMap",
+                                                              mesh.numElements(), npe, npe);
+  auto h = Kokkos::create_mirror_view(map);
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int a = 0; a < npe; ++a) {
+      const LocalIndex row = mesh.node(e, a);
+      const auto first = graph.columns.begin() + graph.rowOffsets[row];
+      const auto last = graph.columns.begin() + graph.rowOffsets[row + 1];
+      for (int b = 0; b < npe; ++b)
+        h(e, a, b) = static_cast<int>(std::lower_bound(first, last, mesh.node(e, b)) - first);
+    }
+  Kokkos::deep_copy(map, h);
+  return map;
+}
+
+/// y = A x on the device.
+template <class ExecSpace, class MemorySpace>
+void multiply(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
+              const Kokkos::View<const double *, MemorySpace> &x,
+              const Kokkos::View<double *, MemorySpace> &y) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::csr::multiply", Kokkos::RangePolicy<ExecSpace>(exec, 0, a.numRows),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        double s = 0.0;
+        for (Offset k = ro(i); k < ro(i + 1); ++k)
+          s += va(k) * x(co(k));
+        y(i) = s;
+      });
+}
+
+} // namespace mixcon

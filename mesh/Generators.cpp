@@ -1,0 +1,242 @@
+// Structured generators built from mapped patches that are merged at coincident nodes.
+#include <mesh/Generators.hpp>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <sstream>
+
+namespace mixcon {
+
+namespace {
+
+using Map = std::function<std::array<double, 2>(double u, double v)>;
+
+/// One mapped block: (u, v) in [0,1]^2 -> (x, y), nu x nv elements; side names for the edges
+/// v = 0, u = 1, v = 1, u = 0 (empty: interior side, not a named boundary).
+struct Patch {
+  Map map;
+  int nu, nv;
+  std::array<std::string, 4> sides;
+  double gradeU = 1.0; ///< geometric growth of element size along u
+};
+
+/// Parameter of grid line i out of n (geometric grading with ratio between successive sizes).
+double graded(int i, int n, double ratio) {
+  if (std::abs(ratio - 1.0) < 1e-14)
+    return static_cast<double>(i) / n;
+  return (std::pow(ratio, i) - 1.0) / (std::pow(ratio, n) - 1.0);
+}
+
+/// Builds the mesh of several patches, merging nodes that coincide within a tolerance.
+Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::string source) {
+  Mesh mesh;
+  mesh.elementType = type;
+  mesh.nodesPerElement = type == ElementType::Quad8 ? 8 : 4;
+  mesh.regionNames = {"body"};
+  mesh.source = std::move(source);
+  const bool quad8 = type == ElementType::Quad8;
+
+  double extent = 0.0;
+  for (const auto &p : patches)
+    for (double u : {0.0, 1.0})
+      for (double v : {0.0, 1.0}) {
+        auto x = p.map(u, v);
+        extent = std::max({extent, std::abs(x[0]), std::abs(x[1])});
+      }
+  const double tol = 1e-9 * (extent > 0 ? extent : 1.0);
+  std::map<std::pair<long long, long long>, LocalIndex> lookup;
+  auto addNode = [&](std::array<double, 2> x) {
+    const auto key = std::make_pair(std::llround(x[0] / tol), std::llround(x[1] / tol));
+    // Also look at neighbouring cells so that rounding at a cell boundary cannot split a node.
+    for (long long dx = -1; dx <= 1; ++dx)
+      for (long long dy = -1; dy <= 1; ++dy) {
+        auto it = lookup.find({key.first + dx, key.second + dy});
+        if (it != lookup.end())
+          return it->second;
+      }
+    const LocalIndex id = mesh.numNodes();
+    mesh.coordinates.push_back(x[0]);
+    mesh.coordinates.push_back(x[1]);
+    lookup.emplace(key, id);
+    return id;
+  };
+
+  for (const auto &p : patches) {
+    const int mu = quad8 ? 2 * p.nu : p.nu, mv = quad8 ? 2 * p.nv : p.nv;
+    // Grid of (mu+1) x (mv+1) parameter points; Quad8 uses half-steps (mid-side nodes sit at the
+    // mid-parameter, so they lie exactly on curved boundaries).
+    std::vector<LocalIndex> grid(static_cast<std::size_t>(mu + 1) * (mv + 1), -1);
+    auto param = [&](int i, int n, double ratio) {
+      if (!quad8)
+        return graded(i, n, ratio);
+      const int half = i / 2;
+      return (i % 2 == 0) ? graded(half, n, ratio)
+                          : 0.5 * (graded(half, n, ratio) + graded(half + 1, n, ratio));
+    };
+    for (int j = 0; j <= mv; ++j)
+      for (int i = 0; i <= mu; ++i) {
+        if (quad8 && i % 2 == 1 && j % 2 == 1)
+          continue; // no centre node in a serendipity element
+        grid[static_cast<std::size_t>(j) * (mu + 1) + i] =
+            addNode(p.map(param(i, p.nu, p.gradeU), param(j, p.nv, 1.0)));
+      }
+    auto at = [&](int i, int j) { return grid[static_cast<std::size_t>(j) * (mu + 1) + i]; };
+    for (int j = 0; j < p.nv; ++j)
+      for (int i = 0; i < p.nu; ++i) {
+        const LocalIndex e = mesh.numElements();
+        if (quad8) {
+          const int I = 2 * i, J = 2 * j;
+          for (LocalIndex n : {at(I, J), at(I + 2, J), at(I + 2, J + 2), at(I, J + 2),
+                               at(I + 1, J), at(I + 2, J + 1), at(I + 1, J + 2), at(I, J + 1)})
+            mesh.connectivity.push_back(n);
+        } else {
+          for (LocalIndex n : {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)})
+            mesh.connectivity.push_back(n);
+        }
+        mesh.elementRegion.push_back(0);
+        if (j == 0 && !p.sides[0].empty())
+          mesh.boundaries[p.sides[0]].push_back({e, 0});
+        if (i == p.nu - 1 && !p.sides[1].empty())
+          mesh.boundaries[p.sides[1]].push_back({e, 1});
+        if (j == p.nv - 1 && !p.sides[2].empty())
+          mesh.boundaries[p.sides[2]].push_back({e, 2});
+        if (i == 0 && !p.sides[3].empty())
+          mesh.boundaries[p.sides[3]].push_back({e, 3});
+      }
+  }
+  mesh.finalizeIds();
+  return mesh;
+}
+
+/// Index of the node closest to (x, y).
+LocalIndex closestNode(const Mesh &mesh, double x, double y) {
+  LocalIndex best = 0;
+  double bestD = 1e300;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
+    const double d = std::hypot(mesh.x(n) - x, mesh.y(n) - y);
+    if (d < bestD) {
+      bestD = d;
+      best = n;
+    }
+  }
+  return best;
+}
+
+void requirePositive(const char *what, double v, const std::string &gen) {
+  if (!(v > 0.0))
+    throw InputError("mesh generator " + gen + ": " + what + " must be positive");
+}
+
+} // namespace
+
+Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0, double y0) {
+  requirePositive("size[0]", lx, "rectangle");
+  requirePositive("size[1]", ly, "rectangle");
+  requirePositive("divisions[0]", nx, "rectangle");
+  requirePositive("divisions[1]", ny, "rectangle");
+  Patch p{[=](double u, double v) { return std::array<double, 2>{x0 + u * lx, y0 + v * ly}; },
+          nx,
+          ny,
+          {"bottom", "right", "top", "left"}};
+  Mesh mesh = buildPatches({p}, type, "generator rectangle");
+  mesh.nodeSets["bottom_left"] = {closestNode(mesh, x0, y0)};
+  mesh.nodeSets["bottom_right"] = {closestNode(mesh, x0 + lx, y0)};
+  mesh.nodeSets["top_left"] = {closestNode(mesh, x0, y0 + ly)};
+  mesh.nodeSets["top_right"] = {closestNode(mesh, x0 + lx, y0 + ly)};
+  return mesh;
+}
+
+Mesh quarterAnnulusMesh(double a, double b, int nr, int nt, ElementType type, double ratio) {
+  requirePositive("inner_radius", a, "quarter_annulus");
+  requirePositive("divisions[0]", nr, "quarter_annulus");
+  requirePositive("divisions[1]", nt, "quarter_annulus");
+  requirePositive("grading", ratio, "quarter_annulus");
+  if (!(b > a))
+    throw InputError("mesh generator quarter_annulus: outer_radius must exceed inner_radius");
+  Patch p{[=](double u, double v) {
+            const double r = a + u * (b - a), t = v * M_PI / 2;
+            return std::array<double, 2>{r * std::cos(t), r * std::sin(t)};
+          },
+          nr,
+          nt,
+          {"bottom", "outer", "left", "inner"},
+          ratio};
+  return buildPatches({p}, type, "generator quarter_annulus");
+}
+
+Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType type,
+                       double ratio) {
+  requirePositive("hole_radius", a, "plate_with_hole");
+  requirePositive("divisions[0]", nr, "plate_with_hole");
+  requirePositive("divisions[1]", nt, "plate_with_hole");
+  requirePositive("grading", ratio, "plate_with_hole");
+  if (!(w > a && h > a))
+    throw InputError("mesh generator plate_with_hole: width and height must exceed hole_radius");
+  const double tc = std::atan2(h, w); // angle of the plate corner
+  // Block 1: theta in [0, tc], outer side on x = w. Block 2: theta in [tc, pi/2], outer on y = h.
+  Patch right{[=](double u, double v) {
+                const double t = v * tc;
+                const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
+                const std::array<double, 2> out{w, w * std::tan(t)};
+                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
+                                             in[1] + u * (out[1] - in[1])};
+              },
+              nr,
+              nt,
+              {"bottom", "right", "", "hole"},
+              ratio};
+  Patch top{[=](double u, double v) {
+              const double t = tc + v * (M_PI / 2 - tc);
+              const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
+              const std::array<double, 2> out{h * std::cos(t) / std::sin(t), h};
+              return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
+                                           in[1] + u * (out[1] - in[1])};
+            },
+            nr,
+            nt,
+            {"", "top", "left", "hole"},
+            ratio};
+  return buildPatches({right, top}, type, "generator plate_with_hole");
+}
+
+Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
+  requirePositive("radius", r, "quarter_disk");
+  requirePositive("divisions[0]", n, "quarter_disk");
+  requirePositive("divisions[1]", m, "quarter_disk");
+  const double c = 0.5 * r; // core square side
+  Patch core{[=](double u, double v) { return std::array<double, 2>{u * c, v * c}; },
+             n,
+             n,
+             {"bottom", "", "", "left"}};
+  // Curved blocks: u from the core edge (u = 0) to the arc (u = 1), v along it.
+  Patch lower{[=](double u, double v) {
+                const double t = v * M_PI / 4;
+                const std::array<double, 2> in{c, v * c}, out{r * std::cos(t), r * std::sin(t)};
+                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
+                                             in[1] + u * (out[1] - in[1])};
+              },
+              m,
+              n,
+              {"bottom", "arc", "", ""}};
+  Patch upper{[=](double u, double v) {
+                const double t = M_PI / 2 - v * M_PI / 4;
+                const std::array<double, 2> in{v * c, c}, out{r * std::cos(t), r * std::sin(t)};
+                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
+                                             in[1] + u * (out[1] - in[1])};
+              },
+              m,
+              n,
+              // v runs from x = 0 towards the diagonal, so (u, v) is clockwise here: flip below.
+              {"left", "arc", "", ""}};
+  // Make the upper block counter-clockwise by swapping the roles of u and v.
+  Patch upperCcw{[=](double u, double v) { return upper.map(v, u); }, n, m, {"", "", "arc", "left"}};
+  Mesh mesh = buildPatches({core, lower, upperCcw}, type, "generator quarter_disk");
+  mesh.nodeSets["center"] = {closestNode(mesh, 0.0, 0.0)};
+  mesh.nodeSets["arc_bottom"] = {closestNode(mesh, r, 0.0)};
+  mesh.nodeSets["arc_left"] = {closestNode(mesh, 0.0, r)};
+  return mesh;
+}
+
+} // namespace mixcon

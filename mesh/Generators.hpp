@@ -1,0 +1,34 @@
+// Structured mesh generators (Quad4 / Quad8) for the report's geometries and the closed-form
+// validation cases. First stage of the data flow (mesh -> kernels -> ...).
+#pragma once
+
+#include <mesh/Mesh.hpp>
+
+namespace mixcon {
+
+/// Rectangle [x0, x0 + lx] x [y0, y0 + ly] with nx x ny elements.
+/// Region "body"; boundaries "left", "right", "bottom", "top"; node sets "bottom_left",
+/// "bottom_right", "top_left", "top_right" (the corners).
+Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0 = 0.0,
+                   double y0 = 0.0);
+
+/// Quarter annulus a <= r <= b, 0 <= theta <= pi/2 centred at the origin, nr radial x nt
+/// circumferential elements (radial spacing grows geometrically by `ratio` from r = a).
+/// Region "body"; boundaries "inner", "outer", "bottom" (y = 0), "left" (x = 0).
+Mesh quarterAnnulusMesh(double a, double b, int nr, int nt, ElementType type, double ratio = 1.0);
+
+/// Quarter of a w x h rectangular plate (0 <= x <= w, 0 <= y <= h) with a circular hole of radius
+/// a at the origin: two mapped blocks split at the corner ray, nr radial elements, nt elements
+/// per block around the hole (radial grading `ratio` from the hole).
+/// Region "body"; boundaries "hole", "right" (x = w), "top" (y = h), "bottom" (y = 0),
+/// "left" (x = 0).
+Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType type,
+                       double ratio = 1.0);
+
+/// Quarter disk of radius r centred at the origin (x, y >= 0) as an O-grid: a square core of
+/// n x n elements and two curved blocks of n x m elements out to the arc.
+/// Region "body"; boundaries "arc", "bottom" (y = 0), "left" (x = 0); node sets "center",
+/// "arc_bottom" (r, 0), "arc_left" (0, r).
+Mesh quarterDiskMesh(double r, int n, int m, ElementType type);
+
+} // namespace mixcon

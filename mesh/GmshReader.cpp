@@ -1,0 +1,351 @@
+// Gmsh 4.1 ASCII reader: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements.
+#include <mesh/GmshReader.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace mixcon {
+
+namespace {
+
+/// Line-oriented tokenizer that remembers the line number for messages.
+class Lexer {
+public:
+  Lexer(std::istream &in, std::string name) : in_(in), name_(std::move(name)) {}
+
+  /// Next non-empty line split into tokens; false at end of file.
+  bool next(std::vector<std::string> &tokens) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_;
+      if (!line.empty() && line.back() == '\r')
+        line.pop_back();
+      std::istringstream s(line);
+      tokens.clear();
+      std::string t;
+      while (s >> t)
+        tokens.push_back(t);
+      if (!tokens.empty())
+        return true;
+    }
+    return false;
+  }
+  std::vector<std::string> expectLine(const char *what) {
+    std::vector<std::string> t;
+    if (!next(t))
+      fail(std::string("unexpected end of file while reading ") + what);
+    return t;
+  }
+  [[noreturn]] void fail(const std::string &msg) const {
+    throw InputError(name_ + ":" + std::to_string(line_) + ": " + msg);
+  }
+  long toLong(const std::string &s) const {
+    try {
+      std::size_t pos = 0;
+      long v = std::stol(s, &pos);
+      if (pos != s.size())
+        throw std::invalid_argument(s);
+      return v;
+    } catch (const std::exception &) {
+      fail("expected an integer, found '" + s + "'");
+    }
+  }
+  double toDouble(const std::string &s) const {
+    try {
+      std::size_t pos = 0;
+      double v = std::stod(s, &pos);
+      if (pos != s.size())
+        throw std::invalid_argument(s);
+      return v;
+    } catch (const std::exception &) {
+      fail("expected a number, found '" + s + "'");
+    }
+  }
+  void need(const std::vector<std::string> &t, std::size_t n, const char *what) const {
+    if (t.size() < n)
+      fail(std::string("too few fields in ") + what + " (expected " + std::to_string(n) + ")");
+  }
+  int line() const { return line_; }
+
+private:
+  std::istream &in_;
+  std::string name_;
+  int line_ = 0;
+};
+
+const char *gmshTypeName(long type) {
+  switch (type) {
+  case 2:
+    return "3-node triangle";
+  case 9:
+    return "6-node triangle";
+  case 10:
+    return "9-node quadrangle";
+  case 4:
+    return "4-node tetrahedron";
+  case 5:
+    return "8-node hexahedron";
+  default:
+    return "element";
+  }
+}
+
+int gmshNodesPerElement(long type) {
+  switch (type) {
+  case 15:
+    return 1;
+  case 1:
+    return 2;
+  case 8:
+    return 3;
+  case 3:
+    return 4;
+  case 16:
+    return 8;
+  default:
+    return -1;
+  }
+}
+
+} // namespace
+
+Mesh readGmsh(const std::string &path) {
+  std::ifstream in(path);
+  if (!in)
+    throw InputError(path + ": cannot open mesh file");
+  return readGmsh(in, path);
+}
+
+Mesh readGmsh(std::istream &in, const std::string &name) {
+  Lexer lex(in, name);
+  Mesh mesh;
+  mesh.source = name;
+
+  std::map<std::pair<int, int>, std::string> physicalNames; // (dim, tag) -> name
+  std::map<std::pair<int, int>, std::vector<int>> entityPhysicals; // (dim, entity) -> tags
+  std::unordered_map<long, LocalIndex> nodeIndex;
+  struct LineElement {
+    int entity;
+    long id;
+    std::vector<long> nodes;
+    int line;
+  };
+  std::vector<LineElement> lines;
+  struct PointElement {
+    int entity;
+    long node;
+  };
+  std::vector<PointElement> points;
+  std::vector<int> elementEntity;
+  bool sawFormat = false, sawNodes = false, sawElements = false;
+  long quadType = 0;
+
+  std::vector<std::string> t;
+  while (lex.next(t)) {
+    const std::string &section = t[0];
+    if (section == "$MeshFormat") {
+      auto f = lex.expectLine("$MeshFormat");
+      lex.need(f, 3, "$MeshFormat");
+      if (f[0] != "4.1")
+        lex.fail("unsupported Gmsh format version " + f[0] + " (mixcon reads 4.1)");
+      if (f[1] != "0")
+        lex.fail("binary Gmsh files are not supported; save as ASCII (Mesh.Binary = 0)");
+      sawFormat = true;
+    } else if (section == "$PhysicalNames") {
+      const long n = lex.toLong(lex.expectLine("$PhysicalNames")[0]);
+      for (long i = 0; i < n; ++i) {
+        auto p = lex.expectLine("$PhysicalNames");
+        lex.need(p, 3, "$PhysicalNames entry");
+        std::string nm = p[2];
+        for (std::size_t k = 3; k < p.size(); ++k)
+          nm += " " + p[k];
+        if (nm.size() >= 2 && nm.front() == '"' && nm.back() == '"')
+          nm = nm.substr(1, nm.size() - 2);
+        physicalNames[{static_cast<int>(lex.toLong(p[0])), static_cast<int>(lex.toLong(p[1]))}] =
+            nm;
+      }
+    } else if (section == "$Entities") {
+      auto c = lex.expectLine("$Entities");
+      lex.need(c, 4, "$Entities counts");
+      long counts[4];
+      for (int d = 0; d < 4; ++d)
+        counts[d] = lex.toLong(c[d]);
+      for (int d = 0; d < 4; ++d)
+        for (long i = 0; i < counts[d]; ++i) {
+          auto e = lex.expectLine("$Entities");
+          // point: tag x y z nphys tags...; curve/surface/volume: tag 6 bbox nphys tags... nbound
+          const std::size_t physAt = d == 0 ? 4 : 7;
+          lex.need(e, physAt + 1, "$Entities entry");
+          const int tag = static_cast<int>(lex.toLong(e[0]));
+          const long np = lex.toLong(e[physAt]);
+          lex.need(e, physAt + 1 + np, "$Entities entry");
+          for (long k = 0; k < np; ++k)
+            entityPhysicals[{d, tag}].push_back(
+                static_cast<int>(std::labs(lex.toLong(e[physAt + 1 + k]))));
+        }
+    } else if (section == "$Nodes") {
+      auto h = lex.expectLine("$Nodes");
+      lex.need(h, 4, "$Nodes header");
+      const long blocks = lex.toLong(h[0]);
+      for (long b = 0; b < blocks; ++b) {
+        auto bh = lex.expectLine("$Nodes block");
+        lex.need(bh, 4, "$Nodes block header");
+        const bool parametric = lex.toLong(bh[2]) != 0;
+        const long n = lex.toLong(bh[3]);
+        std::vector<long> tags(n);
+        for (long i = 0; i < n; ++i)
+          tags[i] = lex.toLong(lex.expectLine("$Nodes tags")[0]);
+        for (long i = 0; i < n; ++i) {
+          auto xyz = lex.expectLine("$Nodes coordinates");
+          lex.need(xyz, parametric ? 4 : 3, "node coordinates");
+          if (std::abs(lex.toDouble(xyz[2])) > 0.0)
+            lex.fail("node " + std::to_string(tags[i]) +
+                     " has a non-zero z coordinate; mixcon meshes are planar (z = 0)");
+          if (!nodeIndex.emplace(tags[i], mesh.numNodes()).second)
+            lex.fail("duplicate node tag " + std::to_string(tags[i]));
+          mesh.coordinates.push_back(lex.toDouble(xyz[0]));
+          mesh.coordinates.push_back(lex.toDouble(xyz[1]));
+          mesh.nodeIds.push_back(tags[i]);
+        }
+      }
+      sawNodes = true;
+    } else if (section == "$Elements") {
+      auto h = lex.expectLine("$Elements");
+      lex.need(h, 4, "$Elements header");
+      const long blocks = lex.toLong(h[0]);
+      for (long b = 0; b < blocks; ++b) {
+        auto bh = lex.expectLine("$Elements block");
+        lex.need(bh, 4, "$Elements block header");
+        const int dim = static_cast<int>(lex.toLong(bh[0]));
+        const int entity = static_cast<int>(lex.toLong(bh[1]));
+        const long type = lex.toLong(bh[2]);
+        const long n = lex.toLong(bh[3]);
+        const int npe = gmshNodesPerElement(type);
+        if (npe < 0 || dim == 3)
+          lex.fail(std::string("unsupported element type ") + std::to_string(type) + " (" +
+                   gmshTypeName(type) +
+                   "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles");
+        if (dim == 2) {
+          if (quadType != 0 && quadType != type)
+            lex.fail("mixed 4-node and 8-node quadrangles; use one element order per mesh");
+          quadType = type;
+        }
+        for (long i = 0; i < n; ++i) {
+          auto e = lex.expectLine("$Elements entry");
+          lex.need(e, 1 + npe, "element");
+          const long id = lex.toLong(e[0]);
+          std::vector<long> nodes(npe);
+          for (int a = 0; a < npe; ++a)
+            nodes[a] = lex.toLong(e[1 + a]);
+          if (dim == 2) {
+            for (long nt : nodes) {
+              auto it = nodeIndex.find(nt);
+              if (it == nodeIndex.end())
+                lex.fail("element " + std::to_string(id) + " references unknown node " +
+                         std::to_string(nt));
+              mesh.connectivity.push_back(it->second);
+            }
+            mesh.elementIds.push_back(id);
+            elementEntity.push_back(entity);
+          } else if (dim == 1) {
+            lines.push_back({entity, id, nodes, lex.line()});
+          } else {
+            points.push_back({entity, nodes[0]});
+          }
+        }
+      }
+      sawElements = true;
+    } else if (section.size() > 1 && section[0] == '$' && section.rfind("$End", 0) != 0) {
+      // Skip sections mixcon does not use ($Periodic, $NodeData, ...).
+      const std::string end = "$End" + section.substr(1);
+      std::vector<std::string> s;
+      while (lex.next(s) && s[0] != end) {
+      }
+    }
+  }
+  if (!sawFormat)
+    throw InputError(name + ": not a Gmsh file (no $MeshFormat section)");
+  if (!sawNodes || !sawElements)
+    throw InputError(name + ": missing $Nodes or $Elements section");
+  if (quadType == 0)
+    throw InputError(name + ": no quadrilateral elements (2D elements of type 3 or 16)");
+  mesh.elementType = quadType == 16 ? ElementType::Quad8 : ElementType::Quad4;
+  mesh.nodesPerElement = quadType == 16 ? 8 : 4;
+
+  auto groupNames = [&](int dim, int entity) {
+    std::vector<std::string> names;
+    auto it = entityPhysicals.find({dim, entity});
+    if (it == entityPhysicals.end())
+      return names;
+    for (int tag : it->second) {
+      auto pn = physicalNames.find({dim, tag});
+      names.push_back(pn != physicalNames.end() ? pn->second : std::to_string(tag));
+    }
+    return names;
+  };
+
+  // Regions: the first physical group of each element's surface (or "surface_<tag>").
+  for (std::size_t e = 0; e < elementEntity.size(); ++e) {
+    auto names = groupNames(2, elementEntity[e]);
+    const std::string region =
+        names.empty() ? "surface_" + std::to_string(elementEntity[e]) : names.front();
+    int idx = mesh.regionIndex(region);
+    if (idx < 0) {
+      idx = static_cast<int>(mesh.regionNames.size());
+      mesh.regionNames.push_back(region);
+    }
+    mesh.elementRegion.push_back(idx);
+  }
+
+  // Boundaries: match each physical line element to the element edge with the same end nodes.
+  std::map<std::pair<LocalIndex, LocalIndex>, BoundaryEdge> edgeOf;
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int k = 0; k < 4; ++k) {
+      const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4);
+      edgeOf[{std::min(a, b), std::max(a, b)}] = {e, k};
+    }
+  const int lineNodes = mesh.nodesPerEdge();
+  for (const auto &l : lines) {
+    auto names = groupNames(1, l.entity);
+    if (names.empty())
+      continue;
+    if (static_cast<int>(l.nodes.size()) != lineNodes)
+      throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
+                       std::to_string(l.id) + " has " + std::to_string(l.nodes.size()) +
+                       " nodes but the quadrangles need " + std::to_string(lineNodes) +
+                       "-node edges");
+    LocalIndex ends[2];
+    for (int k = 0; k < 2; ++k) {
+      auto it = nodeIndex.find(l.nodes[k]);
+      if (it == nodeIndex.end())
+        throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
+                         std::to_string(l.id) + " references unknown node " +
+                         std::to_string(l.nodes[k]));
+      ends[k] = it->second;
+    }
+    auto it = edgeOf.find({std::min(ends[0], ends[1]), std::max(ends[0], ends[1])});
+    if (it == edgeOf.end())
+      throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
+                       std::to_string(l.id) + " of boundary '" + names.front() +
+                       "' is not an edge of any quadrangle");
+    for (const auto &nm : names)
+      mesh.boundaries[nm].push_back(it->second);
+  }
+  for (const auto &p : points) {
+    auto names = groupNames(0, p.entity);
+    auto it = nodeIndex.find(p.node);
+    if (it == nodeIndex.end())
+      throw InputError(name + ": point element references unknown node " +
+                       std::to_string(p.node));
+    for (const auto &nm : names)
+      mesh.nodeSets[nm].push_back(it->second);
+  }
+  mesh.finalizeIds();
+  return mesh;
+}
+
+} // namespace mixcon

@@ -1,0 +1,197 @@
+// LinearDisplacementModel: host orchestration of device kernels.
+#include <solver/DisplacementModel.hpp>
+
+#include <chrono>
+
+namespace mixcon {
+
+namespace {
+template <class Memory> CsrMatrix<Memory> cloneMatrix(const CsrMatrix<Memory> &a) {
+  CsrMatrix<Memory> b = a;
+  b.values = Kokkos::View<double *, Memory>(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::values"), a.values.extent(0));
+  Kokkos::deep_copy(b.values, a.values);
+  return b;
+}
+} // namespace
+
+LinearDisplacementModel::LinearDisplacementModel(const Mesh &mesh,
+                                                 const std::vector<int> &elementMaterial,
+                                                 const std::vector<PlaneMatrix> &stiffness,
+                                                 double thickness)
+    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), 2)) {
+  data_.mesh = toDevice<Memory>(mesh);
+  data_.thickness = thickness;
+  data_.material = Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
+  data_.stiffness = Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
+  auto hm = Kokkos::create_mirror_view(data_.material);
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    hm(e) = elementMaterial.at(e);
+  Kokkos::deep_copy(data_.material, hm);
+  auto hs = Kokkos::create_mirror_view(data_.stiffness);
+  for (std::size_t i = 0; i < stiffness.size(); ++i)
+    hs(i) = stiffness[i];
+  Kokkos::deep_copy(data_.stiffness, hs);
+
+  const LocalIndex n = dofs_.numOwned();
+  load_ = Kokkos::View<double *, Memory>("mixcon::model::load", n);
+  u_ = Kokkos::View<double *, Memory>("mixcon::model::displacement", n);
+  isConstrained_ = Kokkos::View<int *, Memory>("mixcon::model::constrained", n);
+  prescribed_ = Kokkos::View<double *, Memory>("mixcon::model::prescribed", n);
+}
+
+void LinearDisplacementModel::addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx,
+                                          double ty, double pressure) {
+  if (edges.empty())
+    return;
+  Kokkos::View<LocalIndex *[2], Memory> ev("mixcon::model::edges", edges.size());
+  Kokkos::View<double *[3], Memory> lv("mixcon::model::edgeLoads", edges.size());
+  auto he = Kokkos::create_mirror_view(ev);
+  auto hl = Kokkos::create_mirror_view(lv);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    he(k, 0) = edges[k].element;
+    he(k, 1) = edges[k].edge;
+    hl(k, 0) = tx;
+    hl(k, 1) = ty;
+    hl(k, 2) = pressure;
+  }
+  Kokkos::deep_copy(ev, he);
+  Kokkos::deep_copy(lv, hl);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleEdgeLoads<decltype(elem)>(Exec(), data_.mesh, ev, lv, data_.thickness, load_);
+  });
+}
+
+void LinearDisplacementModel::addNodalForce(LocalIndex node, double fx, double fy) {
+  auto sub = Kokkos::subview(load_, Kokkos::make_pair(2 * node, 2 * node + 2));
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sub);
+  h(0) += fx;
+  h(1) += fy;
+  Kokkos::deep_copy(sub, h);
+}
+
+void LinearDisplacementModel::addBodyForce(
+    const std::function<std::array<double, 2>(double, double, LocalIndex)> &f) {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
+    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
+    Kokkos::View<double **[2], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
+    auto hf = Kokkos::create_mirror_view(fq);
+    for (LocalIndex e = 0; e < ne; ++e)
+      for (int q = 0; q < Elem::kNumQp; ++q) {
+        const auto v = f(hx(e, q, 0), hx(e, q, 1), e);
+        hf(e, q, 0) = v[0];
+        hf(e, q, 1) = v[1];
+      }
+    Kokkos::deep_copy(fq, hf);
+    assembleBodyForce<Elem>(Exec(), data_, Kokkos::View<const double **[2], Memory>(fq), load_);
+  });
+}
+
+void LinearDisplacementModel::prescribe(LocalIndex node, int comp, double value) {
+  const LocalIndex i = dofs_.dof(node, comp);
+  Kokkos::deep_copy(Kokkos::subview(isConstrained_, i), 1);
+  Kokkos::deep_copy(Kokkos::subview(prescribed_, i), value);
+}
+
+LocalIndex LinearDisplacementModel::numConstrained() const {
+  LocalIndex count = 0;
+  auto c = isConstrained_;
+  Kokkos::parallel_reduce(
+      "mixcon::model::countConstrained", Kokkos::RangePolicy<Exec>(0, c.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, LocalIndex & s) { s += c(i) != 0; }, count);
+  return count;
+}
+
+void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  const auto start = std::chrono::steady_clock::now();
+  if (stiffness_.numRows == 0) {
+    graph_ = buildNodeGraph(mesh_);
+    stiffness_ = expandGraph<Memory>(graph_, dofs_.dofsPerNode);
+    const auto map = elementScatterMap<Memory>(mesh_, graph_);
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, stiffness_);
+    });
+  }
+  constrained_ = cloneMatrix(stiffness_);
+  rhs_ = Kokkos::View<double *, Memory>("mixcon::model::rhs", load_.extent(0));
+  Kokkos::deep_copy(rhs_, load_);
+  applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(isConstrained_),
+                 Kokkos::View<const double *, Memory>(prescribed_), rhs_);
+  Exec().fence();
+  assemblySeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  solver_ = makeLinearSolver(options, dofs_, comm);
+  solver_->setup(constrained_);
+}
+
+LinearSolveStats LinearDisplacementModel::solve(double loadFactor) {
+  Kokkos::View<double *, Memory> b("mixcon::model::scaledRhs", rhs_.extent(0));
+  auto r = rhs_;
+  Kokkos::parallel_for(
+      "mixcon::model::scaleRhs", Kokkos::RangePolicy<Exec>(0, b.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { b(i) = loadFactor * r(i); });
+  return solver_->solve(b, u_);
+}
+
+std::vector<double> LinearDisplacementModel::displacementHost() const {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), u_);
+  return std::vector<double>(h.data(), h.data() + h.extent(0));
+}
+
+std::vector<double> LinearDisplacementModel::nodalStressHost() const {
+  Kokkos::View<double *[3], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    nodalStressRecovery<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), s);
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
+  std::vector<double> out(3 * static_cast<std::size_t>(mesh_.numNodes()));
+  for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
+    for (int c = 0; c < 3; ++c)
+      out[3 * n + c] = h(n, c);
+  return out;
+}
+
+void LinearDisplacementModel::gaussPointStressHost(std::vector<double> &coordinates,
+                                                   std::vector<double> &stress,
+                                                   int &pointsPerElement) const {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+    Kokkos::View<double **[3], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
+    gaussPointStress<Elem>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), sq);
+    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    pointsPerElement = Elem::kNumQp;
+    coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 2);
+    stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 3);
+    for (LocalIndex e = 0; e < ne; ++e)
+      for (int q = 0; q < Elem::kNumQp; ++q) {
+        const std::size_t k = static_cast<std::size_t>(e) * Elem::kNumQp + q;
+        for (int c = 0; c < 2; ++c)
+          coordinates[2 * k + c] = hx(e, q, c);
+        for (int c = 0; c < 3; ++c)
+          stress[3 * k + c] = hs(e, q, c);
+      }
+  });
+}
+
+std::vector<double> LinearDisplacementModel::reactionHost(double loadFactor) const {
+  Kokkos::View<double *, Memory> f("mixcon::model::internalForce", u_.extent(0));
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleInternalForce<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_),
+                                          f);
+  });
+  auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
+  auto hl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
+  std::vector<double> r(hf.extent(0));
+  for (std::size_t i = 0; i < r.size(); ++i)
+    r[i] = hf(i) - loadFactor * hl(i);
+  return r;
+}
+
+} // namespace mixcon

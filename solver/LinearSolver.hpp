@@ -1,0 +1,59 @@
+// Linear solvers for assembled systems: hypre BoomerAMG-preconditioned CG on a ParCSR matrix built
+// through the IJ interface with global row numbering (ownership ranges from the DofMap), and a
+// direct sparse Cholesky (Eigen) for small problems and as the reference in tests. Data flow:
+// kernels -> solver (this) -> contact -> io.
+#pragma once
+
+#include <kernels/SparseMatrix.hpp>
+#include <solver/DofMap.hpp>
+
+#include <memory>
+#include <mpi.h>
+#include <string>
+
+namespace mixcon {
+
+using DeviceSpace = Kokkos::DefaultExecutionSpace::memory_space;
+
+enum class LinearSolverType { Amg, Direct };
+
+/// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, PMaxElmts 4, l1-GS).
+struct LinearSolverOptions {
+  LinearSolverType type = LinearSolverType::Amg;
+  double tolerance = 1e-8;       ///< relative residual ||b - A x|| / ||b|| (two-norm)
+  int maxIterations = 1000;
+  double strongThreshold = 0.5;  ///< BoomerAMG strength threshold
+  int aggressiveLevels = 0;      ///< BoomerAMG levels of aggressive coarsening
+  int printLevel = 0;            ///< hypre's own print level
+};
+
+struct LinearSolveStats {
+  int iterations = 0;
+  double relativeResidual = 0.0;
+  double setupSeconds = 0.0;
+  double solveSeconds = 0.0;
+  bool converged = false;
+};
+
+/// A solver bound to one matrix: setup() once (factorization or AMG hierarchy), then any number
+/// of solve() calls with different right-hand sides.
+class LinearSolver {
+public:
+  virtual ~LinearSolver() = default;
+  /// Takes the owned rows of the matrix (rows numbered as in the DofMap); keeps what it needs.
+  virtual void setup(const CsrMatrix<DeviceSpace> &a) = 0;
+  /// Solves A x = b; x is overwritten (the initial guess is zero).
+  virtual LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
+                                 const Kokkos::View<double *, DeviceSpace> &x) = 0;
+  virtual std::string name() const = 0;
+  virtual double setupSeconds() const = 0;
+};
+
+/// Creates the solver chosen in the options. `comm` must outlive the solver.
+std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &options,
+                                               const DofMap &dofs, MPI_Comm comm);
+
+/// "hypre X.Y.Z" for benchmark contexts and summaries.
+std::string hypreVersion();
+
+} // namespace mixcon
