@@ -299,7 +299,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
 
   // Materials: one per region, every region covered.
   const Item mats = top.required("materials");
-  mats.requireSequence();
+  if (!mats.node.IsNull()) // an empty list reads as null: then every region lacks a material
+    mats.requireSequence();
   for (std::size_t i = 0; i < mats.node.size(); ++i) {
     const Item m = mats.at(i);
     MaterialSpec s = readMaterial(m, p.model.analysis);
@@ -334,7 +335,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   };
 
   const Item bcs = top.required("boundary_conditions");
-  bcs.requireSequence();
+  if (!bcs.node.IsNull())
+    bcs.requireSequence();
   for (std::size_t i = 0; i < bcs.node.size(); ++i) {
     const Item b = bcs.at(i);
     b.allowOnly({"boundary", "node_set", "ux", "uy"});

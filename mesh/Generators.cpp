@@ -145,6 +145,8 @@ Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, doubl
   mesh.nodeSets["bottom_right"] = {closestNode(mesh, x0 + lx, y0)};
   mesh.nodeSets["top_left"] = {closestNode(mesh, x0, y0 + ly)};
   mesh.nodeSets["top_right"] = {closestNode(mesh, x0 + lx, y0 + ly)};
+  mesh.nodeSets["left_center"] = {closestNode(mesh, x0, y0 + 0.5 * ly)};
+  mesh.nodeSets["right_center"] = {closestNode(mesh, x0 + lx, y0 + 0.5 * ly)};
   return mesh;
 }
 

@@ -8,7 +8,8 @@ namespace mixcon {
 
 /// Rectangle [x0, x0 + lx] x [y0, y0 + ly] with nx x ny elements.
 /// Region "body"; boundaries "left", "right", "bottom", "top"; node sets "bottom_left",
-/// "bottom_right", "top_left", "top_right" (the corners).
+/// "bottom_right", "top_left", "top_right" (the corners), "left_center", "right_center" (the
+/// nodes closest to the mid-height of the left and right sides).
 Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0 = 0.0,
                    double y0 = 0.0);
 

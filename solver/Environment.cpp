@@ -3,6 +3,7 @@
 
 #include <HYPRE_utilities.h>
 
+#include <cstdlib>
 #include <sstream>
 
 namespace mixcon {
@@ -16,6 +17,10 @@ Environment::Environment(int &argc, char **&argv) {
     ownsMpi_ = true;
   }
   if (!Kokkos::is_initialized()) {
+    // Thread binding is the user's choice (OMP_PROC_BIND=spread OMP_PLACES=threads is usually
+    // fastest on a dedicated node); left unset, leave threads unbound, which is safe on shared
+    // machines, and spare users Kokkos' warning about it.
+    setenv("OMP_PROC_BIND", "false", 0);
     Kokkos::initialize(argc, argv);
     ownsKokkos_ = true;
   }

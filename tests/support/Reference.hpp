@@ -1,0 +1,143 @@
+// Plain host reference implementations (Eigen, loops) that the batched Kokkos kernels are checked
+// against. Written independently of kernels/: shape functions from their textbook formulas, the
+// B matrix of Eq. (25) built explicitly, K = sum B^T C B w det J t.
+#pragma once
+
+#include <kernels/Material.hpp>
+#include <mesh/Mesh.hpp>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace mixcon::test {
+
+/// Natural coordinates of the nodes (Quad4: 4 corners; Quad8: + mid-sides), Gmsh order.
+inline void naturalNode(int nodes, int a, double &xi, double &eta) {
+  static const double x[8] = {-1, 1, 1, -1, 0, 1, 0, -1};
+  static const double y[8] = {-1, -1, 1, 1, -1, 0, 1, 0};
+  (void)nodes;
+  xi = x[a];
+  eta = y[a];
+}
+
+/// Shape functions and natural derivatives: N (n), dN/dxi, dN/deta.
+inline void referenceShape(int nodes, double xi, double eta, Eigen::VectorXd &n,
+                           Eigen::MatrixXd &dn) {
+  n.resize(nodes);
+  dn.resize(nodes, 2);
+  for (int a = 0; a < nodes; ++a) {
+    double xa, ea;
+    naturalNode(nodes, a, xa, ea);
+    if (nodes == 4) {
+      n(a) = (1 + xi * xa) * (1 + eta * ea) / 4;
+      dn(a, 0) = xa * (1 + eta * ea) / 4;
+      dn(a, 1) = ea * (1 + xi * xa) / 4;
+    } else if (a < 4) {
+      n(a) = (1 + xi * xa) * (1 + eta * ea) * (xi * xa + eta * ea - 1) / 4;
+      dn(a, 0) = xa * (1 + eta * ea) * (2 * xi * xa + eta * ea) / 4;
+      dn(a, 1) = ea * (1 + xi * xa) * (xi * xa + 2 * eta * ea) / 4;
+    } else if (xa == 0) {
+      n(a) = (1 - xi * xi) * (1 + eta * ea) / 2;
+      dn(a, 0) = -xi * (1 + eta * ea);
+      dn(a, 1) = (1 - xi * xi) * ea / 2;
+    } else {
+      n(a) = (1 + xi * xa) * (1 - eta * eta) / 2;
+      dn(a, 0) = xa * (1 - eta * eta) / 2;
+      dn(a, 1) = -eta * (1 + xi * xa);
+    }
+  }
+}
+
+/// Gauss rule of `order` points per direction on [-1,1]^2.
+inline std::vector<std::array<double, 3>> referenceGauss(int order) {
+  std::vector<double> x, w;
+  if (order == 2) {
+    x = {-1 / std::sqrt(3.0), 1 / std::sqrt(3.0)};
+    w = {1, 1};
+  } else {
+    x = {-std::sqrt(0.6), 0, std::sqrt(0.6)};
+    w = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  }
+  std::vector<std::array<double, 3>> r;
+  for (std::size_t j = 0; j < x.size(); ++j)
+    for (std::size_t i = 0; i < x.size(); ++i)
+      r.push_back({x[i], x[j], w[i] * w[j]});
+  return r;
+}
+
+inline Eigen::Matrix3d toEigen(const PlaneMatrix &c) {
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      m(i, j) = c.m[i][j];
+  return m;
+}
+
+/// Element coordinates (n x 2) of element e.
+inline Eigen::MatrixXd elementCoordinates(const Mesh &mesh, LocalIndex e) {
+  Eigen::MatrixXd x(mesh.nodesPerElement, 2);
+  for (int a = 0; a < mesh.nodesPerElement; ++a) {
+    x(a, 0) = mesh.x(mesh.node(e, a));
+    x(a, 1) = mesh.y(mesh.node(e, a));
+  }
+  return x;
+}
+
+/// K^L = t int B^T C B dA with the 3 x 2n matrix B of Eq. (25) built explicitly.
+inline Eigen::MatrixXd referenceStiffness(const Eigen::MatrixXd &xe, const Eigen::Matrix3d &c,
+                                          double t) {
+  const int n = static_cast<int>(xe.rows());
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
+    Eigen::VectorXd sh;
+    Eigen::MatrixXd dn;
+    referenceShape(n, g[0], g[1], sh, dn);
+    const Eigen::Matrix2d j = xe.transpose() * dn; // J(i, k) = d x_i / d xi_k
+    const Eigen::MatrixXd dx = dn * j.inverse();   // d N / d x
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2 * n);
+    for (int a = 0; a < n; ++a) {
+      b(0, 2 * a) = dx(a, 0);
+      b(1, 2 * a + 1) = dx(a, 1);
+      b(2, 2 * a) = dx(a, 1);
+      b(2, 2 * a + 1) = dx(a, 0);
+    }
+    k += b.transpose() * c * b * (g[2] * j.determinant() * t);
+  }
+  return k;
+}
+
+/// Moves interior nodes of a mesh randomly by up to `amount` times the local spacing `h`
+/// (boundary nodes stay), keeping elements valid for modest amounts. Mid-side nodes of Quad8
+/// elements are re-centred on their straight edges, so distorted elements stay affine-edged.
+inline void distortInterior(Mesh &mesh, double h, double amount, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-amount * h, amount * h);
+  std::vector<int> onBoundary(mesh.numNodes(), 0);
+  for (const auto &[name, edges] : mesh.boundaries)
+    for (const auto &e : edges)
+      for (int k = 0; k < mesh.nodesPerEdge(); ++k)
+        onBoundary[mesh.edgeNode(e, k)] = 1;
+  std::vector<int> isCorner(mesh.numNodes(), 0);
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int a = 0; a < 4; ++a)
+      isCorner[mesh.node(e, a)] = 1;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    if (!onBoundary[n] && isCorner[n]) {
+      mesh.coordinates[2 * n] += d(rng);
+      mesh.coordinates[2 * n + 1] += d(rng);
+    }
+  if (mesh.nodesPerElement == 8)
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int k = 0; k < 4; ++k) {
+        const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4), m = mesh.node(e, 4 + k);
+        if (onBoundary[m])
+          continue;
+        mesh.coordinates[2 * m] = 0.5 * (mesh.x(a) + mesh.x(b));
+        mesh.coordinates[2 * m + 1] = 0.5 * (mesh.y(a) + mesh.y(b));
+      }
+}
+
+} // namespace mixcon::test

@@ -1,0 +1,282 @@
+// Batched element kernels (kernels/LinearElasticity.hpp) and CSR assembly against the host
+// reference implementation (tests/support/Reference.hpp), with tolerance ~10 eps * scale.
+#include <kernels/LinearElasticity.hpp>
+#include <mesh/Generators.hpp>
+#include <support/Reference.hpp>
+
+#include <gtest/gtest.h>
+
+using namespace mixcon;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Memory = Exec::memory_space;
+
+namespace {
+
+struct Fixture {
+  Mesh mesh;
+  ElementData<Memory> data;
+  std::vector<PlaneMatrix> materials;
+  std::vector<int> elementMaterial;
+};
+
+/// Distorted mesh with two anisotropic materials assigned in a checkerboard.
+Fixture makeFixture(ElementType type, int nx = 6, int ny = 5) {
+  Fixture f;
+  f.mesh = rectangleMesh(3.0, 2.0, nx, ny, type);
+  test::distortInterior(f.mesh, 3.0 / nx, 0.2, 7);
+  validateMesh(f.mesh);
+  f.materials = {orthotropicStiffness({1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4},
+                                      PlaneAnalysis::PlaneStress, 0.5),
+                 isotropicStiffness(2.0e5, 0.3, PlaneAnalysis::PlaneStrain)};
+  f.data.mesh = toDevice<Memory>(f.mesh);
+  f.data.thickness = 0.7;
+  f.data.material = Kokkos::View<int *, Memory>("material", f.mesh.numElements());
+  f.data.stiffness = Kokkos::View<PlaneMatrix *, Memory>("stiffness", 2);
+  auto hm = Kokkos::create_mirror_view(f.data.material);
+  f.elementMaterial.resize(f.mesh.numElements());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e)
+    hm(e) = f.elementMaterial[e] = e % 2;
+  Kokkos::deep_copy(f.data.material, hm);
+  auto hs = Kokkos::create_mirror_view(f.data.stiffness);
+  hs(0) = f.materials[0];
+  hs(1) = f.materials[1];
+  Kokkos::deep_copy(f.data.stiffness, hs);
+  return f;
+}
+
+Eigen::MatrixXd referenceElement(const Fixture &f, LocalIndex e) {
+  return test::referenceStiffness(test::elementCoordinates(f.mesh, e),
+                                  test::toEigen(f.materials[f.elementMaterial[e]]),
+                                  f.data.thickness);
+}
+
+} // namespace
+
+class KernelTest : public ::testing::TestWithParam<ElementType> {};
+INSTANTIATE_TEST_SUITE_P(Elements, KernelTest,
+                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
+                         [](const auto &info) {
+                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
+                         });
+
+TEST_P(KernelTest, ElementStiffnessMatchesHostReference) {
+  const Fixture f = makeFixture(GetParam());
+  dispatchElement(GetParam(), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 2 * Elem::kNumNodes;
+    Kokkos::View<double ***, Memory> ke("ke", f.mesh.numElements(), nd, nd);
+    computeLinearStiffness<Elem>(Exec(), f.data, ke);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
+    for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+      const Eigen::MatrixXd ref = referenceElement(f, e);
+      const double scale = ref.cwiseAbs().maxCoeff();
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j)
+          ASSERT_NEAR(h(e, i, j), ref(i, j), 10 * 2.2e-16 * scale * nd)
+              << "element " << e << " entry " << i << "," << j;
+    }
+  });
+}
+
+TEST_P(KernelTest, ElementStiffnessHasExactlyThreeRigidBodyModes) {
+  const Fixture f = makeFixture(GetParam());
+  const Eigen::MatrixXd k = referenceElement(f, 3);
+  dispatchElement(GetParam(), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 2 * Elem::kNumNodes;
+    Kokkos::View<double ***, Memory> ke("ke", f.mesh.numElements(), nd, nd);
+    computeLinearStiffness<Elem>(Exec(), f.data, ke);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
+    Eigen::MatrixXd m(nd, nd);
+    for (int i = 0; i < nd; ++i)
+      for (int j = 0; j < nd; ++j)
+        m(i, j) = h(3, i, j);
+    EXPECT_NEAR((m - m.transpose()).norm(), 0.0, 1e-12 * m.norm());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
+    const auto ev = eig.eigenvalues();
+    const double top = ev.maxCoeff();
+    int zero = 0;
+    for (int i = 0; i < nd; ++i)
+      zero += std::abs(ev(i)) < 1e-10 * top;
+    EXPECT_EQ(zero, 3) << "two translations and one rotation, no spurious modes";
+  });
+}
+
+TEST_P(KernelTest, AssembledMatrixMatchesDenseReferenceAssembly) {
+  const Fixture f = makeFixture(GetParam(), 4, 3);
+  const NodeGraph g = buildNodeGraph(f.mesh);
+  auto a = expandGraph<Memory>(g, 2);
+  const auto map = elementScatterMap<Memory>(f.mesh, g);
+  dispatchElement(GetParam(), [&](auto elem) {
+    assembleLinearStiffness<decltype(elem)>(Exec(), f.data, map, a);
+  });
+  const int n = 2 * f.mesh.numNodes();
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, n);
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+    const Eigen::MatrixXd k = referenceElement(f, e);
+    for (int p = 0; p < f.mesh.nodesPerElement; ++p)
+      for (int q = 0; q < f.mesh.nodesPerElement; ++q)
+        for (int i = 0; i < 2; ++i)
+          for (int j = 0; j < 2; ++j)
+            dense(2 * f.mesh.node(e, p) + i, 2 * f.mesh.node(e, q) + j) += k(2 * p + i, 2 * q + j);
+  }
+  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  Eigen::MatrixXd fromCsr = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (Offset k = ro(i); k < ro(i + 1); ++k) {
+      fromCsr(i, co(k)) += va(k);
+      if (k > ro(i)) {
+        ASSERT_LT(co(k - 1), co(k)) << "columns sorted and unique";
+      }
+    }
+  }
+  const double scale = dense.cwiseAbs().maxCoeff();
+  EXPECT_LT((fromCsr - dense).cwiseAbs().maxCoeff(), 100 * 2.2e-16 * scale);
+  // Every structural nonzero of the dense matrix is in the pattern (nothing was dropped).
+  EXPECT_EQ(static_cast<Offset>(co.extent(0)), a.numNonzeros());
+}
+
+TEST_P(KernelTest, BodyForceAndInternalForceMatchReference) {
+  const Fixture f = makeFixture(GetParam());
+  const int n = 2 * f.mesh.numNodes();
+  dispatchElement(GetParam(), [&](auto elem) {
+    using Elem = decltype(elem);
+    // Body force f = (x + 2y, 3 - x) at the quadrature points.
+    Kokkos::View<double **[2], Memory> xq("xq", f.mesh.numElements(), Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), f.data.mesh, xq);
+    Kokkos::View<double **[2], Memory> fq("fq", f.mesh.numElements(), Elem::kNumQp);
+    Kokkos::parallel_for(
+        "fill", Kokkos::RangePolicy<Exec>(0, f.mesh.numElements()), KOKKOS_LAMBDA(int e) {
+          for (int q = 0; q < Elem::kNumQp; ++q) {
+            fq(e, q, 0) = xq(e, q, 0) + 2 * xq(e, q, 1);
+            fq(e, q, 1) = 3 - xq(e, q, 0);
+          }
+        });
+    Kokkos::View<double *, Memory> rhs("rhs", n);
+    assembleBodyForce<Elem>(Exec(), f.data, Kokkos::View<const double **[2], Memory>(fq), rhs);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
+    Eigen::VectorXd ref = Eigen::VectorXd::Zero(n);
+    for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+      const Eigen::MatrixXd xe = test::elementCoordinates(f.mesh, e);
+      for (const auto &g : test::referenceGauss(Elem::kGaussOrder)) {
+        Eigen::VectorXd sh;
+        Eigen::MatrixXd dn;
+        test::referenceShape(Elem::kNumNodes, g[0], g[1], sh, dn);
+        const Eigen::Matrix2d j = xe.transpose() * dn;
+        const Eigen::Vector2d x = xe.transpose() * sh;
+        for (int a = 0; a < Elem::kNumNodes; ++a) {
+          const double w = sh(a) * g[2] * j.determinant() * f.data.thickness;
+          ref(2 * f.mesh.node(e, a)) += w * (x(0) + 2 * x(1));
+          ref(2 * f.mesh.node(e, a) + 1) += w * (3 - x(0));
+        }
+      }
+    }
+    for (int i = 0; i < n; ++i)
+      EXPECT_NEAR(h(i), ref(i), 1e-13 * ref.cwiseAbs().maxCoeff());
+
+    // Internal force K u for a random u equals the assembled reference product.
+    Kokkos::View<double *, Memory> u("u", n), fi("fi", n);
+    auto hu = Kokkos::create_mirror_view(u);
+    Eigen::VectorXd eu(n);
+    for (int i = 0; i < n; ++i)
+      hu(i) = eu(i) = std::sin(1.7 * i + 0.3);
+    Kokkos::deep_copy(u, hu);
+    assembleInternalForce<Elem>(Exec(), f.data, Kokkos::View<const double *, Memory>(u), fi);
+    auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fi);
+    Eigen::VectorXd rf = Eigen::VectorXd::Zero(n);
+    for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+      const Eigen::MatrixXd k = referenceElement(f, e);
+      Eigen::VectorXd ue(2 * Elem::kNumNodes);
+      for (int a = 0; a < Elem::kNumNodes; ++a)
+        for (int c = 0; c < 2; ++c)
+          ue(2 * a + c) = eu(2 * f.mesh.node(e, a) + c);
+      const Eigen::VectorXd fe = k * ue;
+      for (int a = 0; a < Elem::kNumNodes; ++a)
+        for (int c = 0; c < 2; ++c)
+          rf(2 * f.mesh.node(e, a) + c) += fe(2 * a + c);
+    }
+    for (int i = 0; i < n; ++i)
+      EXPECT_NEAR(hf(i), rf(i), 1e-12 * rf.cwiseAbs().maxCoeff());
+  });
+}
+
+TEST_P(KernelTest, EdgeLoadsIntegrateTractionAndPressure) {
+  // Quarter annulus: pressure p on the inner arc. Total force on the quarter arc of radius a is
+  // p a t (1, 1) pushing outwards... the pressure acts against the outward normal of the body,
+  // which on the inner arc points towards the origin, so the force points away from it.
+  const double a = 1.0, p = 3.0, t = 0.5;
+  Mesh mesh = quarterAnnulusMesh(a, 2.0, 2, 32, GetParam());
+  const auto dev = toDevice<Memory>(mesh);
+  const auto &edges = mesh.boundaries.at("inner");
+  Kokkos::View<LocalIndex *[2], Memory> ev("edges", edges.size());
+  Kokkos::View<double *[3], Memory> lv("loads", edges.size());
+  auto he = Kokkos::create_mirror_view(ev);
+  auto hl = Kokkos::create_mirror_view(lv);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    he(k, 0) = edges[k].element;
+    he(k, 1) = edges[k].edge;
+    hl(k, 0) = 0.25; // plus a uniform traction (0.25, -0.5) per unit area
+    hl(k, 1) = -0.5;
+    hl(k, 2) = p;
+  }
+  Kokkos::deep_copy(ev, he);
+  Kokkos::deep_copy(lv, hl);
+  Kokkos::View<double *, Memory> rhs("rhs", 2 * mesh.numNodes());
+  dispatchElement(GetParam(), [&](auto elem) {
+    assembleEdgeLoads<decltype(elem)>(Exec(), dev, ev, lv, t, rhs);
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
+  double fx = 0, fy = 0;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
+    fx += h(2 * n);
+    fy += h(2 * n + 1);
+  }
+  // Exact: pressure resultant p a t on each axis; traction times the arc length pi a / 2 times t.
+  // The arc is approximated by the element edges: straight chords (Quad4) or parabolas (Quad8).
+  const double tol = GetParam() == ElementType::Quad8 ? 1e-5 : 2e-3;
+  EXPECT_NEAR(fx, p * a * t + 0.25 * M_PI * a / 2 * t, tol);
+  EXPECT_NEAR(fy, p * a * t - 0.5 * M_PI * a / 2 * t, tol);
+}
+
+TEST_P(KernelTest, StressRecoveryIsExactForLinearDisplacement) {
+  const Fixture f = makeFixture(GetParam());
+  const int n = 2 * f.mesh.numNodes();
+  Kokkos::View<double *, Memory> u("u", n);
+  auto hu = Kokkos::create_mirror_view(u);
+  // u = (1e-3 x + 2e-3 y, -5e-4 x + 4e-4 y): eps = (1e-3, 4e-4, 1.5e-3).
+  for (LocalIndex i = 0; i < f.mesh.numNodes(); ++i) {
+    hu(2 * i) = 1e-3 * f.mesh.x(i) + 2e-3 * f.mesh.y(i);
+    hu(2 * i + 1) = -5e-4 * f.mesh.x(i) + 4e-4 * f.mesh.y(i);
+  }
+  Kokkos::deep_copy(u, hu);
+  const double eps[3] = {1e-3, 4e-4, 1.5e-3};
+  Kokkos::View<double *[3], Memory> nodal("nodal", f.mesh.numNodes());
+  dispatchElement(GetParam(), [&](auto elem) {
+    using Elem = decltype(elem);
+    Kokkos::View<double **[3], Memory> gp("gp", f.mesh.numElements(), Elem::kNumQp);
+    gaussPointStress<Elem>(Exec(), f.data, Kokkos::View<const double *, Memory>(u), gp);
+    auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gp);
+    for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+      double sig[3];
+      applyStiffness(f.materials[f.elementMaterial[e]], eps, sig);
+      for (int q = 0; q < Elem::kNumQp; ++q)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_NEAR(hg(e, q, c), sig[c], 1e-9 * std::abs(sig[0]));
+    }
+  });
+  // Single material, so that the nodal average of a constant stress is that stress.
+  ElementData<Memory> one = f.data;
+  one.material = Kokkos::View<int *, Memory>("zero", f.mesh.numElements());
+  dispatchElement(GetParam(), [&](auto elem) {
+    nodalStressRecovery<decltype(elem)>(Exec(), one, Kokkos::View<const double *, Memory>(u),
+                                        nodal);
+  });
+  auto hn = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nodal);
+  double sig[3];
+  applyStiffness(f.materials[0], eps, sig);
+  for (LocalIndex i = 0; i < f.mesh.numNodes(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(hn(i, c), sig[c], 1e-9 * std::abs(sig[0])) << "node " << i;
+}

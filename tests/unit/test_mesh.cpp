@@ -1,0 +1,184 @@
+// Mesh generators, Gmsh 4.1 reader and mesh validation.
+#include <mesh/Generators.hpp>
+#include <mesh/GmshReader.hpp>
+#include <support/Reference.hpp>
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+using namespace mixcon;
+
+namespace {
+double meshArea(const Mesh &m) {
+  double area = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const Eigen::MatrixXd xe = test::elementCoordinates(m, e);
+    for (const auto &g : test::referenceGauss(m.nodesPerElement == 4 ? 2 : 3)) {
+      Eigen::VectorXd sh;
+      Eigen::MatrixXd dn;
+      test::referenceShape(m.nodesPerElement, g[0], g[1], sh, dn);
+      area += g[2] * (xe.transpose() * dn).determinant();
+    }
+  }
+  return area;
+}
+std::string expectInputError(const std::function<void()> &f) {
+  try {
+    f();
+  } catch (const InputError &e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return "";
+}
+} // namespace
+
+class GeneratorTest : public ::testing::TestWithParam<ElementType> {};
+INSTANTIATE_TEST_SUITE_P(Elements, GeneratorTest,
+                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
+                         [](const auto &info) {
+                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
+                         });
+
+TEST_P(GeneratorTest, RectangleCountsAreaBoundariesAndCorners) {
+  const Mesh m = rectangleMesh(4.0, 1.5, 8, 3, GetParam(), 1.0, -0.5);
+  EXPECT_NO_THROW(validateMesh(m));
+  EXPECT_EQ(m.numElements(), 24);
+  EXPECT_EQ(m.numNodes(), GetParam() == ElementType::Quad8 ? 17 * 7 - 8 * 3 : 9 * 4);
+  EXPECT_NEAR(meshArea(m), 6.0, 1e-12);
+  EXPECT_EQ(m.boundaries.at("left").size(), 3u);
+  EXPECT_EQ(m.boundaries.at("top").size(), 8u);
+  for (LocalIndex n : m.nodesOf("right"))
+    EXPECT_NEAR(m.x(n), 5.0, 1e-12);
+  const LocalIndex tr = m.nodeSets.at("top_right").front();
+  EXPECT_NEAR(m.x(tr), 5.0, 1e-12);
+  EXPECT_NEAR(m.y(tr), 1.0, 1e-12);
+}
+
+TEST_P(GeneratorTest, CurvedGeneratorsConvergeToExactAreaAndShareNodes) {
+  const bool q8 = GetParam() == ElementType::Quad8;
+  // Chordal (Quad4) area error is O(h^2); parabolic edges (Quad8) O(h^4).
+  const Mesh annulus = quarterAnnulusMesh(1.0, 2.0, 4, 16, GetParam());
+  EXPECT_NEAR(meshArea(annulus), 3 * M_PI / 4, q8 ? 1e-5 : 1e-2);
+  const Mesh disk = quarterDiskMesh(1.0, 6, 4, GetParam());
+  EXPECT_NO_THROW(validateMesh(disk));
+  EXPECT_NEAR(meshArea(disk), M_PI / 4, q8 ? 1e-5 : 1e-2);
+  EXPECT_EQ(disk.numElements(), 36 + 2 * 24);
+  // Merged O-grid: Euler's formula for a planar quad mesh, V - E + F = 1 (corner nodes only).
+  const Mesh disk4 = quarterDiskMesh(1.0, 6, 4, ElementType::Quad4);
+  const int v = disk4.numNodes(), f = disk4.numElements();
+  const int boundaryEdges = static_cast<int>(disk4.boundaries.at("arc").size() +
+                                             disk4.boundaries.at("bottom").size() +
+                                             disk4.boundaries.at("left").size());
+  const int edges = (4 * f + boundaryEdges) / 2;
+  EXPECT_EQ(v - edges + f, 1);
+  const Mesh plate = plateWithHoleMesh(1.0, 5.0, 4.0, 6, 8, GetParam(), 1.2);
+  EXPECT_NO_THROW(validateMesh(plate));
+  EXPECT_NEAR(meshArea(plate), 20.0 - M_PI / 4, q8 ? 1e-4 : 2e-2);
+  for (LocalIndex n : plate.nodesOf("hole"))
+    EXPECT_NEAR(std::hypot(plate.x(n), plate.y(n)), 1.0, 1e-12);
+  for (LocalIndex n : plate.nodesOf("top"))
+    EXPECT_NEAR(plate.y(n), 4.0, 1e-12);
+  for (LocalIndex n : disk.nodesOf("arc"))
+    EXPECT_NEAR(std::hypot(disk.x(n), disk.y(n)), 1.0, 1e-12);
+}
+
+TEST(MeshValidation, RejectsInvertedElementAndNamesIt) {
+  Mesh m = rectangleMesh(2.0, 1.0, 2, 1, ElementType::Quad4);
+  // Swap two nodes of element 2 so it becomes clockwise.
+  std::swap(m.connectivity[4 + 1], m.connectivity[4 + 3]);
+  const std::string msg = expectInputError([&] { validateMesh(m); });
+  EXPECT_NE(msg.find("element 2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("Jacobian"), std::string::npos) << msg;
+}
+
+namespace {
+// Two Quad4 elements on [0,2]x[0,1], a physical curve "left" (x = 0), a physical point "tip".
+const char *kGmshQuad4 = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+0 3 "tip"
+1 1 "left"
+2 2 "plate"
+$EndPhysicalNames
+$Entities
+1 1 1 0
+1 2 1 0 1 3
+1 0 0 0 0 1 0 1 1 2 1 -1
+1 0 0 0 2 1 0 1 2 0
+$EndEntities
+$Nodes
+3 6 1 6
+0 1 0 1
+6
+2 1 0
+1 1 0 2
+1
+2
+0 0 0
+0 1 0
+2 1 0 3
+3
+4
+5
+1 0 0
+1 1 0
+2 0 0
+$EndNodes
+$Elements
+3 4 1 4
+0 1 15 1
+1 6
+1 1 1 1
+2 1 2
+2 1 3 2
+3 1 3 4 2
+4 3 5 6 4
+$EndElements
+)";
+} // namespace
+
+TEST(GmshReader, ReadsQuad4WithPhysicalGroups) {
+  std::istringstream in(kGmshQuad4);
+  const Mesh m = readGmsh(in, "two.msh");
+  EXPECT_EQ(m.elementType, ElementType::Quad4);
+  EXPECT_EQ(m.numNodes(), 6);
+  EXPECT_EQ(m.numElements(), 2);
+  ASSERT_EQ(m.regionNames.size(), 1u);
+  EXPECT_EQ(m.regionNames[0], "plate");
+  ASSERT_TRUE(m.hasBoundary("left"));
+  const auto left = m.nodesOf("left");
+  ASSERT_EQ(left.size(), 2u);
+  for (LocalIndex n : left)
+    EXPECT_NEAR(m.x(n), 0.0, 1e-15);
+  ASSERT_TRUE(m.hasNodeSet("tip"));
+  EXPECT_NEAR(m.x(m.nodeSets.at("tip")[0]), 2.0, 1e-15);
+  EXPECT_EQ(m.elementIds[1], 4);
+  EXPECT_NO_THROW(validateMesh(m));
+}
+
+TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
+  auto read = [](std::string text) {
+    std::istringstream in(text);
+    return readGmsh(in, "bad.msh");
+  };
+  std::string t = kGmshQuad4;
+  auto msg = expectInputError([&] { read(std::string(t).replace(t.find("4.1 0 8"), 7, "2.2 0 8")); });
+  EXPECT_NE(msg.find("bad.msh:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("version"), std::string::npos) << msg;
+  msg = expectInputError([&] { read(std::string(t).replace(t.find("4.1 0 8"), 7, "4.1 1 8")); });
+  EXPECT_NE(msg.find("binary"), std::string::npos) << msg;
+  // A triangle block (type 2) is unsupported.
+  msg = expectInputError([&] { read(std::string(t).replace(t.find("2 1 3 2"), 7, "2 1 2 2")); });
+  EXPECT_NE(msg.find("unsupported element type 2"), std::string::npos) << msg;
+  // An element that references a node that does not exist.
+  msg = expectInputError([&] { read(std::string(t).replace(t.find("4 3 5 6 4"), 9, "4 3 5 6 9")); });
+  EXPECT_NE(msg.find("unknown node 9"), std::string::npos) << msg;
+  msg = expectInputError([&] { read("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n"); });
+  EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;
+  msg = expectInputError([&] { read("hello\n"); });
+  EXPECT_NE(msg.find("not a Gmsh file"), std::string::npos) << msg;
+}

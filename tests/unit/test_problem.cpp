@@ -1,0 +1,256 @@
+// Problem files: a valid file parses; each kind of bad input gives its documented error (with
+// file:line), and `mixcon run` exits with code 2 on it; a run writes HDF5 + XDMF + summary.json.
+#include <io/Problem.hpp>
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+using namespace mixcon;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char *kGood = R"(mesh:
+  generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}
+model: {formulation: displacement, analysis: plane_stress, thickness: 0.5}
+materials:
+  - {region: body, type: orthotropic, E1: 1.6e6, E2: 1.1e5, G12: 1.0e5, nu12: 0.4, angle: 30}
+boundary_conditions:
+  - {boundary: left, ux: 0, uy: 0}
+loads:
+  - {boundary: right, traction: [0, -1.0]}
+  - {boundary: top, pressure: 2.0}
+  - {node_set: top_right, force: [0, -100]}
+  - {region: body, body_force: [0, -0.1]}
+steps: {load_factors: [0.5, 1.0]}
+solver: {type: direct}
+output: {directory: somewhere}
+)";
+
+// A Quad4 Gmsh mesh whose second element is clockwise (inverted).
+const char *kInvertedMsh = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Nodes
+1 6 1 6
+2 1 0 6
+1
+2
+3
+4
+5
+6
+0 0 0
+0 1 0
+1 0 0
+1 1 0
+2 0 0
+2 1 0
+$EndNodes
+$Elements
+1 2 1 2
+2 1 3 2
+1 1 3 4 2
+2 3 4 6 5
+$EndElements
+)";
+
+struct BadCase {
+  const char *name;
+  std::string yaml;
+  const char *expected; ///< substring of the message
+  int line;             ///< expected line in "file:line:" (0: not checked)
+};
+
+std::string replace(std::string s, const std::string &from, const std::string &to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+std::vector<BadCase> badCases() {
+  const std::string g = kGood;
+  return {
+      {"unknown_key", replace(g, "thickness: 0.5", "thicknes: 0.5"), "unknown key 'thicknes'", 3},
+      {"missing_mesh_file",
+       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
+               "file: does-not-exist.msh"),
+       "cannot open mesh file", 2},
+      {"unknown_region", replace(g, "region: body, type", "region: wood, type"),
+       "unknown region 'wood'", 5},
+      {"unsupported_element", replace(g, "element: quad8", "element: tri3"),
+       "unsupported element 'tri3'", 2},
+      {"wrong_element_order",
+       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
+               "{file: inverted.msh, element: quad8}"),
+       "the mesh file has quad4 elements but the problem asks for quad8", 0},
+      {"region_without_material",
+       replace(g, "  - {region: body, type: orthotropic, E1: 1.6e6, E2: 1.1e5, G12: 1.0e5, nu12: 0.4, angle: 30}\n", ""),
+       "has no material", 0},
+      {"no_dirichlet", replace(g, "  - {boundary: left, ux: 0, uy: 0}\n", ""),
+       "no Dirichlet condition anywhere", 0},
+      {"unknown_boundary", replace(g, "{boundary: left, ux", "{boundary: clamp, ux"),
+       "unknown boundary or node set 'clamp'", 7},
+      {"negative_jacobian",
+       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
+               "file: inverted.msh"),
+       "element 2 has a non-positive Jacobian", 0},
+      {"malformed_yaml", replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {load_factors: [0.5, 1.0}"),
+       "malformed YAML", 0},
+      {"bad_number", replace(g, "nu12: 0.4", "nu12: zero"), "expected a number, found 'zero'", 5},
+      {"indefinite_material", replace(g, "nu12: 0.4", "nu12: 4.0"), "not positive definite", 5},
+  };
+}
+
+class TempDir {
+public:
+  TempDir() {
+    path_ = fs::temp_directory_path() /
+            ("mixcon-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++));
+    fs::create_directories(path_);
+    std::ofstream(path_ / "inverted.msh") << kInvertedMsh;
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  const fs::path &path() const { return path_; }
+
+private:
+  fs::path path_;
+  static inline int counter_ = 0;
+};
+
+} // namespace
+
+TEST(Problem, ParsesValidFile) {
+  const Problem p = parseProblem(kGood, "good.yaml", "");
+  EXPECT_EQ(p.mesh.elementType, ElementType::Quad8);
+  EXPECT_EQ(p.mesh.numElements(), 40);
+  EXPECT_DOUBLE_EQ(p.model.thickness, 0.5);
+  ASSERT_EQ(p.materials.size(), 1u);
+  EXPECT_GT(std::abs(p.materials[0].stiffness.m[0][2]), 0.0); // 30 degrees: C16 != 0
+  EXPECT_EQ(p.loads.size(), 4u);
+  EXPECT_EQ(p.loads[1].kind, LoadKind::Pressure);
+  EXPECT_EQ(p.loadFactors, (std::vector<double>{0.5, 1.0}));
+  EXPECT_EQ(p.solver.type, LinearSolverType::Direct);
+  EXPECT_EQ(p.outputDirectory, "somewhere");
+}
+
+TEST(Problem, BadInputGivesDocumentedErrors) {
+  TempDir dir;
+  for (const auto &c : badCases()) {
+    try {
+      parseProblem(c.yaml, "case.yaml", dir.path().string());
+      ADD_FAILURE() << c.name << ": no error";
+    } catch (const InputError &e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(c.expected), std::string::npos) << c.name << ": " << msg;
+      if (c.line > 0) {
+        EXPECT_EQ(msg.rfind("case.yaml:" + std::to_string(c.line) + ":", 0), 0u)
+            << c.name << ": " << msg;
+      }
+    }
+  }
+}
+
+namespace {
+/// Runs the mixcon program; returns its exit code and fills `output` with stdout + stderr.
+int runMixcon(const std::string &args, std::string &output, const fs::path &dir) {
+  const fs::path log = dir / "log.txt";
+  const std::string cmd = std::string(MIXCON_APP) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  output = s.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+} // namespace
+
+TEST(Cli, BadInputExitsWithCodeTwoAndMessage) {
+  TempDir dir;
+  for (const auto &c : badCases()) {
+    const fs::path file = dir.path() / (std::string(c.name) + ".yaml");
+    std::ofstream(file) << c.yaml;
+    std::string out;
+    EXPECT_EQ(runMixcon("run " + file.string(), out, dir.path()), 2) << c.name << ": " << out;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << c.name << ": " << out;
+    const bool namesFile = out.find(file.string()) != std::string::npos ||
+                           out.find("inverted.msh") != std::string::npos;
+    EXPECT_TRUE(namesFile) << "message names the problem or mesh file: " << out;
+  }
+  std::string out;
+  EXPECT_EQ(runMixcon("run " + (dir.path() / "nothing.yaml").string(), out, dir.path()), 2);
+  EXPECT_NE(out.find("cannot open problem file"), std::string::npos) << out;
+  EXPECT_EQ(runMixcon("--version", out, dir.path()), 0);
+  EXPECT_NE(out.find("mixcon 0."), std::string::npos) << out;
+  EXPECT_EQ(runMixcon("frobnicate", out, dir.path()), 2) << out;
+}
+
+TEST(Cli, RunWritesHdf5XdmfAndSummary) {
+  TempDir dir;
+  const fs::path file = dir.path() / "good.yaml";
+  std::ofstream(file) << kGood;
+  std::string out;
+  const fs::path outDir = dir.path() / "results";
+  ASSERT_EQ(runMixcon("run " + file.string() + " --output " + outDir.string(), out, dir.path()), 0)
+      << out;
+  EXPECT_NE(out.find("step 2/2"), std::string::npos) << "progress line per step: " << out;
+  ASSERT_TRUE(fs::exists(outDir / "results.xdmf"));
+  ASSERT_TRUE(fs::exists(outDir / "summary.json"));
+  std::ifstream js(outDir / "summary.json");
+  std::stringstream summary;
+  summary << js.rdbuf();
+  EXPECT_NE(summary.str().find("\"converged\": true"), std::string::npos) << summary.str();
+  EXPECT_NE(summary.str().find("\"load_factor\": 0.5"), std::string::npos) << summary.str();
+  std::ifstream xs(outDir / "results.xdmf");
+  std::stringstream xdmf;
+  xdmf << xs.rdbuf();
+  EXPECT_NE(xdmf.str().find("Quadrilateral_8"), std::string::npos);
+  EXPECT_NE(xdmf.str().find("results.h5:/steps/2/stress"), std::string::npos);
+
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  auto dims = [&](const char *name) {
+    const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+    EXPECT_GE(d, 0) << name;
+    const hid_t s = H5Dget_space(d);
+    hsize_t dd[2] = {0, 0};
+    H5Sget_simple_extent_dims(s, dd, nullptr);
+    H5Sclose(s);
+    H5Dclose(d);
+    return std::array<hsize_t, 2>{dd[0], dd[1]};
+  };
+  const hsize_t nn = 41 * 5 - 20 * 2; // Quad8 20x2 rectangle
+  EXPECT_EQ(dims("/mesh/nodes"), (std::array<hsize_t, 2>{nn, 2}));
+  EXPECT_EQ(dims("/mesh/elements"), (std::array<hsize_t, 2>{40, 8}));
+  EXPECT_EQ(dims("/steps/2/displacement"), (std::array<hsize_t, 2>{nn, 2}));
+  EXPECT_EQ(dims("/steps/2/stress"), (std::array<hsize_t, 2>{nn, 3}));
+  EXPECT_EQ(dims("/steps/1/gauss_points/stress"), (std::array<hsize_t, 2>{40 * 9, 3}));
+  double lambda = 0;
+  const hid_t g = H5Gopen2(f, "/steps/1", H5P_DEFAULT);
+  const hid_t a = H5Aopen(g, "load_factor", H5P_DEFAULT);
+  H5Aread(a, H5T_NATIVE_DOUBLE, &lambda);
+  H5Aclose(a);
+  H5Gclose(g);
+  EXPECT_DOUBLE_EQ(lambda, 0.5);
+  // Linear analysis: step 2 displacement is twice step 1's.
+  auto read = [&](const char *name, std::size_t n) {
+    std::vector<double> v(n);
+    const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+    H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(d);
+    return v;
+  };
+  const auto u1 = read("/steps/1/displacement", 2 * nn), u2 = read("/steps/2/displacement", 2 * nn);
+  double maxU = 0;
+  for (std::size_t i = 0; i < u1.size(); ++i) {
+    EXPECT_NEAR(u2[i], 2 * u1[i], 1e-9 * (std::abs(u2[i]) + 1e-12));
+    maxU = std::max(maxU, std::abs(u2[i]));
+  }
+  EXPECT_GT(maxU, 0.0);
+  H5Fclose(f);
+}
