@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <iostream>
+
 using namespace mixcon;
 
 template <class Elem> class ElementTraitsTest : public ::testing::Test {};
@@ -115,5 +118,17 @@ TEST(EdgeShape, InterpolatesAndDifferentiates) {
     EXPECT_NEAR(-n3[0] + n3[1], s, 1e-15);
     EXPECT_NEAR(n3[0] + n3[1], s * s, 1e-15);
     EXPECT_NEAR(d3[0] + d3[1], 2 * s, 1e-15);
+  }
+}
+
+TEST(Backend, RunsOnTheExpectedKokkosBackend) {
+  // CI sets MIXCON_EXPECT_BACKEND=OpenMP: races hide under Serial, so the suite must run threaded.
+  const char *expected = std::getenv("MIXCON_EXPECT_BACKEND");
+  const std::string actual = Kokkos::DefaultExecutionSpace::name();
+  std::cout << "Kokkos default execution space: " << actual << " with "
+            << Kokkos::DefaultExecutionSpace().concurrency() << " threads\n";
+  if (expected != nullptr) {
+    EXPECT_EQ(actual, expected);
+    EXPECT_GE(Kokkos::DefaultExecutionSpace().concurrency(), 2);
   }
 }

@@ -1,0 +1,148 @@
+// Google Benchmark: the batched K^L kernel (element matrices, elements/s and GB/s of element-matrix
+// output), fused compute + atomic CSR scatter (elements/s, GB/s of CSR traffic), the same kernel on
+// Kokkos::Serial as the single-thread baseline, and a STREAM-triad on the same Views as the
+// bandwidth roofline, all in one run so ratios are meaningful on a noisy machine.
+#include <kernels/LinearElasticity.hpp>
+#include <mesh/Generators.hpp>
+#include <solver/Environment.hpp>
+#include <solver/LinearSolver.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+
+using namespace mixcon;
+using Memory = Kokkos::DefaultExecutionSpace::memory_space;
+
+namespace {
+
+struct Setup {
+  Mesh mesh;
+  ElementData<Memory> data;
+};
+
+Setup makeSetup(ElementType type, int n) {
+  Setup s;
+  s.mesh = rectangleMesh(1.0, 1.0, n, n, type);
+  s.data.mesh = toDevice<Memory>(s.mesh);
+  s.data.material = Kokkos::View<int *, Memory>("material", s.mesh.numElements());
+  s.data.stiffness = Kokkos::View<PlaneMatrix *, Memory>("stiffness", 1);
+  auto h = Kokkos::create_mirror_view(s.data.stiffness);
+  h(0) = orthotropicStiffness({1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4},
+                              PlaneAnalysis::PlaneStress, 0.3);
+  Kokkos::deep_copy(s.data.stiffness, h);
+  return s;
+}
+
+ElementType typeOf(const benchmark::State &state) {
+  return state.range(0) == 8 ? ElementType::Quad8 : ElementType::Quad4;
+}
+
+template <class Exec> void elementMatrices(benchmark::State &state) {
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  dispatchElement(typeOf(state), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 2 * Elem::kNumNodes;
+    Kokkos::View<double ***, Memory> ke("ke", s.mesh.numElements(), nd, nd);
+    for (auto _ : state) {
+      const auto t0 = std::chrono::steady_clock::now();
+      computeLinearStiffness<Elem>(Exec(), s.data, ke);
+      Exec().fence();
+      state.SetIterationTime(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    const double ne = s.mesh.numElements();
+    state.counters["elem/s"] = benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    // Output dominates the traffic: nd^2 doubles per element, written once.
+    state.counters["GB/s"] = benchmark::Counter(ne * nd * nd * 8.0 / 1e9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["elements"] = ne;
+  });
+}
+
+void assembleCsr(benchmark::State &state) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  const NodeGraph g = buildNodeGraph(s.mesh);
+  auto a = expandGraph<Memory>(g, 2);
+  const auto map = elementScatterMap<Memory>(s.mesh, g);
+  dispatchElement(typeOf(state), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 2 * Elem::kNumNodes;
+    for (auto _ : state) {
+      const auto t0 = std::chrono::steady_clock::now();
+      Kokkos::deep_copy(Exec(), a.values, 0.0);
+      assembleLinearStiffness<Elem>(Exec(), s.data, map, a);
+      Exec().fence();
+      state.SetIterationTime(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    const double ne = s.mesh.numElements();
+    // Bytes: zeroing the CSR values (write), then nd^2 atomic read-modify-writes per element
+    // (16 B each) plus the scatter map (nodes^2 ints) and connectivity.
+    const double bytes = a.numNonzeros() * 8.0 +
+                         ne * (nd * nd * 16.0 + Elem::kNumNodes * Elem::kNumNodes * 4.0);
+    state.counters["elem/s"] = benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s"] = benchmark::Counter(bytes / 1e9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["nnz"] = static_cast<double>(a.numNonzeros());
+    state.counters["DOF"] = 2.0 * s.mesh.numNodes();
+  });
+}
+
+/// STREAM triad a = b + s c on Views of the same size as a Quad8 CSR of this mesh: the machine's
+/// attainable bandwidth, measured in the same run as the kernels.
+void streamTriad(benchmark::State &state) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const std::size_t n = static_cast<std::size_t>(state.range(0)) * 1000000;
+  Kokkos::View<double *, Memory> a("a", n), b("b", n), c("c", n);
+  Kokkos::deep_copy(b, 1.0);
+  Kokkos::deep_copy(c, 2.0);
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Kokkos::parallel_for(
+        "mixcon::bench::triad", Kokkos::RangePolicy<Exec>(0, n),
+        KOKKOS_LAMBDA(std::size_t i) { a(i) = b(i) + 3.0 * c(i); });
+    Exec().fence();
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.counters["GB/s"] =
+      benchmark::Counter(24.0 * n / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+} // namespace
+
+BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace>)
+    ->Name("KL/elementMatrices/threads")
+    ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+#ifdef KOKKOS_ENABLE_SERIAL
+BENCHMARK(elementMatrices<Kokkos::Serial>)
+    ->Name("KL/elementMatrices/serial-baseline")
+    ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+#endif
+BENCHMARK(assembleCsr)
+    ->Name("KL/assembleCsr/threads")
+    ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(streamTriad)->Name("stream/triad")->Arg(32)->ArgName("Mdoubles")->UseManualTime()->Unit(
+    benchmark::kMillisecond);
+
+int main(int argc, char **argv) {
+  mixcon::Environment env(argc, argv);
+  benchmark::Initialize(&argc, argv);
+  benchmark::AddCustomContext("kokkos", Environment::describe());
+  benchmark::AddCustomContext("hypre", hypreVersion());
+  benchmark::AddCustomContext("git", MIXCON_GIT_HASH);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
