@@ -4,6 +4,8 @@
 #include <mesh/Generators.hpp>
 #include <support/Reference.hpp>
 
+#include <support/Params.hpp>
+
 #include <gtest/gtest.h>
 
 using namespace mixcon;
@@ -53,11 +55,7 @@ Eigen::MatrixXd referenceElement(const Fixture &f, LocalIndex e) {
 } // namespace
 
 class KernelTest : public ::testing::TestWithParam<ElementType> {};
-INSTANTIATE_TEST_SUITE_P(Elements, KernelTest,
-                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
-                         [](const auto &info) {
-                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, KernelTest, test::bothElements(), test::elementName);
 
 TEST_P(KernelTest, ElementStiffnessMatchesHostReference) {
   const Fixture f = makeFixture(GetParam());

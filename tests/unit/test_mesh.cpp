@@ -3,6 +3,8 @@
 #include <mesh/GmshReader.hpp>
 #include <support/Reference.hpp>
 
+#include <support/Params.hpp>
+
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -35,11 +37,7 @@ std::string expectInputError(const std::function<void()> &f) {
 } // namespace
 
 class GeneratorTest : public ::testing::TestWithParam<ElementType> {};
-INSTANTIATE_TEST_SUITE_P(Elements, GeneratorTest,
-                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
-                         [](const auto &info) {
-                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, GeneratorTest, test::bothElements(), test::elementName);
 
 TEST_P(GeneratorTest, RectangleCountsAreaBoundariesAndCorners) {
   const Mesh m = rectangleMesh(4.0, 1.5, 8, 3, GetParam(), 1.0, -0.5);

@@ -3,6 +3,8 @@
 #include <solver/DisplacementModel.hpp>
 #include <support/Reference.hpp>
 
+#include <support/Params.hpp>
+
 #include <gtest/gtest.h>
 
 using namespace mixcon;
@@ -31,11 +33,7 @@ std::vector<double> solveStrip(ElementType type, LinearSolverType solver, Linear
 } // namespace
 
 class SolverTest : public ::testing::TestWithParam<ElementType> {};
-INSTANTIATE_TEST_SUITE_P(Elements, SolverTest,
-                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
-                         [](const auto &info) {
-                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, SolverTest, test::bothElements(), test::elementName);
 
 TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
   Mesh mesh = rectangleMesh(10.0, 1.0, 40, 4, GetParam());

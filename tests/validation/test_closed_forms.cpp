@@ -8,6 +8,8 @@
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
 
+#include <support/Params.hpp>
+
 #include <gtest/gtest.h>
 
 using namespace mixcon;
@@ -21,11 +23,7 @@ LinearSolverOptions amg() {
 } // namespace
 
 class CantileverTest : public ::testing::TestWithParam<ElementType> {};
-INSTANTIATE_TEST_SUITE_P(Elements, CantileverTest,
-                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
-                         [](const auto &info) {
-                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, CantileverTest, test::bothElements(), test::elementName);
 
 TEST_P(CantileverTest, TipDeflectionMatchesTimoshenkoBeam) {
   const double l = 10.0, h = 1.0, t = 1.0, e = 1.2e4, nu = 0.2, p = -1.0;
@@ -89,11 +87,7 @@ TEST_P(CantileverTest, TipDeflectionMatchesTimoshenkoBeam) {
 }
 
 class LameTest : public ::testing::TestWithParam<ElementType> {};
-INSTANTIATE_TEST_SUITE_P(Elements, LameTest,
-                         ::testing::Values(ElementType::Quad4, ElementType::Quad8),
-                         [](const auto &info) {
-                           return info.param == ElementType::Quad8 ? "Quad8" : "Quad4";
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, LameTest, test::bothElements(), test::elementName);
 
 TEST_P(LameTest, StressesAndDisplacementsMatchClosedForm) {
   const double a = 1.0, b = 2.0, pin = 100.0, e = 210000.0, nu = 0.3;
