@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <iomanip>
 #include <sstream>
 
 using namespace mixcon;
@@ -179,4 +180,97 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
   EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;
   msg = expectInputError([&] { read("hello\n"); });
   EXPECT_NE(msg.find("not a Gmsh file"), std::string::npos) << msg;
+}
+
+namespace {
+/// Writes a mesh as Gmsh 4.1 ASCII: one surface (physical "body"), one curve entity per boundary
+/// (physical groups of the same names, 2- or 3-node lines), one point per node set.
+std::string toGmsh(const Mesh &m) {
+  std::ostringstream s;
+  const int lineType = m.nodesPerElement == 8 ? 8 : 1, quadType = m.nodesPerElement == 8 ? 16 : 3;
+  std::vector<std::string> bnames, pnames;
+  for (const auto &[name, edges] : m.boundaries)
+    bnames.push_back(name);
+  for (const auto &[name, nodes] : m.nodeSets)
+    pnames.push_back(name);
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n"
+    << 1 + bnames.size() + pnames.size() << "\n2 1 \"body\"\n";
+  for (std::size_t i = 0; i < bnames.size(); ++i)
+    s << "1 " << 10 + i << " \"" << bnames[i] << "\"\n";
+  for (std::size_t i = 0; i < pnames.size(); ++i)
+    s << "0 " << 100 + i << " \"" << pnames[i] << "\"\n";
+  s << "$EndPhysicalNames\n$Entities\n" << pnames.size() << " " << bnames.size() << " 1 0\n";
+  for (std::size_t i = 0; i < pnames.size(); ++i)
+    s << i + 1 << " 0 0 0 1 " << 100 + i << "\n";
+  for (std::size_t i = 0; i < bnames.size(); ++i)
+    s << i + 1 << " 0 0 0 1 1 0 1 " << 10 + i << " 0\n";
+  s << "1 0 0 0 1 1 0 1 1 0\n$EndEntities\n";
+  // All nodes in the surface block, tags 1-based and shuffled by a stride to test the tag map.
+  const LocalIndex nn = m.numNodes();
+  auto tag = [&](LocalIndex n) { return 5 + 2 * n; };
+  s << "$Nodes\n1 " << nn << " 5 " << tag(nn - 1) << "\n2 1 0 " << nn << "\n";
+  for (LocalIndex n = 0; n < nn; ++n)
+    s << tag(n) << "\n";
+  for (LocalIndex n = 0; n < nn; ++n)
+    s << std::setprecision(17) << m.x(n) << " " << m.y(n) << " 0\n";
+  s << "$EndNodes\n$Elements\n";
+  std::size_t count = m.numElements(), blocks = 1 + bnames.size() + pnames.size();
+  for (const auto &[name, edges] : m.boundaries)
+    count += edges.size();
+  for (const auto &[name, nodes] : m.nodeSets)
+    count += nodes.size();
+  s << blocks << " " << count << " 1 " << count << "\n";
+  long id = 1;
+  for (std::size_t i = 0; i < pnames.size(); ++i) {
+    const auto &nodes = m.nodeSets.at(pnames[i]);
+    s << "0 " << i + 1 << " 15 " << nodes.size() << "\n";
+    for (LocalIndex n : nodes)
+      s << id++ << " " << tag(n) << "\n";
+  }
+  for (std::size_t i = 0; i < bnames.size(); ++i) {
+    const auto &edges = m.boundaries.at(bnames[i]);
+    s << "1 " << i + 1 << " " << lineType << " " << edges.size() << "\n";
+    for (const auto &e : edges) {
+      s << id++;
+      for (int k = 0; k < m.nodesPerEdge(); ++k)
+        s << " " << tag(m.edgeNode(e, k));
+      s << "\n";
+    }
+  }
+  s << "2 1 " << quadType << " " << m.numElements() << "\n";
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    s << id++;
+    for (int a = 0; a < m.nodesPerElement; ++a)
+      s << " " << tag(m.node(e, a));
+    s << "\n";
+  }
+  s << "$EndElements\n";
+  return s.str();
+}
+} // namespace
+
+TEST_P(GeneratorTest, GmshRoundTripKeepsGeometryTopologyAndGroups) {
+  const Mesh m = plateWithHoleMesh(1.0, 4.0, 3.0, 4, 5, GetParam(), 1.1);
+  std::istringstream in(toGmsh(m));
+  const Mesh r = readGmsh(in, "roundtrip.msh");
+  ASSERT_EQ(r.elementType, m.elementType);
+  ASSERT_EQ(r.numNodes(), m.numNodes());
+  ASSERT_EQ(r.numElements(), m.numElements());
+  for (LocalIndex n = 0; n < m.numNodes(); ++n) {
+    EXPECT_DOUBLE_EQ(r.x(n), m.x(n));
+    EXPECT_DOUBLE_EQ(r.y(n), m.y(n));
+    EXPECT_EQ(r.nodeIds[n], 5 + 2 * n);
+  }
+  EXPECT_EQ(r.connectivity, m.connectivity);
+  EXPECT_EQ(r.regionNames, std::vector<std::string>{"body"});
+  for (const auto &[name, edges] : m.boundaries) {
+    ASSERT_TRUE(r.hasBoundary(name)) << name;
+    EXPECT_EQ(r.nodesOf(name), m.nodesOf(name)) << name;
+    ASSERT_EQ(r.boundaries.at(name).size(), edges.size());
+    for (std::size_t k = 0; k < edges.size(); ++k) { // matched to the same element edge
+      EXPECT_EQ(r.boundaries.at(name)[k].element, edges[k].element);
+      EXPECT_EQ(r.boundaries.at(name)[k].edge, edges[k].edge);
+    }
+  }
+  EXPECT_NO_THROW(validateMesh(r));
 }
