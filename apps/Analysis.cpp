@@ -14,8 +14,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   RunResult result;
-  result.outputDirectory = options.outputDirectory.empty() ? p.outputDirectory
-                                                           : options.outputDirectory;
+  result.outputDirectory =
+      options.outputDirectory.empty() ? p.outputDirectory : options.outputDirectory;
   std::ostream *log = options.log;
 
   // Materials per element through regions.
@@ -62,10 +62,10 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
 
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
   if (log)
-    *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, "
-         << p.mesh.numElements() << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4")
-         << " elements, " << model.dofs().numGlobal << " unknowns, " << model.numConstrained()
-         << " constrained; " << Environment::describe() << "\n";
+    *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
+         << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
+         << model.dofs().numGlobal << " unknowns, " << model.numConstrained() << " constrained; "
+         << Environment::describe() << "\n";
 
   model.setup(p.solver, comm);
   if (log) {
@@ -96,7 +96,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     f.stress = model.nodalStressHost();
     f.reaction = model.reactionHost(lambda);
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
-    r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
+    r.totalSeconds =
+        std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
     writer.writeStep(r, f);
     result.steps.push_back(r);
     result.displacement = std::move(f.displacement);

@@ -41,14 +41,15 @@ double timoshenkoTipDeflection(double p, double l, double h, double t, double e,
 std::string VerificationResult::table() const {
   std::ostringstream s;
   s << title << "\n";
-  s << "  " << std::left << std::setw(34) << "quantity" << std::right << std::setw(15)
-    << "mixcon" << std::setw(15) << "closed form" << std::setw(12) << "rel. error" << "\n";
+  s << "  " << std::left << std::setw(34) << "quantity" << std::right << std::setw(15) << "mixcon"
+    << std::setw(15) << "closed form" << std::setw(12) << "rel. error"
+    << "\n";
   for (const auto &r : rows)
     s << "  " << std::left << std::setw(34) << r.quantity << std::right << std::setw(15)
       << std::setprecision(6) << r.computed << std::setw(15) << r.reference << std::setw(11)
       << std::setprecision(3) << 100.0 * r.relativeError << "%\n";
-  s << "  verification " << (passed ? "PASSED" : "FAILED") << " (tolerance "
-    << 100.0 * tolerance << "%)\n";
+  s << "  verification " << (passed ? "PASSED" : "FAILED") << " (tolerance " << 100.0 * tolerance
+    << "%)\n";
   return s.str();
 }
 
@@ -80,8 +81,12 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
 
   if (p.verification.type == "lame_cylinder") {
     const auto &s = p.verification;
-    const LameSolution lame{s.innerRadius,          s.outerRadius, loadFactor * s.innerPressure,
-                            loadFactor * s.outerPressure, mat.youngs, mat.poisson,
+    const LameSolution lame{s.innerRadius,
+                            s.outerRadius,
+                            loadFactor * s.innerPressure,
+                            loadFactor * s.outerPressure,
+                            mat.youngs,
+                            mat.poisson,
                             planeStrain};
     v.title = "Lame thick cylinder (Timoshenko & Goodier, sec. 28), a = " +
               std::to_string(s.innerRadius) + ", b = " + std::to_string(s.outerRadius);
@@ -100,8 +105,7 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
         ++count;
       }
       if (count == 0)
-        throw InputError(p.file + ": verification: no mesh node lies on r = " +
-                         std::to_string(r0));
+        throw InputError(p.file + ": verification: no mesh node lies on r = " + std::to_string(r0));
       const std::string at = r0 == s.innerRadius ? "r = a" : "r = b";
       const double pscale = std::max(std::abs(lame.pi), std::abs(lame.po));
       add("radial displacement u_r(" + at + ")", ur / count, lame.radialDisplacement(r0),
@@ -117,9 +121,9 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
     for (LocalIndex n : nodes)
       tip += u[2 * n + 1];
     tip /= static_cast<double>(nodes.size());
-    const double ref = timoshenkoTipDeflection(loadFactor * s.load, s.length, s.height,
-                                               p.model.thickness, mat.youngs, mat.poisson,
-                                               planeStrain);
+    const double ref =
+        timoshenkoTipDeflection(loadFactor * s.load, s.length, s.height, p.model.thickness,
+                                mat.youngs, mat.poisson, planeStrain);
     v.title = "Cantilever tip deflection vs Timoshenko beam theory (kappa = 5/6)";
     add("tip deflection (mean over '" + s.tipNodeSet + "')", tip, ref, std::abs(ref));
   }

@@ -52,10 +52,11 @@ template <class Exec> void elementMatrices(benchmark::State &state) {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     const double ne = s.mesh.numElements();
-    state.counters["elem/s"] = benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["elem/s"] =
+        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
     // Output dominates the traffic: nd^2 doubles per element, written once.
-    state.counters["GB/s"] = benchmark::Counter(ne * nd * nd * 8.0 / 1e9,
-                                                benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s"] =
+        benchmark::Counter(ne * nd * nd * 8.0 / 1e9, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["elements"] = ne;
   });
 }
@@ -80,11 +81,12 @@ void assembleCsr(benchmark::State &state) {
     const double ne = s.mesh.numElements();
     // Bytes: zeroing the CSR values (write), then nd^2 atomic read-modify-writes per element
     // (16 B each) plus the scatter map (nodes^2 ints) and connectivity.
-    const double bytes = a.numNonzeros() * 8.0 +
-                         ne * (nd * nd * 16.0 + Elem::kNumNodes * Elem::kNumNodes * 4.0);
-    state.counters["elem/s"] = benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["GB/s"] = benchmark::Counter(bytes / 1e9,
-                                                benchmark::Counter::kIsIterationInvariantRate);
+    const double bytes =
+        a.numNonzeros() * 8.0 + ne * (nd * nd * 16.0 + Elem::kNumNodes * Elem::kNumNodes * 4.0);
+    state.counters["elem/s"] =
+        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s"] =
+        benchmark::Counter(bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
     state.counters["nnz"] = static_cast<double>(a.numNonzeros());
     state.counters["DOF"] = 2.0 * s.mesh.numNodes();
   });
@@ -133,8 +135,12 @@ BENCHMARK(assembleCsr)
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(streamTriad)->Name("stream/triad")->Arg(32)->ArgName("Mdoubles")->UseManualTime()->Unit(
-    benchmark::kMillisecond);
+BENCHMARK(streamTriad)
+    ->Name("stream/triad")
+    ->Arg(32)
+    ->ArgName("Mdoubles")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 int main(int argc, char **argv) {
   mixcon::Environment env(argc, argv);

@@ -35,9 +35,7 @@ struct Item {
   Item operator[](const char *key) const {
     return Item{node[key], path.empty() ? key : path + "." + key, file};
   }
-  Item at(std::size_t i) const {
-    return Item{node[i], path + "[" + std::to_string(i) + "]", file};
-  }
+  Item at(std::size_t i) const { return Item{node[i], path + "[" + std::to_string(i) + "]", file}; }
   Item required(const char *key) const {
     if (!has(key))
       fail(std::string("missing required key '") + key + "'");
@@ -167,8 +165,8 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
       m["element"].fail("for a generator, give 'element' inside 'generator'");
     const Item g = m["generator"];
     g.requireMap();
-    const std::string type =
-        g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk"});
+    const std::string type = g.required("type").choice(
+        {"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk"});
     const ElementType et = g.has("element") ? elementType(g["element"]) : ElementType::Quad4;
     try {
       if (type == "rectangle") {
@@ -363,10 +361,12 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     loads.requireSequence();
     for (std::size_t i = 0; i < loads.node.size(); ++i) {
       const Item l = loads.at(i);
-      l.allowOnly({"boundary", "node_set", "region", "traction", "pressure", "force", "body_force"});
+      l.allowOnly(
+          {"boundary", "node_set", "region", "traction", "pressure", "force", "body_force"});
       LoadSpec s;
       s.line = l.line();
-      const int kinds = l.has("traction") + l.has("pressure") + l.has("force") + l.has("body_force");
+      const int kinds =
+          l.has("traction") + l.has("pressure") + l.has("force") + l.has("body_force");
       if (kinds != 1)
         l.fail("give exactly one of 'traction', 'pressure', 'force' or 'body_force'");
       if (l.has("traction") || l.has("pressure")) {
@@ -428,7 +428,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
                  "print_level"});
     if (s.has("type"))
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
-                                                                       : LinearSolverType::Amg;
+                                                                      : LinearSolverType::Amg;
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();
     if (s.has("max_iterations"))

@@ -20,8 +20,8 @@ void writeDataset(hid_t loc, const std::string &name, const void *data, hid_t ty
                   hsize_t cols) {
   const hsize_t dims[2] = {rows, cols};
   const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
-  const hid_t set = H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT,
-                               H5P_DEFAULT);
+  const hid_t set =
+      H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) {
     H5Sclose(space);
     throw std::runtime_error("HDF5: cannot create dataset " + name);
@@ -99,8 +99,8 @@ ResultsWriter::ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5,
     writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
     writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
                  mesh.nodesPerElement);
-    writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT,
-                 mesh.numElements(), 0);
+    writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
+                 0);
     writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
     writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
     writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
@@ -181,8 +181,7 @@ void ResultsWriter::writeXdmf() const {
     item("/mesh/nodes", nn, 2, false);
     x << "      </Geometry>\n";
     for (const char *field : {"displacement", "stress"}) {
-      x << "      <Attribute Name=\"" << field
-        << "\" AttributeType=\"Matrix\" Center=\"Node\">\n";
+      x << "      <Attribute Name=\"" << field << "\" AttributeType=\"Matrix\" Center=\"Node\">\n";
       item(base + "/" + field, nn, field[0] == 'd' ? 2 : 3, false);
       x << "      </Attribute>\n";
     }
@@ -199,8 +198,8 @@ void ResultsWriter::writeXdmf() const {
 void ResultsWriter::writeSummary() const {
   std::ostringstream j;
   j << "{\n  \"mixcon_version\": " << jsonString(MIXCON_VERSION_STRING)
-    << ",\n  \"problem\": " << jsonString(problemFile_) << ",\n  \"status\": "
-    << jsonString(status_);
+    << ",\n  \"problem\": " << jsonString(problemFile_)
+    << ",\n  \"status\": " << jsonString(status_);
   if (!message_.empty())
     j << ",\n  \"message\": " << jsonString(message_);
   j << ",\n  \"nodes\": " << mesh_.numNodes() << ",\n  \"elements\": " << mesh_.numElements()

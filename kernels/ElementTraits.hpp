@@ -17,7 +17,7 @@ KOKKOS_INLINE_FUNCTION void gauss1d(int order, int i, double &x, double &w) {
     constexpr double a = 0.57735026918962576451; // 1/sqrt(3)
     x = (i == 0) ? -a : a;
     w = 1.0;
-  } else { // order 3
+  } else {                                       // order 3
     constexpr double a = 0.77459666924148337704; // sqrt(3/5)
     x = (i == 0) ? -a : (i == 1 ? 0.0 : a);
     w = (i == 1) ? 8.0 / 9.0 : 5.0 / 9.0;

@@ -1,8 +1,9 @@
 // Batched element kernels of the displacement model, Eq. (25) of the report, for all elements at
 // once: the linear stiffness K^L = t int B^T C B dA (element matrices, or computed and scattered
-// into CSR with atomics in one pass), the load vector F^L = t int Psi^T f dA, boundary tractions and
-// pressures, internal force, and stress recovery. Element type is a template parameter (traits);
-// everything runs on the execution space passed first. Data flow: mesh -> kernels (this) -> solver.
+// into CSR with atomics in one pass), the load vector F^L = t int Psi^T f dA, boundary tractions
+// and pressures, internal force, and stress recovery. Element type is a template parameter
+// (traits); everything runs on the execution space passed first. Data flow: mesh -> kernels (this)
+// -> solver.
 #pragma once
 
 #include <kernels/ElementTraits.hpp>
@@ -105,10 +106,10 @@ void computeLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace
 
 /// Adds an element matrix (node-interleaved, 2 dofs per node) into CSR through the scatter map.
 template <class Elem, class MemorySpace, class Map>
-KOKKOS_INLINE_FUNCTION void scatterElementMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
-                                                 const MeshView<MemorySpace> &m, LocalIndex e,
-                                                 const double (&ke)[2 * Elem::kNumNodes]
-                                                                   [2 * Elem::kNumNodes]) {
+KOKKOS_INLINE_FUNCTION void
+scatterElementMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
+                     const MeshView<MemorySpace> &m, LocalIndex e,
+                     const double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
   for (int p = 0; p < Elem::kNumNodes; ++p) {
     const LocalIndex row = m.connectivity(e, p);
     for (int i = 0; i < 2; ++i) {
@@ -274,8 +275,8 @@ KOKKOS_INLINE_FUNCTION void stressAt(const ElementData<MemorySpace> &d,
                                      const Kokkos::View<const double *, MemorySpace> &u,
                                      LocalIndex e, const double (&xe)[Elem::kNumNodes][2],
                                      double xi, double eta, double (&sig)[3]) {
-  double sh[Elem::kNumNodes], dn[Elem::kNumNodes][2], g[Elem::kNumNodes][2],
-      ue[Elem::kNumNodes][2], eps[3];
+  double sh[Elem::kNumNodes], dn[Elem::kNumNodes][2], g[Elem::kNumNodes][2], ue[Elem::kNumNodes][2],
+      eps[3];
   Elem::shape(xi, eta, sh, dn);
   physicalGradients<Elem>(xe, dn, g);
   for (int a = 0; a < Elem::kNumNodes; ++a) {

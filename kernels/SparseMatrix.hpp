@@ -10,7 +10,7 @@ namespace mixcon {
 /// Compressed sparse rows on `MemorySpace`. Rows are the locally owned unknowns; columns are local
 /// indices (single rank: equal to global ones; with MPI the DofMap translates them).
 template <class MemorySpace> struct CsrMatrix {
-  Kokkos::View<Offset *, MemorySpace> rowOffsets; ///< numRows + 1
+  Kokkos::View<Offset *, MemorySpace> rowOffsets;  ///< numRows + 1
   Kokkos::View<LocalIndex *, MemorySpace> columns; ///< sorted within each row
   Kokkos::View<double *, MemorySpace> values;
   LocalIndex numRows = 0;
@@ -63,7 +63,7 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int dofsPerNode) {
 /// rowOffsets[node(e,a)*d + i] + map(e, a, b) * d + j for d unknowns per node.
 template <class MemorySpace>
 Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const Mesh &mesh,
-                                                                         const NodeGraph &graph) {
+                                                                          const NodeGraph &graph) {
   const int npe = mesh.nodesPerElement;
   Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> map("mixcon::assembly::scatterMap",
                                                               mesh.numElements(), npe, npe);

@@ -88,8 +88,8 @@ Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::stri
         const LocalIndex e = mesh.numElements();
         if (quad8) {
           const int I = 2 * i, J = 2 * j;
-          for (LocalIndex n : {at(I, J), at(I + 2, J), at(I + 2, J + 2), at(I, J + 2),
-                               at(I + 1, J), at(I + 2, J + 1), at(I + 1, J + 2), at(I, J + 1)})
+          for (LocalIndex n : {at(I, J), at(I + 2, J), at(I + 2, J + 2), at(I, J + 2), at(I + 1, J),
+                               at(I + 2, J + 1), at(I + 1, J + 2), at(I, J + 1)})
             mesh.connectivity.push_back(n);
         } else {
           for (LocalIndex n : {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)})
@@ -136,7 +136,9 @@ Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, doubl
   requirePositive("size[1]", ly, "rectangle");
   requirePositive("divisions[0]", nx, "rectangle");
   requirePositive("divisions[1]", ny, "rectangle");
-  Patch p{[=](double u, double v) { return std::array<double, 2>{x0 + u * lx, y0 + v * ly}; },
+  Patch p{[=](double u, double v) {
+            return std::array<double, 2>{x0 + u * lx, y0 + v * ly};
+          },
           nx,
           ny,
           {"bottom", "right", "top", "left"}};
@@ -178,28 +180,28 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
     throw InputError("mesh generator plate_with_hole: width and height must exceed hole_radius");
   const double tc = std::atan2(h, w); // angle of the plate corner
   // Block 1: theta in [0, tc], outer side on x = w. Block 2: theta in [tc, pi/2], outer on y = h.
-  Patch right{[=](double u, double v) {
-                const double t = v * tc;
-                const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
-                const std::array<double, 2> out{w, w * std::tan(t)};
-                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
-                                             in[1] + u * (out[1] - in[1])};
-              },
-              nr,
-              nt,
-              {"bottom", "right", "", "hole"},
-              ratio};
-  Patch top{[=](double u, double v) {
-              const double t = tc + v * (M_PI / 2 - tc);
-              const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
-              const std::array<double, 2> out{h * std::cos(t) / std::sin(t), h};
-              return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
-                                           in[1] + u * (out[1] - in[1])};
-            },
-            nr,
-            nt,
-            {"", "top", "left", "hole"},
-            ratio};
+  Patch right{
+      [=](double u, double v) {
+        const double t = v * tc;
+        const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
+        const std::array<double, 2> out{w, w * std::tan(t)};
+        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
+      },
+      nr,
+      nt,
+      {"bottom", "right", "", "hole"},
+      ratio};
+  Patch top{
+      [=](double u, double v) {
+        const double t = tc + v * (M_PI / 2 - tc);
+        const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
+        const std::array<double, 2> out{h * std::cos(t) / std::sin(t), h};
+        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
+      },
+      nr,
+      nt,
+      {"", "top", "left", "hole"},
+      ratio};
   return buildPatches({right, top}, type, "generator plate_with_hole");
 }
 
@@ -208,32 +210,35 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
   requirePositive("divisions[0]", n, "quarter_disk");
   requirePositive("divisions[1]", m, "quarter_disk");
   const double c = 0.5 * r; // core square side
-  Patch core{[=](double u, double v) { return std::array<double, 2>{u * c, v * c}; },
+  Patch core{[=](double u, double v) {
+               return std::array<double, 2>{u * c, v * c};
+             },
              n,
              n,
              {"bottom", "", "", "left"}};
   // Curved blocks: u from the core edge (u = 0) to the arc (u = 1), v along it.
-  Patch lower{[=](double u, double v) {
-                const double t = v * M_PI / 4;
-                const std::array<double, 2> in{c, v * c}, out{r * std::cos(t), r * std::sin(t)};
-                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
-                                             in[1] + u * (out[1] - in[1])};
-              },
-              m,
-              n,
-              {"bottom", "arc", "", ""}};
-  Patch upper{[=](double u, double v) {
-                const double t = M_PI / 2 - v * M_PI / 4;
-                const std::array<double, 2> in{v * c, c}, out{r * std::cos(t), r * std::sin(t)};
-                return std::array<double, 2>{in[0] + u * (out[0] - in[0]),
-                                             in[1] + u * (out[1] - in[1])};
-              },
-              m,
-              n,
-              // v runs from x = 0 towards the diagonal, so (u, v) is clockwise here: flip below.
-              {"left", "arc", "", ""}};
+  Patch lower{
+      [=](double u, double v) {
+        const double t = v * M_PI / 4;
+        const std::array<double, 2> in{c, v * c}, out{r * std::cos(t), r * std::sin(t)};
+        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
+      },
+      m,
+      n,
+      {"bottom", "arc", "", ""}};
+  Patch upper{
+      [=](double u, double v) {
+        const double t = M_PI / 2 - v * M_PI / 4;
+        const std::array<double, 2> in{v * c, c}, out{r * std::cos(t), r * std::sin(t)};
+        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
+      },
+      m,
+      n,
+      // v runs from x = 0 towards the diagonal, so (u, v) is clockwise here: flip below.
+      {"left", "arc", "", ""}};
   // Make the upper block counter-clockwise by swapping the roles of u and v.
-  Patch upperCcw{[=](double u, double v) { return upper.map(v, u); }, n, m, {"", "", "arc", "left"}};
+  Patch upperCcw{
+      [=](double u, double v) { return upper.map(v, u); }, n, m, {"", "", "arc", "left"}};
   Mesh mesh = buildPatches({core, lower, upperCcw}, type, "generator quarter_disk");
   mesh.nodeSets["center"] = {closestNode(mesh, 0.0, 0.0)};
   mesh.nodeSets["arc_bottom"] = {closestNode(mesh, r, 0.0)};

@@ -125,7 +125,7 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
   Mesh mesh;
   mesh.source = name;
 
-  std::map<std::pair<int, int>, std::string> physicalNames; // (dim, tag) -> name
+  std::map<std::pair<int, int>, std::string> physicalNames;        // (dim, tag) -> name
   std::map<std::pair<int, int>, std::vector<int>> entityPhysicals; // (dim, entity) -> tags
   std::unordered_map<long, LocalIndex> nodeIndex;
   struct LineElement {
@@ -339,8 +339,7 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
     auto names = groupNames(0, p.entity);
     auto it = nodeIndex.find(p.node);
     if (it == nodeIndex.end())
-      throw InputError(name + ": point element references unknown node " +
-                       std::to_string(p.node));
+      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
     for (const auto &nm : names)
       mesh.nodeSets[nm].push_back(it->second);
   }

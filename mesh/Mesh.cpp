@@ -7,8 +7,8 @@
 namespace mixcon {
 
 LocalIndex Mesh::edgeNode(const BoundaryEdge &e, int k) const {
-  const int local = elementType == ElementType::Quad8 ? Quad8::edgeNode(e.edge, k)
-                                                      : Quad4::edgeNode(e.edge, k);
+  const int local =
+      elementType == ElementType::Quad8 ? Quad8::edgeNode(e.edge, k) : Quad4::edgeNode(e.edge, k);
   return node(e.element, local);
 }
 

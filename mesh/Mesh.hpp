@@ -72,8 +72,8 @@ template <class MemorySpace> struct MeshView {
 /// Copies a host mesh to `MemorySpace`.
 template <class MemorySpace> MeshView<MemorySpace> toDevice(const Mesh &mesh) {
   MeshView<MemorySpace> v;
-  v.coordinates = Kokkos::View<double *[2], MemorySpace>("mixcon::mesh::coordinates",
-                                                         mesh.numNodes());
+  v.coordinates =
+      Kokkos::View<double *[2], MemorySpace>("mixcon::mesh::coordinates", mesh.numNodes());
   v.connectivity = Kokkos::View<LocalIndex **, Kokkos::LayoutRight, MemorySpace>(
       "mixcon::mesh::connectivity", mesh.numElements(), mesh.nodesPerElement);
   auto hc = Kokkos::create_mirror_view(v.coordinates);

@@ -22,8 +22,10 @@ LinearDisplacementModel::LinearDisplacementModel(const Mesh &mesh,
     : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), 2)) {
   data_.mesh = toDevice<Memory>(mesh);
   data_.thickness = thickness;
-  data_.material = Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
-  data_.stiffness = Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
+  data_.material =
+      Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
+  data_.stiffness =
+      Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
   auto hm = Kokkos::create_mirror_view(data_.material);
   for (LocalIndex e = 0; e < mesh.numElements(); ++e)
     hm(e) = elementMaterial.at(e);
@@ -122,7 +124,8 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
   applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(isConstrained_),
                  Kokkos::View<const double *, Memory>(prescribed_), rhs_);
   Exec().fence();
-  assemblySeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  assemblySeconds_ =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solver_ = makeLinearSolver(options, dofs_, comm);
   solver_->setup(constrained_);
 }

@@ -62,10 +62,10 @@ private:
   DofMap dofs_;
   ElementData<Memory> data_;
   NodeGraph graph_;
-  CsrMatrix<Memory> stiffness_;   ///< unconstrained K^L
-  CsrMatrix<Memory> constrained_; ///< K^L with identity-like constrained rows
-  Kokkos::View<double *, Memory> load_;        ///< reference external load F
-  Kokkos::View<double *, Memory> rhs_;         ///< constrained right-hand side for lambda = 1
+  CsrMatrix<Memory> stiffness_;         ///< unconstrained K^L
+  CsrMatrix<Memory> constrained_;       ///< K^L with identity-like constrained rows
+  Kokkos::View<double *, Memory> load_; ///< reference external load F
+  Kokkos::View<double *, Memory> rhs_;  ///< constrained right-hand side for lambda = 1
   Kokkos::View<double *, Memory> u_;
   Kokkos::View<int *, Memory> isConstrained_;
   Kokkos::View<double *, Memory> prescribed_;

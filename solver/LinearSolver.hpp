@@ -20,11 +20,11 @@ enum class LinearSolverType { Amg, Direct };
 /// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, PMaxElmts 4, l1-GS).
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::Amg;
-  double tolerance = 1e-8;       ///< relative residual ||b - A x|| / ||b|| (two-norm)
+  double tolerance = 1e-8; ///< relative residual ||b - A x|| / ||b|| (two-norm)
   int maxIterations = 1000;
-  double strongThreshold = 0.5;  ///< BoomerAMG strength threshold
-  int aggressiveLevels = 0;      ///< BoomerAMG levels of aggressive coarsening
-  int printLevel = 0;            ///< hypre's own print level
+  double strongThreshold = 0.5; ///< BoomerAMG strength threshold
+  int aggressiveLevels = 0;     ///< BoomerAMG levels of aggressive coarsening
+  int printLevel = 0;           ///< hypre's own print level
 };
 
 struct LinearSolveStats {

@@ -132,7 +132,8 @@ inline void distortInterior(Mesh &mesh, double h, double amount, unsigned seed) 
   if (mesh.nodesPerElement == 8)
     for (LocalIndex e = 0; e < mesh.numElements(); ++e)
       for (int k = 0; k < 4; ++k) {
-        const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4), m = mesh.node(e, 4 + k);
+        const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4),
+                         m = mesh.node(e, 4 + k);
         if (onBoundary[m])
           continue;
         mesh.coordinates[2 * m] = 0.5 * (mesh.x(a) + mesh.x(b));

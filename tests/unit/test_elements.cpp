@@ -96,7 +96,8 @@ TYPED_TEST(ElementTraitsTest, JacobianGivesAreaOfMappedElement) {
       xe[a][c] = 0.5 * (corners[a - 4][c] + corners[(a - 3) % 4][c]);
   double area = 0.0, shoelace = 0.0;
   for (int a = 0; a < 4; ++a)
-    shoelace += 0.5 * (corners[a][0] * corners[(a + 1) % 4][1] - corners[(a + 1) % 4][0] * corners[a][1]);
+    shoelace +=
+        0.5 * (corners[a][0] * corners[(a + 1) % 4][1] - corners[(a + 1) % 4][0] * corners[a][1]);
   for (int q = 0; q < Elem::kNumQp; ++q) {
     double xi, eta, w, n[Elem::kNumNodes], dn[Elem::kNumNodes][2], g[Elem::kNumNodes][2];
     Elem::quadraturePoint(q, xi, eta, w);

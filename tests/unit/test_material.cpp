@@ -23,10 +23,11 @@ TEST(Material, IsotropicPlaneStressAndStrainMatchTextbook) {
                    PlaneMatrix{{{s, s * nu, 0}, {s * nu, s, 0}, {0, 0, s * (1 - nu) / 2}}}, 1e-9);
   // Plane strain: E/((1+nu)(1-2nu)) [1-nu nu 0; nu 1-nu 0; 0 0 (1-2nu)/2].
   const double p = e / ((1 + nu) * (1 - 2 * nu));
-  expectMatrixNear(isotropicStiffness(e, nu, PlaneAnalysis::PlaneStrain),
-                   PlaneMatrix{{{p * (1 - nu), p * nu, 0}, {p * nu, p * (1 - nu), 0},
-                                {0, 0, p * (1 - 2 * nu) / 2}}},
-                   1e-9);
+  expectMatrixNear(
+      isotropicStiffness(e, nu, PlaneAnalysis::PlaneStrain),
+      PlaneMatrix{
+          {{p * (1 - nu), p * nu, 0}, {p * nu, p * (1 - nu), 0}, {0, 0, p * (1 - 2 * nu) / 2}}},
+      1e-9);
 }
 
 TEST(Material, OrthotropicComplianceInvertsStiffness) {

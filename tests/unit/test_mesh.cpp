@@ -67,9 +67,9 @@ TEST_P(GeneratorTest, CurvedGeneratorsConvergeToExactAreaAndShareNodes) {
   // Merged O-grid: Euler's formula for a planar quad mesh, V - E + F = 1 (corner nodes only).
   const Mesh disk4 = quarterDiskMesh(1.0, 6, 4, ElementType::Quad4);
   const int v = disk4.numNodes(), f = disk4.numElements();
-  const int boundaryEdges = static_cast<int>(disk4.boundaries.at("arc").size() +
-                                             disk4.boundaries.at("bottom").size() +
-                                             disk4.boundaries.at("left").size());
+  const int boundaryEdges =
+      static_cast<int>(disk4.boundaries.at("arc").size() + disk4.boundaries.at("bottom").size() +
+                       disk4.boundaries.at("left").size());
   const int edges = (4 * f + boundaryEdges) / 2;
   EXPECT_EQ(v - edges + f, 1);
   const Mesh plate = plateWithHoleMesh(1.0, 5.0, 4.0, 6, 8, GetParam(), 1.2);
@@ -165,7 +165,8 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
     return readGmsh(in, "bad.msh");
   };
   std::string t = kGmshQuad4;
-  auto msg = expectInputError([&] { read(std::string(t).replace(t.find("4.1 0 8"), 7, "2.2 0 8")); });
+  auto msg =
+      expectInputError([&] { read(std::string(t).replace(t.find("4.1 0 8"), 7, "2.2 0 8")); });
   EXPECT_NE(msg.find("bad.msh:2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("version"), std::string::npos) << msg;
   msg = expectInputError([&] { read(std::string(t).replace(t.find("4.1 0 8"), 7, "4.1 1 8")); });
@@ -174,7 +175,8 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
   msg = expectInputError([&] { read(std::string(t).replace(t.find("2 1 3 2"), 7, "2 1 2 2")); });
   EXPECT_NE(msg.find("unsupported element type 2"), std::string::npos) << msg;
   // An element that references a node that does not exist.
-  msg = expectInputError([&] { read(std::string(t).replace(t.find("4 3 5 6 4"), 9, "4 3 5 6 9")); });
+  msg =
+      expectInputError([&] { read(std::string(t).replace(t.find("4 3 5 6 4"), 9, "4 3 5 6 9")); });
   EXPECT_NE(msg.find("unknown node 9"), std::string::npos) << msg;
   msg = expectInputError([&] { read("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2 1 2\n"); });
   EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;

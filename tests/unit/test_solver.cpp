@@ -56,7 +56,8 @@ TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
 
 TEST(Dirichlet, KeepsSymmetryAndPrescribedValues) {
   const Mesh mesh = rectangleMesh(2.0, 1.0, 3, 2, ElementType::Quad4);
-  const std::vector<PlaneMatrix> mats = {isotropicStiffness(100.0, 0.25, PlaneAnalysis::PlaneStress)};
+  const std::vector<PlaneMatrix> mats = {
+      isotropicStiffness(100.0, 0.25, PlaneAnalysis::PlaneStress)};
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), mats, 1.0);
   // Prescribe a rigid translation on the left, a stretch on the right.
   for (LocalIndex n : mesh.nodesOf("left")) {

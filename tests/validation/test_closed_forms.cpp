@@ -120,12 +120,12 @@ TEST_P(LameTest, StressesAndDisplacementsMatchClosedForm) {
         std::max(std::abs(sr - lame.sigmaR(r)), std::abs(st - lame.sigmaTheta(r))) / pin;
     double &slot = (r < a + 1e-9 || r > b - 1e-9) ? surfaceErr : interiorErr;
     slot = std::max(slot, err);
-    maxDispErr = std::max(maxDispErr, std::abs(ur - lame.radialDisplacement(r)) /
-                                          lame.radialDisplacement(a));
+    maxDispErr = std::max(maxDispErr,
+                          std::abs(ur - lame.radialDisplacement(r)) / lame.radialDisplacement(a));
   }
   EXPECT_NEAR(lame.sigmaTheta(a), 100.0 * 5.0 / 3.0, 1e-12);
-  std::cout << "max nodal stress error / p: interior " << interiorErr << ", surfaces "
-            << surfaceErr << "; max u_r error / u_r(a) " << maxDispErr << "\n";
+  std::cout << "max nodal stress error / p: interior " << interiorErr << ", surfaces " << surfaceErr
+            << "; max u_r error / u_r(a) " << maxDispErr << "\n";
   EXPECT_LT(interiorErr, q8 ? 8e-3 : 5e-3);
   EXPECT_LT(surfaceErr, q8 ? 1e-2 : 8e-2);
   EXPECT_LT(maxDispErr, q8 ? 1e-5 : 1e-3);

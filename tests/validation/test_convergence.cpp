@@ -29,7 +29,8 @@ double l2Error(ElementType type, int n) {
       model.prescribe(k, 0, u[0]);
       model.prescribe(k, 1, u[1]);
     }
-  // f1 = -(c11 u1,xx + c66 u1,yy + (c12 + c66) u2,xy), f2 = -(c66 u2,xx + c11 u2,yy + (c12 + c66) u1,xy)
+  // f1 = -(c11 u1,xx + c66 u1,yy + (c12 + c66) u2,xy), f2 = -(c66 u2,xx + c11 u2,yy + (c12 + c66)
+  // u1,xy)
   const double c11 = c.m[0][0], c12 = c.m[0][1], c66 = c.m[2][2], p2 = kPi * kPi;
   model.addBodyForce([=](double x, double y, LocalIndex) {
     const double u1 = std::sin(kPi * x) * std::sin(kPi * y);
