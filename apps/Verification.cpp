@@ -5,24 +5,30 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <utility>
 
 namespace mixcon {
 
+namespace {
+/// The constants A and B of sigma_r = A - B/r^2, sigma_theta = A + B/r^2.
+std::pair<double, double> lameConstants(const LameSolution &s) {
+  const double a2 = s.a * s.a, b2 = s.b * s.b;
+  return {(s.pi * a2 - s.po * b2) / (b2 - a2), (s.pi - s.po) * a2 * b2 / (b2 - a2)};
+}
+} // namespace
+
 double LameSolution::sigmaR(double r) const {
-  const double a2 = a * a, b2 = b * b;
-  const double ca = (pi * a2 - po * b2) / (b2 - a2), cb = (pi - po) * a2 * b2 / (b2 - a2);
+  const auto [ca, cb] = lameConstants(*this);
   return ca - cb / (r * r);
 }
 
 double LameSolution::sigmaTheta(double r) const {
-  const double a2 = a * a, b2 = b * b;
-  const double ca = (pi * a2 - po * b2) / (b2 - a2), cb = (pi - po) * a2 * b2 / (b2 - a2);
+  const auto [ca, cb] = lameConstants(*this);
   return ca + cb / (r * r);
 }
 
 double LameSolution::radialDisplacement(double r) const {
-  const double a2 = a * a, b2 = b * b;
-  const double ca = (pi * a2 - po * b2) / (b2 - a2), cb = (pi - po) * a2 * b2 / (b2 - a2);
+  const auto [ca, cb] = lameConstants(*this);
   if (planeStrain)
     return (1.0 + nu) / e * ((1.0 - 2.0 * nu) * ca * r + cb / r);
   return ((1.0 - nu) * ca * r + (1.0 + nu) * cb / r) / e;
