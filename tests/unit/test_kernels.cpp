@@ -46,6 +46,21 @@ Fixture makeFixture(ElementType type, int nx = 6, int ny = 5) {
   return f;
 }
 
+/// Body force f = (x + 2y, 3 - x) at the quadrature points xq, on the device. A named function
+/// template, so that the device lambda is not defined inside a generic lambda (nvcc rejects that).
+template <class Elem>
+void fillBodyForce(const Kokkos::View<double **[2], Memory> &xq,
+                   const Kokkos::View<double **[2], Memory> &fq) {
+  Kokkos::parallel_for(
+      "mixcon::test::fillBodyForce", Kokkos::RangePolicy<Exec>(0, xq.extent(0)),
+      KOKKOS_LAMBDA(int e) {
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          fq(e, q, 0) = xq(e, q, 0) + 2 * xq(e, q, 1);
+          fq(e, q, 1) = 3 - xq(e, q, 0);
+        }
+      });
+}
+
 Eigen::MatrixXd referenceElement(const Fixture &f, LocalIndex e) {
   return test::referenceStiffness(test::elementCoordinates(f.mesh, e),
                                   test::toEigen(f.materials[f.elementMaterial[e]]),
@@ -145,13 +160,7 @@ TEST_P(KernelTest, BodyForceAndInternalForceMatchReference) {
     Kokkos::View<double **[2], Memory> xq("xq", f.mesh.numElements(), Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), f.data.mesh, xq);
     Kokkos::View<double **[2], Memory> fq("fq", f.mesh.numElements(), Elem::kNumQp);
-    Kokkos::parallel_for(
-        "fill", Kokkos::RangePolicy<Exec>(0, f.mesh.numElements()), KOKKOS_LAMBDA(int e) {
-          for (int q = 0; q < Elem::kNumQp; ++q) {
-            fq(e, q, 0) = xq(e, q, 0) + 2 * xq(e, q, 1);
-            fq(e, q, 1) = 3 - xq(e, q, 0);
-          }
-        });
+    fillBodyForce<Elem>(xq, fq);
     Kokkos::View<double *, Memory> rhs("rhs", n);
     assembleBodyForce<Elem>(Exec(), f.data, Kokkos::View<const double **[2], Memory>(fq), rhs);
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
