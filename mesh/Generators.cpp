@@ -22,6 +22,14 @@ struct Patch {
   double gradeU = 1.0; ///< geometric growth of element size along u
 };
 
+using Point = std::array<double, 2>;
+
+/// The point at fraction s of the straight segment from p to q (the radial lines of the mapped
+/// blocks).
+Point lerp(const Point &p, const Point &q, double s) {
+  return {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])};
+}
+
 /// Parameter of grid line i out of n (geometric grading with ratio between successive sizes).
 double graded(int i, int n, double ratio) {
   if (std::abs(ratio - 1.0) < 1e-14)
@@ -180,23 +188,18 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
     throw InputError("mesh generator plate_with_hole: width and height must exceed hole_radius");
   const double tc = std::atan2(h, w); // angle of the plate corner
   // Block 1: theta in [0, tc], outer side on x = w. Block 2: theta in [tc, pi/2], outer on y = h.
-  Patch right{
-      [=](double u, double v) {
-        const double t = v * tc;
-        const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
-        const std::array<double, 2> out{w, w * std::tan(t)};
-        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
-      },
-      nr,
-      nt,
-      {"bottom", "right", "", "hole"},
-      ratio};
+  Patch right{[=](double u, double v) {
+                const double t = v * tc;
+                return lerp({a * std::cos(t), a * std::sin(t)}, {w, w * std::tan(t)}, u);
+              },
+              nr,
+              nt,
+              {"bottom", "right", "", "hole"},
+              ratio};
   Patch top{
       [=](double u, double v) {
         const double t = tc + v * (M_PI / 2 - tc);
-        const std::array<double, 2> in{a * std::cos(t), a * std::sin(t)};
-        const std::array<double, 2> out{h * std::cos(t) / std::sin(t), h};
-        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
+        return lerp({a * std::cos(t), a * std::sin(t)}, {h * std::cos(t) / std::sin(t), h}, u);
       },
       nr,
       nt,
@@ -216,30 +219,24 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
              n,
              n,
              {"bottom", "", "", "left"}};
-  // Curved blocks: u from the core edge (u = 0) to the arc (u = 1), v along it.
-  Patch lower{
-      [=](double u, double v) {
-        const double t = v * M_PI / 4;
-        const std::array<double, 2> in{c, v * c}, out{r * std::cos(t), r * std::sin(t)};
-        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
-      },
-      m,
-      n,
-      {"bottom", "arc", "", ""}};
-  Patch upper{
-      [=](double u, double v) {
-        const double t = M_PI / 2 - v * M_PI / 4;
-        const std::array<double, 2> in{v * c, c}, out{r * std::cos(t), r * std::sin(t)};
-        return std::array<double, 2>{in[0] + u * (out[0] - in[0]), in[1] + u * (out[1] - in[1])};
-      },
-      m,
-      n,
-      // v runs from x = 0 towards the diagonal, so (u, v) is clockwise here: flip below.
-      {"left", "arc", "", ""}};
-  // Make the upper block counter-clockwise by swapping the roles of u and v.
-  Patch upperCcw{
-      [=](double u, double v) { return upper.map(v, u); }, n, m, {"", "", "arc", "left"}};
-  Mesh mesh = buildPatches({core, lower, upperCcw}, type, "generator quarter_disk");
+  // Lower block: u from the core edge x = c (u = 0) to the arc (u = 1), v along it.
+  Patch lower{[=](double u, double v) {
+                const double t = v * M_PI / 4;
+                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, u);
+              },
+              m,
+              n,
+              {"bottom", "arc", "", ""}};
+  // Upper block: u along the core's top edge from x = 0 to the diagonal, v from the core
+  // (v = 0) to the arc, so that (u, v) is counter-clockwise.
+  Patch upper{[=](double u, double v) {
+                const double t = M_PI / 2 - u * M_PI / 4;
+                return lerp({u * c, c}, {r * std::cos(t), r * std::sin(t)}, v);
+              },
+              n,
+              m,
+              {"", "", "arc", "left"}};
+  Mesh mesh = buildPatches({core, lower, upper}, type, "generator quarter_disk");
   mesh.nodeSets["center"] = {closestNode(mesh, 0.0, 0.0)};
   mesh.nodeSets["arc_bottom"] = {closestNode(mesh, r, 0.0)};
   mesh.nodeSets["arc_left"] = {closestNode(mesh, 0.0, r)};
