@@ -1,6 +1,7 @@
 // LinearDisplacementModel: host orchestration of device kernels.
 #include <solver/DisplacementModel.hpp>
 
+#include <algorithm>
 #include <chrono>
 
 namespace mixcon {
@@ -40,6 +41,9 @@ LinearDisplacementModel::LinearDisplacementModel(const Mesh &mesh,
   u_ = Kokkos::View<double *, Memory>("mixcon::model::displacement", n);
   isConstrained_ = Kokkos::View<int *, Memory>("mixcon::model::constrained", n);
   prescribed_ = Kokkos::View<double *, Memory>("mixcon::model::prescribed", n);
+  stagedNodalForce_.assign(n, 0.0);
+  constrainedHost_.assign(n, 0);
+  prescribedHost_.assign(n, 0.0);
 }
 
 void LinearDisplacementModel::addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx,
@@ -65,11 +69,8 @@ void LinearDisplacementModel::addEdgeLoad(const std::vector<BoundaryEdge> &edges
 }
 
 void LinearDisplacementModel::addNodalForce(LocalIndex node, double fx, double fy) {
-  auto sub = Kokkos::subview(load_, Kokkos::make_pair(2 * node, 2 * node + 2));
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sub);
-  h(0) += fx;
-  h(1) += fy;
-  Kokkos::deep_copy(sub, h);
+  stagedNodalForce_[dofs_.dof(node, 0)] += fx;
+  stagedNodalForce_[dofs_.dof(node, 1)] += fy;
 }
 
 void LinearDisplacementModel::addBodyForce(
@@ -95,17 +96,12 @@ void LinearDisplacementModel::addBodyForce(
 
 void LinearDisplacementModel::prescribe(LocalIndex node, int comp, double value) {
   const LocalIndex i = dofs_.dof(node, comp);
-  Kokkos::deep_copy(Kokkos::subview(isConstrained_, i), 1);
-  Kokkos::deep_copy(Kokkos::subview(prescribed_, i), value);
+  constrainedHost_[i] = 1;
+  prescribedHost_[i] = value;
 }
 
 LocalIndex LinearDisplacementModel::numConstrained() const {
-  LocalIndex count = 0;
-  auto c = isConstrained_;
-  Kokkos::parallel_reduce(
-      "mixcon::model::countConstrained", Kokkos::RangePolicy<Exec>(0, c.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i, LocalIndex & s) { s += c(i) != 0; }, count);
-  return count;
+  return static_cast<LocalIndex>(std::count(constrainedHost_.begin(), constrainedHost_.end(), 1));
 }
 
 void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
@@ -117,6 +113,23 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
     dispatchElement(mesh_.elementType, [&](auto elem) {
       assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, stiffness_);
     });
+  }
+  // Staged host data, one copy each: nodal forces join the reference load (and are then cleared,
+  // so a second setup() does not add them twice), constraints replace the device flags.
+  {
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
+    for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
+      h(i) += stagedNodalForce_[i];
+    Kokkos::deep_copy(load_, h);
+    std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
+    auto hc = Kokkos::create_mirror_view(isConstrained_);
+    auto hp = Kokkos::create_mirror_view(prescribed_);
+    for (std::size_t i = 0; i < constrainedHost_.size(); ++i) {
+      hc(i) = constrainedHost_[i];
+      hp(i) = prescribedHost_[i];
+    }
+    Kokkos::deep_copy(isConstrained_, hc);
+    Kokkos::deep_copy(prescribed_, hp);
   }
   constrained_ = cloneMatrix(stiffness_);
   rhs_ = Kokkos::View<double *, Memory>("mixcon::model::rhs", load_.extent(0));

@@ -28,7 +28,8 @@ public:
   const DofMap &dofs() const { return dofs_; }
   const Mesh &mesh() const { return mesh_; }
 
-  /// Reference loads (all scaled by the load factor at solve time).
+  /// Reference loads (all scaled by the load factor at solve time). Nodal forces and prescribed
+  /// values are staged on the host and copied to the device once, in setup().
   void addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx, double ty, double pressure);
   void addNodalForce(LocalIndex node, double fx, double fy);
   /// Body force per unit volume, evaluated on the host at each quadrature point (x, y, element).
@@ -69,6 +70,9 @@ private:
   Kokkos::View<double *, Memory> u_;
   Kokkos::View<int *, Memory> isConstrained_;
   Kokkos::View<double *, Memory> prescribed_;
+  std::vector<double> stagedNodalForce_; ///< host, added to load_ by setup()
+  std::vector<int> constrainedHost_;     ///< host staging of isConstrained_
+  std::vector<double> prescribedHost_;   ///< host staging of prescribed_
   std::unique_ptr<LinearSolver> solver_;
   double assemblySeconds_ = 0.0;
 };
