@@ -323,12 +323,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
 
   auto checkTarget = [&](const Item &i, const std::string &target) {
     if (!p.mesh.hasBoundary(target) && !p.mesh.hasNodeSet(target)) {
-      std::string known;
-      for (const auto &[n, v] : p.mesh.boundaries)
-        known += " " + n;
-      for (const auto &[n, v] : p.mesh.nodeSets)
-        known += " " + n;
-      i.fail("unknown boundary or node set '" + target + "' (mesh has:" + known + ")");
+      i.fail("unknown boundary or node set '" + target + "' (mesh has: " + p.mesh.namedSets() +
+             ")");
     }
   };
 

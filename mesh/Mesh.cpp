@@ -21,18 +21,21 @@ std::vector<LocalIndex> Mesh::nodesOf(const std::string &name) const {
   } else if (auto s = nodeSets.find(name); s != nodeSets.end()) {
     nodes = s->second;
   } else {
-    std::ostringstream msg;
-    msg << source << ": no boundary or node set named '" << name << "' (known:";
-    for (const auto &[n, v] : boundaries)
-      msg << " " << n;
-    for (const auto &[n, v] : nodeSets)
-      msg << " " << n;
-    msg << ")";
-    throw InputError(msg.str());
+    throw InputError(source + ": no boundary or node set named '" + name +
+                     "' (known: " + namedSets() + ")");
   }
   std::sort(nodes.begin(), nodes.end());
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   return nodes;
+}
+
+std::string Mesh::namedSets() const {
+  std::string names;
+  for (const auto &[n, v] : boundaries)
+    names += (names.empty() ? "" : " ") + n;
+  for (const auto &[n, v] : nodeSets)
+    names += (names.empty() ? "" : " ") + n;
+  return names;
 }
 
 int Mesh::regionIndex(const std::string &name) const {

@@ -55,6 +55,8 @@ struct Mesh {
   bool hasBoundary(const std::string &name) const { return boundaries.count(name) != 0; }
   bool hasNodeSet(const std::string &name) const { return nodeSets.count(name) != 0; }
   int regionIndex(const std::string &name) const; ///< -1 when absent
+  /// The names of all boundaries and node sets, space separated, for messages.
+  std::string namedSets() const;
   /// Fills default external ids (index + 1) where a generator left them empty.
   void finalizeIds();
 };
