@@ -240,6 +240,33 @@ void assembleEdgeLoads(const ExecSpace &exec, const MeshView<MemorySpace> &m,
       });
 }
 
+/// Device inputs of assembleEdgeLoads for one load (t_x, t_y, p) shared by a list of edges.
+template <class MemorySpace> struct EdgeLoadBatch {
+  Kokkos::View<LocalIndex *[2], MemorySpace> edges;
+  Kokkos::View<double *[3], MemorySpace> load;
+};
+
+/// Copies `edges` and the uniform load (tx, ty, pressure) to `MemorySpace`.
+template <class MemorySpace>
+EdgeLoadBatch<MemorySpace> uniformEdgeLoads(const std::vector<BoundaryEdge> &edges, double tx,
+                                            double ty, double pressure) {
+  EdgeLoadBatch<MemorySpace> b{
+      Kokkos::View<LocalIndex *[2], MemorySpace>("mixcon::kernels::edges", edges.size()),
+      Kokkos::View<double *[3], MemorySpace>("mixcon::kernels::edgeLoads", edges.size())};
+  auto he = Kokkos::create_mirror_view(b.edges);
+  auto hl = Kokkos::create_mirror_view(b.load);
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    he(k, 0) = edges[k].element;
+    he(k, 1) = edges[k].edge;
+    hl(k, 0) = tx;
+    hl(k, 1) = ty;
+    hl(k, 2) = pressure;
+  }
+  Kokkos::deep_copy(b.edges, he);
+  Kokkos::deep_copy(b.load, hl);
+  return b;
+}
+
 /// Internal force f = K^L u assembled element by element (matrix free), added to f.
 template <class Elem, class ExecSpace, class MemorySpace>
 void assembleInternalForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,

@@ -50,21 +50,10 @@ void LinearDisplacementModel::addEdgeLoad(const std::vector<BoundaryEdge> &edges
                                           double ty, double pressure) {
   if (edges.empty())
     return;
-  Kokkos::View<LocalIndex *[2], Memory> ev("mixcon::model::edges", edges.size());
-  Kokkos::View<double *[3], Memory> lv("mixcon::model::edgeLoads", edges.size());
-  auto he = Kokkos::create_mirror_view(ev);
-  auto hl = Kokkos::create_mirror_view(lv);
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    he(k, 0) = edges[k].element;
-    he(k, 1) = edges[k].edge;
-    hl(k, 0) = tx;
-    hl(k, 1) = ty;
-    hl(k, 2) = pressure;
-  }
-  Kokkos::deep_copy(ev, he);
-  Kokkos::deep_copy(lv, hl);
+  const auto batch = uniformEdgeLoads<Memory>(edges, tx, ty, pressure);
   dispatchElement(mesh_.elementType, [&](auto elem) {
-    assembleEdgeLoads<decltype(elem)>(Exec(), data_.mesh, ev, lv, data_.thickness, load_);
+    assembleEdgeLoads<decltype(elem)>(Exec(), data_.mesh, batch.edges, batch.load, data_.thickness,
+                                      load_);
   });
 }
 

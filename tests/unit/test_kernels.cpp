@@ -210,29 +210,17 @@ TEST_P(KernelTest, BodyForceAndInternalForceMatchReference) {
 }
 
 TEST_P(KernelTest, EdgeLoadsIntegrateTractionAndPressure) {
-  // Quarter annulus: pressure p on the inner arc. Total force on the quarter arc of radius a is
-  // p a t (1, 1) pushing outwards... the pressure acts against the outward normal of the body,
-  // which on the inner arc points towards the origin, so the force points away from it.
+  // Quarter annulus, pressure p on the inner arc plus a uniform traction (0.25, -0.5). The
+  // pressure acts against the body's outward normal, which on the inner arc points towards the
+  // origin, so its resultant p a t (1, 1) points away from it.
   const double a = 1.0, p = 3.0, t = 0.5;
   Mesh mesh = quarterAnnulusMesh(a, 2.0, 2, 32, GetParam());
   const auto dev = toDevice<Memory>(mesh);
   const auto &edges = mesh.boundaries.at("inner");
-  Kokkos::View<LocalIndex *[2], Memory> ev("edges", edges.size());
-  Kokkos::View<double *[3], Memory> lv("loads", edges.size());
-  auto he = Kokkos::create_mirror_view(ev);
-  auto hl = Kokkos::create_mirror_view(lv);
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    he(k, 0) = edges[k].element;
-    he(k, 1) = edges[k].edge;
-    hl(k, 0) = 0.25; // plus a uniform traction (0.25, -0.5) per unit area
-    hl(k, 1) = -0.5;
-    hl(k, 2) = p;
-  }
-  Kokkos::deep_copy(ev, he);
-  Kokkos::deep_copy(lv, hl);
+  const auto batch = uniformEdgeLoads<Memory>(edges, 0.25, -0.5, p);
   Kokkos::View<double *, Memory> rhs("rhs", 2 * mesh.numNodes());
   dispatchElement(GetParam(), [&](auto elem) {
-    assembleEdgeLoads<decltype(elem)>(Exec(), dev, ev, lv, t, rhs);
+    assembleEdgeLoads<decltype(elem)>(Exec(), dev, batch.edges, batch.load, t, rhs);
   });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
   double fx = 0, fy = 0;
