@@ -73,21 +73,21 @@ std::string replace(std::string s, const std::string &from, const std::string &t
   return s.replace(at, from.size(), to);
 }
 
+// The mesh line of kGood, replaced by the cases that change the mesh.
+const char *kGenerator =
+    "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}";
+
 std::vector<BadCase> badCases() {
   const std::string g = kGood;
   return {
       {"unknown_key", replace(g, "thickness: 0.5", "thicknes: 0.5"), "unknown key 'thicknes'", 3},
-      {"missing_mesh_file",
-       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
-               "file: does-not-exist.msh"),
+      {"missing_mesh_file", replace(g, kGenerator, "file: does-not-exist.msh"),
        "cannot open mesh file", 2},
       {"unknown_region", replace(g, "region: body, type", "region: wood, type"),
        "unknown region 'wood'", 5},
       {"unsupported_element", replace(g, "element: quad8", "element: tri3"),
        "unsupported element 'tri3'", 2},
-      {"wrong_element_order",
-       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
-               "{file: inverted.msh, element: quad8}"),
+      {"wrong_element_order", replace(g, kGenerator, "{file: inverted.msh, element: quad8}"),
        "the mesh file has quad4 elements but the problem asks for quad8", 0},
       {"region_without_material",
        replace(g,
@@ -99,9 +99,7 @@ std::vector<BadCase> badCases() {
        "no Dirichlet condition anywhere", 0},
       {"unknown_boundary", replace(g, "{boundary: left, ux", "{boundary: clamp, ux"),
        "unknown boundary or node set 'clamp'", 7},
-      {"negative_jacobian",
-       replace(g, "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], element: quad8}",
-               "file: inverted.msh"),
+      {"negative_jacobian", replace(g, kGenerator, "file: inverted.msh"),
        "element 2 has a non-positive Jacobian", 0},
       {"malformed_yaml",
        replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {load_factors: [0.5, 1.0}"),
