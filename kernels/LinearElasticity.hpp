@@ -124,17 +124,22 @@ scatterElementMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
 }
 
 /// Computes K^L for all elements and adds it into `a` (pattern from expandGraph(graph, 2)) via the
-/// scatter map from elementScatterMap. One pass, no element-matrix storage; `a.values` must be
-/// zeroed by the caller beforehand if a fresh matrix is wanted.
+/// scatter map from elementScatterMap (of any graph containing the node graph), times `scale`. One
+/// pass, no element-matrix storage; `a.values` must be zeroed by the caller beforehand if a fresh
+/// matrix is wanted.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 void assembleLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
-                             const Map &map, const CsrMatrix<MemorySpace> &a) {
+                             const Map &map, const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
   constexpr int nd = 2 * Elem::kNumNodes;
   Kokkos::parallel_for(
       "mixcon::kernels::assembleLinearStiffness",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
         double k[nd][nd];
         linearStiffness<Elem>(d, e, k);
+        if (scale != 1.0)
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              k[i][j] *= scale;
         scatterElementMatrix<Elem>(a, map, d.mesh, e, k);
       });
 }

@@ -2,6 +2,7 @@
 #include <kernels/SparseMatrix.hpp>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace mixcon {
 
@@ -37,6 +38,41 @@ NodeGraph buildNodeGraph(const Mesh &mesh) {
     g.rowOffsets[n + 1] = static_cast<Offset>(g.columns.size());
   }
   return g;
+}
+
+NodeGraph secondNeighbourGraph(const NodeGraph &g) {
+  const LocalIndex nn = g.numNodes();
+  NodeGraph s;
+  s.rowOffsets.assign(nn + 1, 0);
+  std::vector<LocalIndex> row;
+  for (LocalIndex n = 0; n < nn; ++n) {
+    row.clear();
+    for (Offset p = g.rowOffsets[n]; p < g.rowOffsets[n + 1]; ++p) {
+      const LocalIndex k = g.columns[p];
+      row.insert(row.end(), g.columns.begin() + g.rowOffsets[k],
+                 g.columns.begin() + g.rowOffsets[k + 1]);
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    s.columns.insert(s.columns.end(), row.begin(), row.end());
+    s.rowOffsets[n + 1] = static_cast<Offset>(s.columns.size());
+  }
+  return s;
+}
+
+std::vector<Offset> transposePositions(const NodeGraph &g) {
+  std::vector<Offset> t(g.columns.size());
+  for (LocalIndex i = 0; i < g.numNodes(); ++i)
+    for (Offset p = g.rowOffsets[i]; p < g.rowOffsets[i + 1]; ++p) {
+      const LocalIndex j = g.columns[p];
+      const auto first = g.columns.begin() + g.rowOffsets[j];
+      const auto last = g.columns.begin() + g.rowOffsets[j + 1];
+      const auto it = std::lower_bound(first, last, i);
+      if (it == last || *it != i)
+        throw std::logic_error("transposePositions: the node graph is not symmetric");
+      t[p] = g.rowOffsets[j] + (it - first);
+    }
+  return t;
 }
 
 } // namespace mixcon

@@ -27,6 +27,12 @@ struct NodeGraph {
 
 NodeGraph buildNodeGraph(const Mesh &mesh);
 
+/// Nodes within two element layers of each node (the pattern of K12 M_L^-1 K12^T), self included.
+NodeGraph secondNeighbourGraph(const NodeGraph &graph);
+
+/// For a symmetric graph: t[p] is the position of entry (j, i) for the entry p = (i, j).
+std::vector<Offset> transposePositions(const NodeGraph &graph);
+
 /// Expands the node graph to a CSR pattern with `dofsPerNode` interleaved unknowns per node,
 /// values zero-initialized, on `MemorySpace`.
 template <class MemorySpace>

@@ -48,4 +48,65 @@ void applyDirichlet(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
       });
 }
 
+/// Matrix-free form of the same constraints, for an operator A applied without a matrix:
+/// A_c x = P A P x + D_c x, P zeroing constrained entries and D_c holding, on constrained
+/// unknowns, the diagonal `diag` the assembled preconditioner kept there (so both agree).
+/// y = P x.
+template <class ExecSpace, class MemorySpace>
+void maskConstrained(const ExecSpace &exec, const Kokkos::View<const int *, MemorySpace> &constrained,
+                     const Kokkos::View<const double *, MemorySpace> &x,
+                     const Kokkos::View<double *, MemorySpace> &y) {
+  Kokkos::parallel_for(
+      "mixcon::solver::maskConstrained", Kokkos::RangePolicy<ExecSpace>(exec, 0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { y(i) = constrained(i) ? 0.0 : x(i); });
+}
+
+/// y = P y + D_c x (completes A_c x after y = A P x).
+template <class ExecSpace, class MemorySpace>
+void finishConstrained(const ExecSpace &exec,
+                       const Kokkos::View<const int *, MemorySpace> &constrained,
+                       const Kokkos::View<const double *, MemorySpace> &diag,
+                       const Kokkos::View<const double *, MemorySpace> &x,
+                       const Kokkos::View<double *, MemorySpace> &y) {
+  Kokkos::parallel_for(
+      "mixcon::solver::finishConstrained", Kokkos::RangePolicy<ExecSpace>(exec, 0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        if (constrained(i))
+          y(i) = diag(i) * x(i);
+      });
+}
+
+/// diag(i) = a_ii on constrained rows, 0 elsewhere.
+template <class ExecSpace, class MemorySpace>
+void constrainedDiagonal(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
+                         const Kokkos::View<const int *, MemorySpace> &constrained,
+                         const Kokkos::View<double *, MemorySpace> &diag) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::solver::constrainedDiagonal", Kokkos::RangePolicy<ExecSpace>(exec, 0, a.numRows),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        double d = 0.0;
+        if (constrained(i))
+          for (Offset k = ro(i); k < ro(i + 1); ++k)
+            if (co(k) == i)
+              d = va(k);
+        diag(i) = d;
+      });
+}
+
+/// Constrained right-hand side for A_c: b = P (f - A g) + D_c g, given Ag = A g.
+template <class ExecSpace, class MemorySpace>
+void constrainedRhs(const ExecSpace &exec, const Kokkos::View<const int *, MemorySpace> &constrained,
+                    const Kokkos::View<const double *, MemorySpace> &diag,
+                    const Kokkos::View<const double *, MemorySpace> &f,
+                    const Kokkos::View<const double *, MemorySpace> &g,
+                    const Kokkos::View<const double *, MemorySpace> &ag,
+                    const Kokkos::View<double *, MemorySpace> &b) {
+  Kokkos::parallel_for(
+      "mixcon::solver::constrainedRhs", Kokkos::RangePolicy<ExecSpace>(exec, 0, b.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { b(i) = constrained(i) ? diag(i) * g(i) : f(i) - ag(i); });
+}
+
 } // namespace mixcon

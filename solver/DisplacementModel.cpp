@@ -1,97 +1,9 @@
 // LinearDisplacementModel: host orchestration of device kernels.
 #include <solver/DisplacementModel.hpp>
 
-#include <algorithm>
 #include <chrono>
 
 namespace mixcon {
-
-namespace {
-template <class Memory> CsrMatrix<Memory> cloneMatrix(const CsrMatrix<Memory> &a) {
-  CsrMatrix<Memory> b = a;
-  b.values = Kokkos::View<double *, Memory>(
-      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::values"), a.values.extent(0));
-  Kokkos::deep_copy(b.values, a.values);
-  return b;
-}
-} // namespace
-
-LinearDisplacementModel::LinearDisplacementModel(const Mesh &mesh,
-                                                 const std::vector<int> &elementMaterial,
-                                                 const std::vector<PlaneMatrix> &stiffness,
-                                                 double thickness)
-    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), 2)) {
-  data_.mesh = toDevice<Memory>(mesh);
-  data_.thickness = thickness;
-  data_.material =
-      Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
-  data_.stiffness =
-      Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
-  auto hm = Kokkos::create_mirror_view(data_.material);
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-    hm(e) = elementMaterial.at(e);
-  Kokkos::deep_copy(data_.material, hm);
-  auto hs = Kokkos::create_mirror_view(data_.stiffness);
-  for (std::size_t i = 0; i < stiffness.size(); ++i)
-    hs(i) = stiffness[i];
-  Kokkos::deep_copy(data_.stiffness, hs);
-
-  const LocalIndex n = dofs_.numOwned();
-  load_ = Kokkos::View<double *, Memory>("mixcon::model::load", n);
-  u_ = Kokkos::View<double *, Memory>("mixcon::model::displacement", n);
-  isConstrained_ = Kokkos::View<int *, Memory>("mixcon::model::constrained", n);
-  prescribed_ = Kokkos::View<double *, Memory>("mixcon::model::prescribed", n);
-  stagedNodalForce_.assign(n, 0.0);
-  constrainedHost_.assign(n, 0);
-  prescribedHost_.assign(n, 0.0);
-}
-
-void LinearDisplacementModel::addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx,
-                                          double ty, double pressure) {
-  if (edges.empty())
-    return;
-  const auto batch = uniformEdgeLoads<Memory>(edges, tx, ty, pressure);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    assembleEdgeLoads<decltype(elem)>(Exec(), data_.mesh, batch.edges, batch.load, data_.thickness,
-                                      load_);
-  });
-}
-
-void LinearDisplacementModel::addNodalForce(LocalIndex node, double fx, double fy) {
-  stagedNodalForce_[dofs_.dof(node, 0)] += fx;
-  stagedNodalForce_[dofs_.dof(node, 1)] += fy;
-}
-
-void LinearDisplacementModel::addBodyForce(
-    const std::function<std::array<double, 2>(double, double, LocalIndex)> &f) {
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
-    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
-    Kokkos::View<double **[2], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
-    auto hf = Kokkos::create_mirror_view(fq);
-    for (LocalIndex e = 0; e < ne; ++e)
-      for (int q = 0; q < Elem::kNumQp; ++q) {
-        const auto v = f(hx(e, q, 0), hx(e, q, 1), e);
-        hf(e, q, 0) = v[0];
-        hf(e, q, 1) = v[1];
-      }
-    Kokkos::deep_copy(fq, hf);
-    assembleBodyForce<Elem>(Exec(), data_, Kokkos::View<const double **[2], Memory>(fq), load_);
-  });
-}
-
-void LinearDisplacementModel::prescribe(LocalIndex node, int comp, double value) {
-  const LocalIndex i = dofs_.dof(node, comp);
-  constrainedHost_[i] = 1;
-  prescribedHost_[i] = value;
-}
-
-LocalIndex LinearDisplacementModel::numConstrained() const {
-  return static_cast<LocalIndex>(std::count(constrainedHost_.begin(), constrainedHost_.end(), 1));
-}
 
 void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   const auto start = std::chrono::steady_clock::now();
@@ -103,24 +15,8 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
       assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, stiffness_);
     });
   }
-  // Staged host data, one copy each: nodal forces join the reference load (and are then cleared,
-  // so a second setup() does not add them twice), constraints replace the device flags.
-  {
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
-    for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
-      h(i) += stagedNodalForce_[i];
-    Kokkos::deep_copy(load_, h);
-    std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
-    auto hc = Kokkos::create_mirror_view(isConstrained_);
-    auto hp = Kokkos::create_mirror_view(prescribed_);
-    for (std::size_t i = 0; i < constrainedHost_.size(); ++i) {
-      hc(i) = constrainedHost_[i];
-      hp(i) = prescribedHost_[i];
-    }
-    Kokkos::deep_copy(isConstrained_, hc);
-    Kokkos::deep_copy(prescribed_, hp);
-  }
-  constrained_ = cloneMatrix(stiffness_);
+  commitStaged();
+  constrained_ = cloneValues(stiffness_);
   rhs_ = Kokkos::View<double *, Memory>("mixcon::model::rhs", load_.extent(0));
   Kokkos::deep_copy(rhs_, load_);
   applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(isConstrained_),
@@ -133,17 +29,7 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
 }
 
 LinearSolveStats LinearDisplacementModel::solve(double loadFactor) {
-  Kokkos::View<double *, Memory> b("mixcon::model::scaledRhs", rhs_.extent(0));
-  auto r = rhs_;
-  Kokkos::parallel_for(
-      "mixcon::model::scaleRhs", Kokkos::RangePolicy<Exec>(0, b.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { b(i) = loadFactor * r(i); });
-  return solver_->solve(b, u_);
-}
-
-std::vector<double> LinearDisplacementModel::displacementHost() const {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), u_);
-  return std::vector<double>(h.data(), h.data() + h.extent(0));
+  return solver_->solve(scaledCopy(rhs_, loadFactor), u_);
 }
 
 std::vector<double> LinearDisplacementModel::nodalStressHost() const {
@@ -159,44 +45,17 @@ std::vector<double> LinearDisplacementModel::nodalStressHost() const {
   return out;
 }
 
-void LinearDisplacementModel::gaussPointStressHost(std::vector<double> &coordinates,
-                                                   std::vector<double> &stress,
-                                                   int &pointsPerElement) const {
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
-    Kokkos::View<double **[3], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
-    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    gaussPointStress<Elem>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), sq);
-    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
-    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
-    pointsPerElement = Elem::kNumQp;
-    coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 2);
-    stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 3);
-    for (LocalIndex e = 0; e < ne; ++e)
-      for (int q = 0; q < Elem::kNumQp; ++q) {
-        const std::size_t k = static_cast<std::size_t>(e) * Elem::kNumQp + q;
-        for (int c = 0; c < 2; ++c)
-          coordinates[2 * k + c] = hx(e, q, c);
-        for (int c = 0; c < 3; ++c)
-          stress[3 * k + c] = hs(e, q, c);
-      }
-  });
-}
-
 std::vector<double> LinearDisplacementModel::reactionHost(double loadFactor) const {
   Kokkos::View<double *, Memory> f("mixcon::model::internalForce", u_.extent(0));
   dispatchElement(mesh_.elementType, [&](auto elem) {
     assembleInternalForce<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_),
                                           f);
   });
-  auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), f);
-  auto hl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
-  std::vector<double> r(hf.extent(0));
-  for (std::size_t i = 0; i < r.size(); ++i)
-    r[i] = hf(i) - loadFactor * hl(i);
-  return r;
+  auto hf = toHost(f);
+  auto hl = toHost(load_);
+  for (std::size_t i = 0; i < hf.size(); ++i)
+    hf[i] -= loadFactor * hl[i];
+  return hf;
 }
 
 } // namespace mixcon

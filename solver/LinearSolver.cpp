@@ -135,6 +135,24 @@ public:
     return s;
   }
 
+  void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
+                    const Kokkos::View<double *, DeviceSpace> &x) override {
+    const HYPRE_Int n = dofs_.numOwned();
+    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+    auto hx = Kokkos::create_mirror_view(x);
+    if (rows_.size() != static_cast<std::size_t>(n)) {
+      rows_.resize(n);
+      for (HYPRE_Int i = 0; i < n; ++i)
+        rows_[i] = dofs_.ownedBegin + i;
+    }
+    zero_.assign(n, 0.0);
+    HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+    HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+    HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+    HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
+    Kokkos::deep_copy(x, hx);
+  }
+
   std::string name() const override { return "hypre PCG + BoomerAMG"; }
   double setupSeconds() const override { return setupSeconds_; }
 
@@ -163,6 +181,8 @@ private:
   HYPRE_ParCSRMatrix parA_ = nullptr;
   HYPRE_ParVector parb_ = nullptr, parx_ = nullptr;
   HYPRE_Solver pcg_ = nullptr, amg_ = nullptr;
+  std::vector<HYPRE_BigInt> rows_;
+  std::vector<double> zero_;
   double setupSeconds_ = 0.0;
 };
 
@@ -217,6 +237,11 @@ public:
     s.solveSeconds = seconds(start);
     s.setupSeconds = setupSeconds_;
     return s;
+  }
+
+  void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
+                    const Kokkos::View<double *, DeviceSpace> &x) override {
+    solve(b, x);
   }
 
   std::string name() const override { return "direct (Eigen SimplicialLDLT)"; }

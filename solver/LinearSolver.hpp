@@ -45,6 +45,10 @@ public:
   /// Solves A x = b; x is overwritten (the initial guess is zero).
   virtual LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
                                  const Kokkos::View<double *, DeviceSpace> &x) = 0;
+  /// x = P^-1 b for use inside another Krylov method: one BoomerAMG V-cycle (amg) or the exact
+  /// solve (direct), from a zero initial guess.
+  virtual void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
+                            const Kokkos::View<double *, DeviceSpace> &x) = 0;
   virtual std::string name() const = 0;
   virtual double setupSeconds() const = 0;
 };

@@ -109,6 +109,70 @@ inline Eigen::MatrixXd referenceStiffness(const Eigen::MatrixXd &xe, const Eigen
   return k;
 }
 
+/// Mixed blocks of Eq. (31) with [B^L] (3 x 2n) and [psi^sigma] (3 x 3n) built explicitly:
+/// k12 = t int B^T Psi dA, k22 = t int Psi^T D Psi dA.
+inline void referenceMixed(const Eigen::MatrixXd &xe, const Eigen::Matrix3d &d, double t,
+                           Eigen::MatrixXd &k12, Eigen::MatrixXd &k22) {
+  const int n = static_cast<int>(xe.rows());
+  k12 = Eigen::MatrixXd::Zero(2 * n, 3 * n);
+  k22 = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
+    Eigen::VectorXd sh;
+    Eigen::MatrixXd dn;
+    referenceShape(n, g[0], g[1], sh, dn);
+    const Eigen::Matrix2d j = xe.transpose() * dn;
+    const Eigen::MatrixXd dx = dn * j.inverse();
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2 * n), psi = Eigen::MatrixXd::Zero(3, 3 * n);
+    for (int a = 0; a < n; ++a) {
+      b(0, 2 * a) = dx(a, 0);
+      b(1, 2 * a + 1) = dx(a, 1);
+      b(2, 2 * a) = dx(a, 1);
+      b(2, 2 * a + 1) = dx(a, 0);
+      for (int c = 0; c < 3; ++c)
+        psi(c, 3 * a + c) = sh(a);
+    }
+    const double w = g[2] * j.determinant() * t;
+    k12 += b.transpose() * psi * w;
+    k22 += psi.transpose() * d * psi * w;
+  }
+}
+
+/// Geometric stiffness K11 = t int [B^sigma]^T [tau] [B^sigma] dA (Eq. (25), (31)) with the 4 x 2n
+/// [B^sigma] and the 4 x 4 [tau] of the report; tau interpolated from nodal stresses s (n x 3).
+/// Also F^NL = t int [B^L]^T {tau} dA into fnl (2n).
+inline void referenceGeometric(const Eigen::MatrixXd &xe, const Eigen::MatrixXd &s, double t,
+                               Eigen::MatrixXd &kg, Eigen::VectorXd &fnl) {
+  const int n = static_cast<int>(xe.rows());
+  kg = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  fnl = Eigen::VectorXd::Zero(2 * n);
+  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
+    Eigen::VectorXd sh;
+    Eigen::MatrixXd dn;
+    referenceShape(n, g[0], g[1], sh, dn);
+    const Eigen::Matrix2d j = xe.transpose() * dn;
+    const Eigen::MatrixXd dx = dn * j.inverse();
+    const Eigen::Vector3d tau = s.transpose() * sh;
+    Eigen::MatrixXd bs = Eigen::MatrixXd::Zero(4, 2 * n), bl = Eigen::MatrixXd::Zero(3, 2 * n);
+    for (int a = 0; a < n; ++a) {
+      bs(0, 2 * a) = dx(a, 0);
+      bs(1, 2 * a) = dx(a, 1);
+      bs(2, 2 * a + 1) = dx(a, 0);
+      bs(3, 2 * a + 1) = dx(a, 1);
+      bl(0, 2 * a) = dx(a, 0);
+      bl(1, 2 * a + 1) = dx(a, 1);
+      bl(2, 2 * a) = dx(a, 1);
+      bl(2, 2 * a + 1) = dx(a, 0);
+    }
+    Eigen::Matrix4d tm = Eigen::Matrix4d::Zero();
+    tm(0, 0) = tm(2, 2) = tau(0);
+    tm(1, 1) = tm(3, 3) = tau(1);
+    tm(0, 1) = tm(1, 0) = tm(2, 3) = tm(3, 2) = tau(2);
+    const double w = g[2] * j.determinant() * t;
+    kg += bs.transpose() * tm * bs * w;
+    fnl += bl.transpose() * tau * w;
+  }
+}
+
 /// Moves interior nodes of a mesh randomly by up to `amount` times the local spacing `h`
 /// (boundary nodes stay), keeping elements valid for modest amounts. Mid-side nodes of Quad8
 /// elements are re-centred on their straight edges, so distorted elements stay affine-edged.

@@ -1,0 +1,22 @@
+// Host-side checks of the mixed elements.
+#include <kernels/MixedElasticity.hpp>
+
+namespace mixcon {
+
+MassLumping massLumping(ElementType type) {
+  return dispatchElement(type, [](auto elem) { return MixedTraits<decltype(elem)>::kLumping; });
+}
+
+void checkMixedPairing(ElementType displacement, ElementType stress) {
+  if (displacement == stress)
+    return;
+  if (displacement == ElementType::Quad8 && stress == ElementType::Quad4)
+    throw InputError("mixed model: quad8 displacements with quad4 stresses violate the "
+                     "Mirza-Olson completeness criterion (bilinear stresses cannot represent the "
+                     "linear strain field of quadratic displacements); use quad8 stresses");
+  throw InputError("mixed model: quad4 displacements with quad8 stresses give more stress than "
+                   "strain modes per element (a singular saddle-point system); use quad4 "
+                   "stresses (equal order)");
+}
+
+} // namespace mixcon

@@ -1,0 +1,44 @@
+// Krylov methods on device vectors for operators that are not (only) assembled matrices: the
+// matrix-free Schur complement of the mixed model, preconditioned by one BoomerAMG V-cycle on an
+// assembled approximation. Flexible CG (Notay's Polak-Ribiere beta, robust to a slightly variable
+// preconditioner or an operator applied with inner iterations) for symmetric positive definite
+// operators, and right-preconditioned flexible GMRES(m) for indefinite or nonsymmetric ones
+// (K11 of a compressive prestress). Operators are host-side callables that launch device kernels.
+// Data flow: solver.
+#pragma once
+
+#include <solver/LinearSolver.hpp>
+
+#include <functional>
+
+namespace mixcon {
+
+using DeviceVector = Kokkos::View<double *, DeviceSpace>;
+using ConstDeviceVector = Kokkos::View<const double *, DeviceSpace>;
+/// y = Op(x); y must be fully overwritten.
+using LinearMap = std::function<void(const ConstDeviceVector &x, const DeviceVector &y)>;
+
+enum class KrylovMethod { Cg, Gmres };
+
+struct KrylovOptions {
+  KrylovMethod method = KrylovMethod::Cg;
+  double tolerance = 1e-8; ///< relative residual ||b - A x|| / ||b||
+  int maxIterations = 1000;
+  int restart = 60; ///< GMRES restart length
+};
+
+struct KrylovStats {
+  int iterations = 0;
+  double relativeResidual = 0.0; ///< true residual recomputed at the end
+  bool converged = false;
+};
+
+/// Solves A x = b with preconditioner P, starting from the given x.
+KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const LinearMap &p,
+                        const ConstDeviceVector &b, const DeviceVector &x);
+
+double dot(const ConstDeviceVector &a, const ConstDeviceVector &b);
+/// y = alpha x + beta y
+void axpby(double alpha, const ConstDeviceVector &x, double beta, const DeviceVector &y);
+
+} // namespace mixcon

@@ -1,0 +1,368 @@
+// MixedModel: assembly of the mixed blocks, the direct saddle-point solve, the Schur-complement
+// Krylov solve (assembled lumped S_a, or matrix-free with consistent M), stress recovery.
+#include <solver/Dirichlet.hpp>
+#include <solver/MixedModel.hpp>
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace mixcon {
+
+namespace {
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+} // namespace
+
+/// The saddle-point system on the host: unknowns [u (2N); S (3N)], sparse LU.
+struct MixedModel::Direct {
+  Eigen::SparseMatrix<double> matrix;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  Eigen::VectorXd rhs; ///< for lambda = 1, constraints eliminated
+};
+
+MixedModel::MixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                       const std::vector<PlaneMatrix> &stiffness, double thickness,
+                       ElementType stressElement)
+    : ModelBase(mesh, elementMaterial, stiffness, thickness) {
+  checkMixedPairing(mesh.elementType, stressElement);
+  static_cast<ElementData<Memory> &>(mixed_) = data_;
+  mixed_.compliance =
+      Kokkos::View<PlaneMatrix *, Memory>("mixcon::mixed::compliance", stiffness.size());
+  auto h = Kokkos::create_mirror_view(mixed_.compliance);
+  for (std::size_t i = 0; i < stiffness.size(); ++i) {
+    if (!isPositiveDefinite(stiffness[i]) || invert3(stiffness[i], h(i)) <= 0.0)
+      throw InputError("material " + std::to_string(i) +
+                       ": the plane constitutive matrix [C] is not positive definite, so the "
+                       "mixed model has no compliance D = C^-1");
+  }
+  Kokkos::deep_copy(mixed_.compliance, h);
+  s_ = Kokkos::View<double *, Memory>("mixcon::mixed::stress", 3 * mesh.numNodes());
+}
+
+MixedModel::~MixedModel() = default;
+
+void MixedModel::setInitialStress(const std::vector<double> &tau) {
+  if (tau.size() != 3 * static_cast<std::size_t>(mesh_.numNodes()))
+    throw std::invalid_argument("MixedModel::setInitialStress: expected 3 values per node");
+  initialStress_ = tau;
+}
+
+std::string MixedModel::solverName() const {
+  std::ostringstream s;
+  s << "mixed " << (options_.compliance == ComplianceMass::Consistent ? "consistent" : "lumped")
+    << " M, a = " << options_.stabilization << ", ";
+  if (options_.linear.type == LinearSolverType::Direct)
+    s << "direct saddle-point LU (Eigen)";
+  else
+    s << (options_.krylov == KrylovMethod::Cg ? "flexible CG" : "flexible GMRES")
+      << (options_.compliance == ComplianceMass::Consistent ? " on matrix-free S_a" : " on S_a,L")
+      << " + BoomerAMG("
+      << (options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd") << ")";
+  return s.str();
+}
+
+void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
+  if (!(options.stabilization >= 0.0 && options.stabilization < 1.0))
+    throw InputError("mixed model: stabilization must lie in [0, 1), got " +
+                     std::to_string(options.stabilization));
+  if (options.compliance == ComplianceMass::Lumped &&
+      massLumping(mesh_.elementType) != MassLumping::RowSum)
+    throw InputError("mixed model: compliance: lumped is not available for quad8 elements: "
+                     "serendipity row sums are negative at corner nodes, and the positive (HRZ) "
+                     "lumping fails the constant-stress patch test; use compliance: consistent "
+                     "(the HRZ-lumped operator then serves as the AMG preconditioner)");
+  options_ = options;
+  const double a = options.stabilization;
+  const auto start = std::chrono::steady_clock::now();
+  commitStaged();
+  graph_ = buildNodeGraph(mesh_);
+  const auto dgraph = toDevice<Memory>(graph_);
+  const auto map = elementScatterMap<Memory>(mesh_, graph_);
+  Kokkos::View<double *, Memory> tau("mixcon::mixed::initialStress", s_.extent(0));
+  if (!initialStress_.empty()) {
+    auto h = Kokkos::create_mirror_view(tau);
+    for (std::size_t i = 0; i < initialStress_.size(); ++i)
+      h(i) = initialStress_[i];
+    Kokkos::deep_copy(tau, h);
+  }
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    ops_ = assembleMixedOperators<Elem>(Exec(), mixed_, dgraph, map);
+    // a Kd + K11 on the node graph: the part of S_a that is not K12 M^-1 K12^T.
+    stiffness_ = expandGraph<Memory>(graph_, 2);
+    if (a > 0.0)
+      assembleLinearStiffness<Elem>(Exec(), data_, map, stiffness_, a);
+    if (!initialStress_.empty())
+      assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map,
+                                            stiffness_);
+  });
+  constrainedDiagonal_ = Kokkos::View<double *, Memory>("mixcon::mixed::diagC", u_.extent(0));
+  Exec().fence();
+  assemblySeconds_ = secondsSince(start);
+
+  if (options.linear.type == LinearSolverType::Direct) {
+    const auto t = std::chrono::steady_clock::now();
+    setupDirect();
+    solverSetupSeconds_ = secondsSince(t);
+    return;
+  }
+
+  // Preconditioner matrix: (1-a) K12 M_L^-1 K12^T + a Kd + K11 on the second-neighbour graph,
+  // or Kd on the node graph.
+  const auto t = std::chrono::steady_clock::now();
+  if (options.preconditioner == SchurPreconditioner::LumpedSchur) {
+    const NodeGraph g2 = secondNeighbourGraph(graph_);
+    precMatrix_ = expandGraph<Memory>(g2, 2);
+    const auto map2 = elementScatterMap<Memory>(mesh_, g2);
+    assembleLumpedSchur(Exec(), ops_, 1.0 - a, precMatrix_);
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      if (a > 0.0)
+        assembleLinearStiffness<Elem>(Exec(), data_, map2, precMatrix_, a);
+      if (!initialStress_.empty())
+        assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map2,
+                                              precMatrix_);
+    });
+  } else {
+    precMatrix_ = expandGraph<Memory>(graph_, 2);
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, precMatrix_);
+    });
+  }
+  Kokkos::View<double *, Memory> dummy("mixcon::mixed::dummyRhs", u_.extent(0));
+  applyDirichlet(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                 ConstDeviceVector(prescribed_), dummy);
+  constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                      constrainedDiagonal_);
+  Exec().fence();
+  assemblySeconds_ += secondsSince(t);
+  amg_ = makeLinearSolver(options.linear, dofs_, comm);
+  amg_->setup(precMatrix_);
+  solverSetupSeconds_ = amg_->setupSeconds();
+}
+
+void MixedModel::applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s) {
+  if (options_.compliance == ComplianceMass::Lumped) {
+    applyNodalBlocks(Exec(), ops_.lumpedInverse, r, s);
+    return;
+  }
+  KrylovOptions o;
+  o.method = KrylovMethod::Cg;
+  o.tolerance = options_.innerTolerance;
+  o.maxIterations = options_.innerMaxIterations;
+  Kokkos::deep_copy(s, 0.0);
+  const auto st = krylovSolve(
+      o, [&](const ConstDeviceVector &x, const DeviceVector &y) { applyCompliance(Exec(), ops_, x, y); },
+      [&](const ConstDeviceVector &x, const DeviceVector &y) {
+        applyNodalBlocks(Exec(), ops_.lumpedInverse, x, y);
+      },
+      r, s);
+  innerIterations_ += st.iterations;
+  if (!st.converged)
+    throw std::runtime_error("mixed model: the inner CG on the compliance mass did not converge "
+                             "(relative residual " +
+                             std::to_string(st.relativeResidual) + " after " +
+                             std::to_string(st.iterations) + " iterations)");
+}
+
+void MixedModel::applySchur(const ConstDeviceVector &u, const DeviceVector &y) {
+  ++operatorApplications_;
+  const std::size_t ns = s_.extent(0);
+  DeviceVector r("mixcon::mixed::r", ns), s("mixcon::mixed::s", ns);
+  applyCouplingTranspose(Exec(), ops_, u, r);
+  applyComplianceInverse(r, s);
+  multiply(Exec(), stiffness_, u, y); // a Kd u + K11 u
+  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(s), 1.0, y);
+}
+
+LinearSolveStats MixedModel::solve(double loadFactor) {
+  innerIterations_ = operatorApplications_ = 0;
+  return options_.linear.type == LinearSolverType::Direct ? solveDirect(loadFactor)
+                                                          : solveSchur(loadFactor);
+}
+
+LinearSolveStats MixedModel::solveSchur(double loadFactor) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t n = u_.extent(0);
+  const Kokkos::View<const int *, Memory> flags(isConstrained_);
+  const ConstDeviceVector diag(constrainedDiagonal_);
+  // b = P (lambda f - A lambda g) + D_c lambda g
+  auto g = scaledCopy(prescribed_, loadFactor);
+  auto f = scaledCopy(load_, loadFactor);
+  DeviceVector ag("mixcon::mixed::Ag", n), b("mixcon::mixed::b", n);
+  applySchur(ConstDeviceVector(g), ag); // g is zero off the constraints
+  constrainedRhs(Exec(), flags, diag, ConstDeviceVector(f), ConstDeviceVector(g),
+                 ConstDeviceVector(ag), b);
+
+  DeviceVector tmp("mixcon::mixed::Px", n);
+  LinearMap op;
+  if (options_.compliance == ComplianceMass::Lumped &&
+      options_.preconditioner == SchurPreconditioner::LumpedSchur) {
+    op = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+      ++operatorApplications_;
+      multiply(Exec(), precMatrix_, x, y); // the assembled S_a,L with constraints is A_c
+    };
+  } else {
+    op = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+      maskConstrained(Exec(), flags, x, tmp);
+      applySchur(tmp, y);
+      finishConstrained(Exec(), flags, diag, x, y);
+    };
+  }
+  const LinearMap prec = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    amg_->precondition(x, y);
+  };
+  KrylovOptions ko;
+  ko.method = options_.krylov;
+  ko.tolerance = options_.linear.tolerance;
+  ko.maxIterations = options_.linear.maxIterations;
+  // Initial guess: the prescribed values (exact on constrained rows), zero elsewhere.
+  Kokkos::deep_copy(u_, g);
+  const KrylovStats ks = krylovSolve(ko, op, prec, ConstDeviceVector(b), u_);
+
+  // Stresses from the displacements with the same M as the solve (tight inner tolerance).
+  DeviceVector r("mixcon::mixed::r", s_.extent(0));
+  applyCouplingTranspose(Exec(), ops_, ConstDeviceVector(u_), r);
+  const double inner = options_.innerTolerance;
+  options_.innerTolerance = std::min(inner, 1e-12);
+  applyComplianceInverse(r, s_);
+  options_.innerTolerance = inner;
+  Exec().fence();
+
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.setupSeconds = solverSetupSeconds_;
+  s.solveSeconds = secondsSince(start);
+  return s;
+}
+
+void MixedModel::setupDirect() {
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size != 1)
+    throw std::runtime_error("the direct mixed solver runs on one MPI rank only; use solver: amg");
+  const double a = options_.stabilization;
+  const bool lumped = options_.compliance == ComplianceMass::Lumped;
+  const LocalIndex ne = mesh_.numElements(), nn = mesh_.numNodes();
+  const int npe = mesh_.nodesPerElement;
+  const int nu = 2 * npe, ns = 3 * npe;
+  Kokkos::View<double ***, Memory> k12("k12", ne, nu, ns), k22("k22", ne, ns, ns),
+      k22l("k22l", ne, ns, ns), kd("kd", ne, nu, nu), kg("kg", ne, nu, nu);
+  Kokkos::View<double *, Memory> tau("tau", 3 * nn);
+  if (!initialStress_.empty()) {
+    auto h = Kokkos::create_mirror_view(tau);
+    for (std::size_t i = 0; i < initialStress_.size(); ++i)
+      h(i) = initialStress_[i];
+    Kokkos::deep_copy(tau, h);
+  }
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    computeMixedElementMatrices<Elem>(Exec(), mixed_, k12, k22, k22l);
+    computeLinearStiffness<Elem>(Exec(), data_, kd);
+    computeMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), kg);
+  });
+  auto h12 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k12);
+  auto h22 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lumped ? k22l : k22);
+  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kd);
+  auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kg);
+  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
+  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prescribed_);
+  auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
+
+  const Eigen::Index nU = 2 * nn, n = 5 * static_cast<Eigen::Index>(nn);
+  direct_ = std::make_unique<Direct>();
+  Eigen::VectorXd &rhs = direct_->rhs;
+  rhs = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < nU; ++i)
+    rhs(i) = hc(i) ? hp(i) : hf(i);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(static_cast<std::size_t>(ne) * (nu * nu + 2 * nu * ns + ns * ns));
+  // Constrained displacement unknowns: unit row and column; the column moves to the rhs.
+  auto add = [&](Eigen::Index i, Eigen::Index j, double v) {
+    const bool ci = i < nU && hc(i), cj = j < nU && hc(j);
+    if (ci)
+      return;
+    if (cj) {
+      rhs(i) -= v * hp(j);
+      return;
+    }
+    t.emplace_back(i, j, v);
+  };
+  for (LocalIndex e = 0; e < ne; ++e) {
+    for (int p = 0; p < npe; ++p) {
+      const LocalIndex np = mesh_.node(e, p);
+      for (int q = 0; q < npe; ++q) {
+        const LocalIndex nq = mesh_.node(e, q);
+        for (int i = 0; i < 2; ++i) {
+          for (int j = 0; j < 2; ++j)
+            add(2 * np + i, 2 * nq + j, a * hd(e, 2 * p + i, 2 * q + j) + hg(e, 2 * p + i, 2 * q + j));
+          for (int j = 0; j < 3; ++j) {
+            const double v = (1.0 - a) * h12(e, 2 * p + i, 3 * q + j);
+            add(2 * np + i, nU + 3 * nq + j, v);
+            add(nU + 3 * nq + j, 2 * np + i, v);
+          }
+        }
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            add(nU + 3 * np + i, nU + 3 * nq + j, -(1.0 - a) * h22(e, 3 * p + i, 3 * q + j));
+      }
+    }
+  }
+  for (Eigen::Index i = 0; i < nU; ++i)
+    if (hc(i))
+      t.emplace_back(i, i, 1.0);
+  direct_->matrix.resize(n, n);
+  direct_->matrix.setFromTriplets(t.begin(), t.end());
+  direct_->lu.analyzePattern(direct_->matrix);
+  direct_->lu.factorize(direct_->matrix);
+  if (direct_->lu.info() != Eigen::Success)
+    throw std::runtime_error("mixed direct solver: the saddle-point matrix is singular (a "
+                             "rigid-body mode not restrained, or a singular compliance?)");
+}
+
+LinearSolveStats MixedModel::solveDirect(double loadFactor) {
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::VectorXd b = loadFactor * direct_->rhs;
+  const Eigen::VectorXd x = direct_->lu.solve(b);
+  const LocalIndex nn = mesh_.numNodes();
+  auto hu = Kokkos::create_mirror_view(u_);
+  auto hs = Kokkos::create_mirror_view(s_);
+  for (LocalIndex i = 0; i < 2 * nn; ++i)
+    hu(i) = x(i);
+  for (LocalIndex i = 0; i < 3 * nn; ++i)
+    hs(i) = x(2 * nn + i);
+  Kokkos::deep_copy(u_, hu);
+  Kokkos::deep_copy(s_, hs);
+  LinearSolveStats s;
+  const double bn = b.norm();
+  s.relativeResidual = bn > 0 ? (direct_->matrix * x - b).norm() / bn : 0.0;
+  s.converged = std::isfinite(s.relativeResidual) && s.relativeResidual < 1e-8;
+  s.iterations = 1;
+  s.setupSeconds = solverSetupSeconds_;
+  s.solveSeconds = secondsSince(start);
+  return s;
+}
+
+std::vector<double> MixedModel::nodalStressHost() const { return toHost(s_); }
+
+std::vector<double> MixedModel::reactionHost(double loadFactor) const {
+  // (1-a) K12 S + a Kd u + K11 u - lambda F
+  DeviceVector f("mixcon::mixed::internalForce", u_.extent(0));
+  multiply(Exec(), stiffness_, ConstDeviceVector(u_), f);
+  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(s_), 1.0, f);
+  auto hf = toHost(f);
+  auto hl = toHost(load_);
+  for (std::size_t i = 0; i < hf.size(); ++i)
+    hf[i] -= loadFactor * hl[i];
+  return hf;
+}
+
+} // namespace mixcon

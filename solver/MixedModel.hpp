@@ -1,0 +1,100 @@
+// The mixed (Hellinger-Reissner) model of the report, Eq. (29)-(32): displacements and stresses
+// are nodal unknowns (u, v, Sxx, Syy, Sxy per node, equal-order interpolation). The system
+//   [K11 + a Kd    (1-a) K12 ] [u]   [f]
+//   [(1-a) K12^T  -(1-a) M   ] [S] = [0]
+// is the report's model for a = 0; a > 0 adds the consistent stabilization of DESIGN-NOTES
+// section 2 (Schur complement S_a = K11 + a Kd + (1-a) K12 M^-1 K12^T, stresses still
+// S = M^-1 K12^T u). M is the consistent compliance mass or its lumped 3x3 nodal blocks.
+// Solvers:
+//   direct - the full saddle-point system, sparse LU (small problems, reference in tests);
+//   amg    - Krylov on the Schur complement preconditioned by one BoomerAMG V-cycle on the
+//            assembled lumped S_a (or on Kd): with lumped M the operator is that assembled
+//            matrix; with consistent M it is applied matrix-free with an inner CG on M.
+// Data flow: mesh -> kernels -> solver (this) -> io.
+#pragma once
+
+#include <kernels/MixedElasticity.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/ModelBase.hpp>
+
+#include <memory>
+
+namespace mixcon {
+
+enum class ComplianceMass { Consistent, Lumped };
+enum class SchurPreconditioner { LumpedSchur, Stiffness };
+
+struct MixedOptions {
+  ComplianceMass compliance = ComplianceMass::Consistent;
+  double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
+  /// type (amg | direct), tolerance, max iterations and BoomerAMG settings of the outer solve.
+  LinearSolverOptions linear;
+  KrylovMethod krylov = KrylovMethod::Cg; ///< outer method; GMRES when K11 makes S indefinite
+  SchurPreconditioner preconditioner = SchurPreconditioner::LumpedSchur;
+  double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
+  int innerMaxIterations = 500;
+};
+
+class MixedModel final : public ModelBase {
+public:
+  /// Throws InputError for an unsupported (displacement, stress) pairing or a material whose [C]
+  /// is not positive definite (no compliance).
+  MixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+             const std::vector<PlaneMatrix> &stiffness, double thickness,
+             ElementType stressElement);
+  MixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+             const std::vector<PlaneMatrix> &stiffness, double thickness)
+      : MixedModel(mesh, elementMaterial, stiffness, thickness, mesh.elementType) {}
+  ~MixedModel() override;
+
+  /// A nodal stress field tau (3 per node) whose geometric stiffness K11 (Eq. (31)) joins the
+  /// operator: the prestressed tangent of the updated-Lagrangian iteration. Call before setup().
+  void setInitialStress(const std::vector<double> &tau);
+
+  /// Assembles the blocks and sets the chosen solver up. Call after loads and constraints.
+  void setup(const MixedOptions &options, MPI_Comm comm);
+  LinearSolveStats solve(double loadFactor) override;
+
+  double assemblySeconds() const override { return assemblySeconds_; }
+  double solverSetupSeconds() const override { return solverSetupSeconds_; }
+  std::string solverName() const override;
+  /// Inner CG iterations on M in the last solve (operator applications plus stress recovery).
+  long innerIterations() const { return innerIterations_; }
+  /// Operator applications in the last solve.
+  long operatorApplications() const { return operatorApplications_; }
+
+  Kokkos::View<double *, Memory> stress() const { return s_; } ///< 3 per node, interleaved
+  std::vector<double> nodalStressHost() const override;       ///< the stress unknowns
+  std::vector<double> reactionHost(double loadFactor) const override;
+
+  const MixedOperators<Memory> &operators() const { return ops_; }
+  const MixedElementData<Memory> &elementData() const { return mixed_; }
+  /// y = S_a u, unconstrained (with the options' M; consistent M through the inner CG).
+  void applySchur(const ConstDeviceVector &u, const DeviceVector &y);
+  /// s = M^-1 r (consistent: inner CG; lumped: nodal blocks).
+  void applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s);
+  /// The assembled preconditioner matrix (lumped S_a + K11, or Kd) with constrained rows.
+  const CsrMatrix<Memory> &preconditionerMatrix() const { return precMatrix_; }
+
+private:
+  struct Direct;
+  void setupDirect();
+  LinearSolveStats solveDirect(double loadFactor);
+  LinearSolveStats solveSchur(double loadFactor);
+
+  MixedOptions options_;
+  MixedElementData<Memory> mixed_;
+  NodeGraph graph_;
+  MixedOperators<Memory> ops_;
+  CsrMatrix<Memory> stiffness_; ///< a Kd (+ K11) on the node graph, unconstrained
+  CsrMatrix<Memory> precMatrix_;
+  std::vector<double> initialStress_;
+  Kokkos::View<double *, Memory> s_;
+  Kokkos::View<double *, Memory> constrainedDiagonal_;
+  std::unique_ptr<LinearSolver> amg_;
+  std::unique_ptr<Direct> direct_;
+  double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
+  long innerIterations_ = 0, operatorApplications_ = 0;
+};
+
+} // namespace mixcon

@@ -1,0 +1,45 @@
+// The kernel tests' shared fixture: a distorted rectangle with two anisotropic materials in a
+// checkerboard, and its element data on the device.
+#pragma once
+
+#include <kernels/LinearElasticity.hpp>
+#include <mesh/Generators.hpp>
+#include <support/Reference.hpp>
+
+namespace mixcon::test {
+
+using Memory = Kokkos::DefaultExecutionSpace::memory_space;
+
+struct Fixture {
+  Mesh mesh;
+  ElementData<Memory> data;
+  std::vector<PlaneMatrix> materials;
+  std::vector<int> elementMaterial;
+};
+
+/// Distorted mesh with two anisotropic materials assigned in a checkerboard.
+inline Fixture makeFixture(ElementType type, int nx = 6, int ny = 5) {
+  Fixture f;
+  f.mesh = rectangleMesh(3.0, 2.0, nx, ny, type);
+  test::distortInterior(f.mesh, 3.0 / nx, 0.2, 7);
+  validateMesh(f.mesh);
+  f.materials = {orthotropicStiffness({1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4},
+                                      PlaneAnalysis::PlaneStress, 0.5),
+                 isotropicStiffness(2.0e5, 0.3, PlaneAnalysis::PlaneStrain)};
+  f.data.mesh = toDevice<Memory>(f.mesh);
+  f.data.thickness = 0.7;
+  f.data.material = Kokkos::View<int *, Memory>("material", f.mesh.numElements());
+  f.data.stiffness = Kokkos::View<PlaneMatrix *, Memory>("stiffness", 2);
+  auto hm = Kokkos::create_mirror_view(f.data.material);
+  f.elementMaterial.resize(f.mesh.numElements());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e)
+    hm(e) = f.elementMaterial[e] = e % 2;
+  Kokkos::deep_copy(f.data.material, hm);
+  auto hs = Kokkos::create_mirror_view(f.data.stiffness);
+  hs(0) = f.materials[0];
+  hs(1) = f.materials[1];
+  Kokkos::deep_copy(f.data.stiffness, hs);
+  return f;
+}
+
+} // namespace mixcon::test
