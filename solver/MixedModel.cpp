@@ -113,8 +113,10 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     return;
   }
 
-  // Preconditioner matrix: (1-a) K12 M_L^-1 K12^T + a Kd + K11 on the second-neighbour graph,
-  // or Kd on the node graph.
+  // Preconditioner matrix: (1-a) K12 M_L^-1 K12^T + a Kd on the second-neighbour graph, or Kd on
+  // the node graph. K11 stays out: a compressive prestress makes it indefinite, and BoomerAMG on
+  // an indefinite matrix diverges, while GMRES deals with the few negative eigenvalues K11 adds
+  // to the SPD-preconditioned operator.
   const auto t = std::chrono::steady_clock::now();
   if (options.preconditioner == SchurPreconditioner::LumpedSchur) {
     const NodeGraph g2 = secondNeighbourGraph(graph_);
@@ -125,9 +127,6 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
       using Elem = decltype(elem);
       if (a > 0.0)
         assembleLinearStiffness<Elem>(Exec(), data_, map2, precMatrix_, a);
-      if (!initialStress_.empty())
-        assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map2,
-                                              precMatrix_);
     });
   } else {
     precMatrix_ = expandGraph<Memory>(graph_, 2);
@@ -203,7 +202,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   DeviceVector tmp("mixcon::mixed::Px", n);
   LinearMap op;
   if (options_.compliance == ComplianceMass::Lumped &&
-      options_.preconditioner == SchurPreconditioner::LumpedSchur) {
+      options_.preconditioner == SchurPreconditioner::LumpedSchur && initialStress_.empty()) {
     op = [&](const ConstDeviceVector &x, const DeviceVector &y) {
       ++operatorApplications_;
       multiply(Exec(), precMatrix_, x, y); // the assembled S_a,L with constraints is A_c

@@ -73,7 +73,7 @@ public:
   void applySchur(const ConstDeviceVector &u, const DeviceVector &y);
   /// s = M^-1 r (consistent: inner CG; lumped: nodal blocks).
   void applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s);
-  /// The assembled preconditioner matrix (lumped S_a + K11, or Kd) with constrained rows.
+  /// The assembled preconditioner matrix (lumped S_a without K11, or Kd), constrained rows.
   const CsrMatrix<Memory> &preconditionerMatrix() const { return precMatrix_; }
 
 private:
