@@ -1,11 +1,13 @@
-// runAnalysis: builds the displacement model from a Problem, steps through the load factors,
+// runAnalysis: builds the displacement or the mixed model from a Problem, steps through the load factors,
 // prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
 #include <solver/DisplacementModel.hpp>
+#include <solver/MixedModel.hpp>
 #include <solver/Environment.hpp>
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <ostream>
 
 namespace mixcon {
@@ -29,7 +31,15 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
-  LinearDisplacementModel model(p.mesh, elementMaterial, stiffness, p.model.thickness);
+  const bool mixed = p.model.formulation == Formulation::Mixed;
+  std::unique_ptr<ModelBase> owner;
+  if (mixed)
+    owner = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,
+                                         p.model.stressElement.value_or(p.mesh.elementType));
+  else
+    owner = std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
+                                                      p.model.thickness);
+  ModelBase &model = *owner;
   for (const auto &bc : p.dirichlet)
     for (LocalIndex n : p.mesh.nodesOf(bc.target)) {
       if (bc.ux)
@@ -64,10 +74,17 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   if (log)
     *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
          << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
-         << model.dofs().numGlobal << " unknowns, " << model.numConstrained() << " constrained; "
+         << (mixed ? "mixed model, " : "displacement model, ")
+         << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained() << " constrained; "
          << Environment::describe() << "\n";
 
-  model.setup(p.solver, comm);
+  if (mixed) {
+    MixedOptions o = p.model.mixed;
+    o.linear = p.solver;
+    static_cast<MixedModel &>(model).setup(o, comm);
+  } else {
+    static_cast<LinearDisplacementModel &>(model).setup(p.solver, comm);
+  }
   if (log) {
     char buf[200];
     std::snprintf(buf, sizeof buf, "mixcon: assembly %.3f s, solver setup %.3f s (%s)\n",
@@ -94,6 +111,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     StepFields f;
     f.displacement = model.displacementHost();
     f.stress = model.nodalStressHost();
+    f.stressSource = mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
+                           : "2x2 Gauss-point stresses extrapolated to the nodes and averaged";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =

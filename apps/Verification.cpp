@@ -34,6 +34,29 @@ double LameSolution::radialDisplacement(double r) const {
   return ((1.0 - nu) * ca * r + (1.0 + nu) * cb / r) / e;
 }
 
+std::array<double, 3> KirschSolution::stress(double x, double y) const {
+  const double r = std::hypot(x, y), t = std::atan2(y, x), q = a * a / (r * r);
+  const double c = std::cos(2 * t), sn = std::sin(2 * t);
+  const double srr = s / 2 * (1 - q) + s / 2 * (1 - 4 * q + 3 * q * q) * c;
+  const double stt = s / 2 * (1 + q) - s / 2 * (1 + 3 * q * q) * c;
+  const double srt = -s / 2 * (1 + 2 * q - 3 * q * q) * sn;
+  const double ct = std::cos(t), st = std::sin(t);
+  return {srr * ct * ct + stt * st * st - 2 * srt * st * ct,
+          srr * st * st + stt * ct * ct + 2 * srt * st * ct,
+          (srr - stt) * st * ct + srt * (ct * ct - st * st)};
+}
+
+std::array<double, 2> KirschSolution::displacement(double x, double y) const {
+  const double r = std::hypot(x, y), t = std::atan2(y, x);
+  const double k = planeStrain ? 3 - 4 * nu : (3 - nu) / (1 + nu), g = e / (2 * (1 + nu));
+  const double a2 = a * a, a4 = a2 * a2, f = s / (8 * g);
+  const double ur =
+      f * ((k - 1) * r + 2 * a2 / r + (2 * r + 2 * (k + 1) * a2 / r - 2 * a4 / (r * r * r)) *
+                                          std::cos(2 * t));
+  const double ut = f * (-2 * r + 2 * (1 - k) * a2 / r - 2 * a4 / (r * r * r)) * std::sin(2 * t);
+  return {ur * std::cos(t) - ut * std::sin(t), ur * std::sin(t) + ut * std::cos(t)};
+}
+
 double timoshenkoTipDeflection(double p, double l, double h, double t, double e, double nu,
                                bool planeStrain) {
   if (planeStrain) {

@@ -5,6 +5,7 @@
 
 #include <io/Problem.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,19 @@ struct LameSolution {
   double sigmaR(double r) const;
   double sigmaTheta(double r) const;
   double radialDisplacement(double r) const;
+};
+
+/// Kirsch (1898): an infinite plate with a circular hole of radius a at the origin under remote
+/// uniaxial tension S along x (Timoshenko & Goodier, Theory of Elasticity, sec. 35); the stress
+/// concentration sigma_xx(0, a) = 3 S. Displacements by integrating the strains (checked
+/// symbolically): 8 G u_r = S [(k-1) r + 2a^2/r + (2r + 2(k+1) a^2/r - 2a^4/r^3) cos 2t],
+/// 8 G u_t = S [-2r + 2(1-k) a^2/r - 2a^4/r^3] sin 2t, k = (3-nu)/(1+nu) (plane stress) or
+/// 3 - 4 nu (plane strain).
+struct KirschSolution {
+  double a, s, e, nu;
+  bool planeStrain;
+  std::array<double, 3> stress(double x, double y) const; ///< xx, yy, xy
+  std::array<double, 2> displacement(double x, double y) const;
 };
 
 /// Timoshenko beam: tip deflection P L^3 / (3 E I) + P L / (kappa G A), kappa = 5/6, for a

@@ -1,6 +1,7 @@
 // YAML problem-file reader (yaml-cpp). Every map is checked against its allowed keys; every error
 // names file:line:column and the key path (e.g. "materials[1].E").
 #include <io/Problem.hpp>
+#include <kernels/MixedElasticity.hpp>
 #include <mesh/Generators.hpp>
 #include <mesh/GmshReader.hpp>
 
@@ -201,14 +202,27 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
 }
 
 ModelSpec readModel(const Item &m) {
-  m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity"});
+  m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity", "compliance",
+               "stabilization", "stress_element"});
   ModelSpec s;
-  if (m.has("formulation")) {
-    const std::string f = m["formulation"].choice({"displacement", "mixed"});
-    if (f == "mixed")
-      m["formulation"].fail("the mixed formulation is not available in this version yet "
-                            "(use formulation: displacement)");
+  if (m.has("formulation"))
+    s.formulation = m["formulation"].choice({"displacement", "mixed"}) == "mixed"
+                        ? Formulation::Mixed
+                        : Formulation::Displacement;
+  for (const char *key : {"compliance", "stabilization", "stress_element"})
+    if (m.has(key) && s.formulation != Formulation::Mixed)
+      m[key].fail(std::string(key) + " applies to formulation: mixed only");
+  if (m.has("compliance"))
+    s.mixed.compliance = m["compliance"].choice({"consistent", "lumped"}) == "lumped"
+                             ? ComplianceMass::Lumped
+                             : ComplianceMass::Consistent;
+  if (m.has("stabilization")) {
+    s.mixed.stabilization = m["stabilization"].number();
+    if (!(s.mixed.stabilization >= 0.0 && s.mixed.stabilization < 1.0))
+      m["stabilization"].fail("stabilization must lie in [0, 1) (0: the report's model)");
   }
+  if (m.has("stress_element"))
+    s.stressElement = elementType(m["stress_element"]);
   if (m.has("analysis"))
     s.analysis = m["analysis"].choice({"plane_stress", "plane_strain"}) == "plane_strain"
                      ? PlaneAnalysis::PlaneStrain
@@ -292,8 +306,22 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
                  "output", "verification", "title"});
 
   p.mesh = readMesh(top.required("mesh"), baseDirectory);
-  if (top.has("model"))
-    p.model = readModel(top["model"]);
+  if (top.has("model")) {
+    const Item m = top["model"];
+    p.model = readModel(m);
+    if (p.model.formulation == Formulation::Mixed) {
+      try {
+        checkMixedPairing(p.mesh.elementType, p.model.stressElement.value_or(p.mesh.elementType));
+        if (p.model.mixed.compliance == ComplianceMass::Lumped &&
+            massLumping(p.mesh.elementType) != MassLumping::RowSum)
+          throw InputError("compliance: lumped is not available for quad8 elements (their "
+                           "positive HRZ lumping fails the constant-stress patch test); use "
+                           "compliance: consistent");
+      } catch (const InputError &e) {
+        m.fail(e.what());
+      }
+    }
+  }
 
   // Materials: one per region, every region covered.
   const Item mats = top.required("materials");
@@ -421,7 +449,23 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   if (top.has("solver")) {
     const Item s = top["solver"];
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
-                 "print_level"});
+                 "print_level", "krylov", "preconditioner", "inner_tolerance",
+                 "interpolation_max_elements", "nodal_coarsening"});
+    for (const char *key : {"krylov", "preconditioner", "inner_tolerance"})
+      if (s.has(key) && p.model.formulation != Formulation::Mixed)
+        s[key].fail(std::string(key) + " applies to formulation: mixed only");
+    if (s.has("krylov"))
+      p.model.mixed.krylov =
+          s["krylov"].choice({"cg", "gmres"}) == "gmres" ? KrylovMethod::Gmres : KrylovMethod::Cg;
+    if (s.has("preconditioner"))
+    {
+      const std::string v = s["preconditioner"].choice({"auto", "lumped_schur", "stiffness"});
+      p.model.mixed.preconditioner = v == "stiffness"      ? SchurPreconditioner::Stiffness
+                                     : v == "lumped_schur" ? SchurPreconditioner::LumpedSchur
+                                                           : SchurPreconditioner::Auto;
+    }
+    if (s.has("inner_tolerance"))
+      p.model.mixed.innerTolerance = s["inner_tolerance"].positive();
     if (s.has("type"))
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
                                                                       : LinearSolverType::Amg;
@@ -435,6 +479,10 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       p.solver.aggressiveLevels = s["aggressive_levels"].integer();
     if (s.has("print_level"))
       p.solver.printLevel = s["print_level"].integer();
+    if (s.has("interpolation_max_elements"))
+      p.solver.interpolationMaxElements = s["interpolation_max_elements"].integer();
+    if (s.has("nodal_coarsening"))
+      p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
   }
 
   if (top.has("output")) {

@@ -5,7 +5,7 @@
 
 #include <kernels/Material.hpp>
 #include <mesh/Mesh.hpp>
-#include <solver/LinearSolver.hpp>
+#include <solver/MixedOptions.hpp>
 
 #include <array>
 #include <optional>
@@ -21,6 +21,10 @@ struct ModelSpec {
   PlaneAnalysis analysis = PlaneAnalysis::PlaneStress;
   double thickness = 1.0;
   bool geometricNonlinearity = false;
+  /// Mixed formulation only: stress interpolation (default: the mesh's element), compliance mass,
+  /// stabilization a, and the Schur solve settings (MixedOptions.linear is Problem::solver).
+  std::optional<ElementType> stressElement;
+  MixedOptions mixed;
 };
 
 struct MaterialSpec {

@@ -40,6 +40,17 @@ template <class T> void writeAttribute(hid_t loc, const char *name, T value, hid
   H5Sclose(space);
 }
 
+void writeStringAttribute(hid_t loc, const char *name, const std::string &value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.empty() ? 1 : value.size());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, value.empty() ? "" : value.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
 std::string number(double v) {
   if (!std::isfinite(v))
     return "null";
@@ -135,7 +146,9 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
     writeDataset(gp, "stress", f.gaussStress.data(), H5T_NATIVE_DOUBLE, nq, 3);
     writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
+    writeStringAttribute(gp, "stress_source", "C eps(u) from the displacements");
     H5Gclose(gp);
+    writeStringAttribute(g, "stress_source", f.stressSource);
     writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
     writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
     writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);

@@ -33,6 +33,7 @@ struct StepFields {
   std::vector<double> gaussCoordinates; ///< (E * nq) x 2
   std::vector<double> gaussStress;      ///< (E * nq) x 3
   int pointsPerElement = 0;
+  std::string stressSource; ///< how the nodal stresses were obtained (an HDF5 attribute)
 };
 
 class ResultsWriter {

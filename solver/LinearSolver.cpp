@@ -74,11 +74,13 @@ public:
     HYPRE_BoomerAMGCreate(&amg_);
     HYPRE_BoomerAMGSetCoarsenType(amg_, 10); // HMIS
     HYPRE_BoomerAMGSetInterpType(amg_, 6);   // extended+i
-    HYPRE_BoomerAMGSetPMaxElmts(amg_, 4);
+    HYPRE_BoomerAMGSetPMaxElmts(amg_, options_.interpolationMaxElements);
     HYPRE_BoomerAMGSetStrongThreshold(amg_, options_.strongThreshold);
     HYPRE_BoomerAMGSetRelaxType(amg_, 8); // l1-scaled symmetric Gauss-Seidel
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
+    if (options_.nodalCoarsening)
+      HYPRE_BoomerAMGSetNodal(amg_, 1); // coarsen nodes by the Frobenius norm of their blocks
     HYPRE_BoomerAMGSetAggNumLevels(amg_, options_.aggressiveLevels);
     HYPRE_BoomerAMGSetMaxIter(amg_, 1); // one V-cycle as preconditioner
     HYPRE_BoomerAMGSetTol(amg_, 0.0);

@@ -78,6 +78,14 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
                      "lumping fails the constant-stress patch test; use compliance: consistent "
                      "(the HRZ-lumped operator then serves as the AMG preconditioner)");
   options_ = options;
+  if (options_.preconditioner == SchurPreconditioner::Auto) {
+    if (mesh_.elementType == ElementType::Quad4) {
+      options_.preconditioner = SchurPreconditioner::LumpedSchur;
+      options_.linear.nodalCoarsening = true;
+    } else {
+      options_.preconditioner = SchurPreconditioner::Stiffness;
+    }
+  }
   const double a = options.stabilization;
   const auto start = std::chrono::steady_clock::now();
   commitStaged();
@@ -106,7 +114,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   Exec().fence();
   assemblySeconds_ = secondsSince(start);
 
-  if (options.linear.type == LinearSolverType::Direct) {
+  if (options_.linear.type == LinearSolverType::Direct) {
     const auto t = std::chrono::steady_clock::now();
     setupDirect();
     solverSetupSeconds_ = secondsSince(t);
@@ -118,7 +126,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   // an indefinite matrix diverges, while GMRES deals with the few negative eigenvalues K11 adds
   // to the SPD-preconditioned operator.
   const auto t = std::chrono::steady_clock::now();
-  if (options.preconditioner == SchurPreconditioner::LumpedSchur) {
+  if (options_.preconditioner == SchurPreconditioner::LumpedSchur) {
     const NodeGraph g2 = secondNeighbourGraph(graph_);
     precMatrix_ = expandGraph<Memory>(g2, 2);
     const auto map2 = elementScatterMap<Memory>(mesh_, g2);
@@ -141,7 +149,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
                       constrainedDiagonal_);
   Exec().fence();
   assemblySeconds_ += secondsSince(t);
-  amg_ = makeLinearSolver(options.linear, dofs_, comm);
+  amg_ = makeLinearSolver(options_.linear, dofs_, comm);
   amg_->setup(precMatrix_);
   solverSetupSeconds_ = amg_->setupSeconds();
 }

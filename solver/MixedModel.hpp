@@ -14,26 +14,12 @@
 #pragma once
 
 #include <kernels/MixedElasticity.hpp>
-#include <solver/Krylov.hpp>
+#include <solver/MixedOptions.hpp>
 #include <solver/ModelBase.hpp>
 
 #include <memory>
 
 namespace mixcon {
-
-enum class ComplianceMass { Consistent, Lumped };
-enum class SchurPreconditioner { LumpedSchur, Stiffness };
-
-struct MixedOptions {
-  ComplianceMass compliance = ComplianceMass::Consistent;
-  double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
-  /// type (amg | direct), tolerance, max iterations and BoomerAMG settings of the outer solve.
-  LinearSolverOptions linear;
-  KrylovMethod krylov = KrylovMethod::Cg; ///< outer method; GMRES when K11 makes S indefinite
-  SchurPreconditioner preconditioner = SchurPreconditioner::LumpedSchur;
-  double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
-  int innerMaxIterations = 500;
-};
 
 class MixedModel final : public ModelBase {
 public:

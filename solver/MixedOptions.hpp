@@ -1,0 +1,26 @@
+// Options of the mixed model's solve (see MixedModel.hpp), separate so that problem-file parsing
+// does not pull in the kernels. Data flow: solver.
+#pragma once
+
+#include <solver/Krylov.hpp>
+
+namespace mixcon {
+
+enum class ComplianceMass { Consistent, Lumped };
+/// What BoomerAMG is built on for the Schur solve. Auto (measured, docs/mixed-model.md): Quad4 ->
+/// the assembled lumped S_a with nodal coarsening; Quad8 -> Kd (its lumped S_a is 3.5x denser and
+/// its AMG iteration counts grow with the mesh, while AMG(Kd) stays flat).
+enum class SchurPreconditioner { Auto, LumpedSchur, Stiffness };
+
+struct MixedOptions {
+  ComplianceMass compliance = ComplianceMass::Consistent;
+  double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
+  /// type (amg | direct), tolerance, max iterations and BoomerAMG settings of the outer solve.
+  LinearSolverOptions linear;
+  KrylovMethod krylov = KrylovMethod::Cg; ///< outer method; GMRES when K11 makes S indefinite
+  SchurPreconditioner preconditioner = SchurPreconditioner::Auto;
+  double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
+  int innerMaxIterations = 500;
+};
+
+} // namespace mixcon
