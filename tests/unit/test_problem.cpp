@@ -106,6 +106,21 @@ std::vector<BadCase> badCases() {
        "malformed YAML", 0},
       {"bad_number", replace(g, "nu12: 0.4", "nu12: zero"), "expected a number, found 'zero'", 5},
       {"indefinite_material", replace(g, "nu12: 0.4", "nu12: 4.0"), "not positive definite", 5},
+      {"mixed_lumped_quad8",
+       replace(g, "formulation: displacement", "formulation: mixed, compliance: lumped"),
+       "compliance: lumped is not available for quad8", 3},
+      {"mixed_unstable_pairing",
+       replace(g, "formulation: displacement", "formulation: mixed, stress_element: quad4"),
+       "Mirza-Olson", 3},
+      {"mixed_key_on_displacement", replace(g, "thickness: 0.5", "thickness: 0.5, stabilization: 0"),
+       "applies to formulation: mixed only", 3},
+      {"bad_stabilization",
+       replace(g, "formulation: displacement", "formulation: mixed, stabilization: 1.5"),
+       "stabilization must lie in [0, 1)", 3},
+      {"unknown_preconditioner",
+       replace(replace(g, "formulation: displacement", "formulation: mixed"), "solver: {type: direct}",
+               "solver: {type: amg, preconditioner: jacobi}"),
+       "unknown value 'jacobi'", 14},
   };
 }
 
@@ -139,6 +154,21 @@ TEST(Problem, ParsesValidFile) {
   EXPECT_EQ(p.loadFactors, (std::vector<double>{0.5, 1.0}));
   EXPECT_EQ(p.solver.type, LinearSolverType::Direct);
   EXPECT_EQ(p.outputDirectory, "somewhere");
+}
+
+TEST(Problem, ParsesMixedFormulation) {
+  std::string y = replace(kGood, "formulation: displacement",
+                          "formulation: mixed, compliance: consistent, stabilization: 0.2");
+  y = replace(y, "solver: {type: direct}",
+              "solver: {type: amg, krylov: gmres, preconditioner: stiffness, inner_tolerance: 1e-9}");
+  const Problem p = parseProblem(y, "mixed.yaml", "");
+  EXPECT_EQ(p.model.formulation, Formulation::Mixed);
+  EXPECT_EQ(p.model.mixed.compliance, ComplianceMass::Consistent);
+  EXPECT_DOUBLE_EQ(p.model.mixed.stabilization, 0.2);
+  EXPECT_EQ(p.model.mixed.krylov, KrylovMethod::Gmres);
+  EXPECT_EQ(p.model.mixed.preconditioner, SchurPreconditioner::Stiffness);
+  EXPECT_DOUBLE_EQ(p.model.mixed.innerTolerance, 1e-9);
+  EXPECT_EQ(p.solver.type, LinearSolverType::Amg);
 }
 
 TEST(Problem, BadInputGivesDocumentedErrors) {
@@ -254,5 +284,42 @@ TEST(Cli, RunWritesHdf5XdmfAndSummary) {
     maxU = std::max(maxU, std::abs(u2[i]));
   }
   EXPECT_GT(maxU, 0.0);
+  H5Fclose(f);
+}
+
+namespace {
+std::string readStringAttribute(hid_t loc, const char *name) {
+  const hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  if (a < 0)
+    return {};
+  const hid_t t = H5Aget_type(a);
+  std::string v(H5Tget_size(t), '\0');
+  H5Aread(a, t, v.data());
+  H5Tclose(t);
+  H5Aclose(a);
+  return v;
+}
+} // namespace
+
+TEST(Cli, MixedRunWritesStressUnknownsAndGaussPointStresses) {
+  TempDir dir;
+  const fs::path file = dir.path() / "mixed.yaml";
+  std::ofstream(file) << replace(replace(kGood, "formulation: displacement", "formulation: mixed"),
+                                 "solver: {type: direct}", "solver: {type: amg, tolerance: 1e-10}");
+  std::string out;
+  const fs::path outDir = dir.path() / "results";
+  ASSERT_EQ(runMixcon("run " + file.string() + " --output " + outDir.string(), out, dir.path()), 0)
+      << out;
+  EXPECT_NE(out.find("mixed model"), std::string::npos) << out;
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t g = H5Gopen2(f, "/steps/2", H5P_DEFAULT);
+  EXPECT_NE(readStringAttribute(g, "stress_source").find("nodal stress unknowns of the mixed model"),
+            std::string::npos);
+  const hid_t gp = H5Gopen2(g, "gauss_points", H5P_DEFAULT);
+  EXPECT_NE(readStringAttribute(gp, "stress_source").find("from the displacements"),
+            std::string::npos);
+  H5Gclose(gp);
+  H5Gclose(g);
   H5Fclose(f);
 }
