@@ -28,8 +28,9 @@ struct LinearSolverOptions {
   /// Interpolation truncation (PMaxElmts); 0 keeps all entries. 0 measured best for both the
   /// displacement model and the mixed preconditioners (docs/mixed-model.md); 4 is hypre's usual.
   int interpolationMaxElements = 0;
-  /// Nodal coarsening (SetNodal 1, CPU only in hypre): fewer iterations and 2x cheaper V-cycles
-  /// on the Quad4 lumped Schur operator, harmful on Quad8 (docs/mixed-model.md).
+  /// Nodal coarsening (SetNodal 1, CPU only in hypre): 2x cheaper V-cycles on the Quad4 lumped
+  /// Schur operator of the strip, but more iterations on the Lame cylinder and on Quad8
+  /// (docs/mixed-model.md); off unless asked for.
   bool nodalCoarsening = false;
   int printLevel = 0;           ///< hypre's own print level
 };

@@ -78,14 +78,10 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
                      "lumping fails the constant-stress patch test; use compliance: consistent "
                      "(the HRZ-lumped operator then serves as the AMG preconditioner)");
   options_ = options;
-  if (options_.preconditioner == SchurPreconditioner::Auto) {
-    if (mesh_.elementType == ElementType::Quad4) {
-      options_.preconditioner = SchurPreconditioner::LumpedSchur;
-      options_.linear.nodalCoarsening = true;
-    } else {
-      options_.preconditioner = SchurPreconditioner::Stiffness;
-    }
-  }
+  if (options_.preconditioner == SchurPreconditioner::Auto)
+    options_.preconditioner = options_.compliance == ComplianceMass::Lumped
+                                  ? SchurPreconditioner::LumpedSchur
+                                  : SchurPreconditioner::Stiffness;
   const double a = options.stabilization;
   const auto start = std::chrono::steady_clock::now();
   commitStaged();
