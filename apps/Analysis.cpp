@@ -1,9 +1,9 @@
-// runAnalysis: builds the displacement or the mixed model from a Problem, steps through the load factors,
-// prints a progress line per step, and writes HDF5/XDMF/summary.json.
+// runAnalysis: builds the displacement or the mixed model from a Problem, steps through the load
+// factors, prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
 #include <solver/DisplacementModel.hpp>
-#include <solver/MixedModel.hpp>
 #include <solver/Environment.hpp>
+#include <solver/MixedModel.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -75,8 +75,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
          << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
          << (mixed ? "mixed model, " : "displacement model, ")
-         << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained() << " constrained; "
-         << Environment::describe() << "\n";
+         << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained()
+         << " constrained; " << Environment::describe() << "\n";
 
   if (mixed) {
     MixedOptions o = p.model.mixed;

@@ -50,9 +50,8 @@ std::array<double, 2> KirschSolution::displacement(double x, double y) const {
   const double r = std::hypot(x, y), t = std::atan2(y, x);
   const double k = planeStrain ? 3 - 4 * nu : (3 - nu) / (1 + nu), g = e / (2 * (1 + nu));
   const double a2 = a * a, a4 = a2 * a2, f = s / (8 * g);
-  const double ur =
-      f * ((k - 1) * r + 2 * a2 / r + (2 * r + 2 * (k + 1) * a2 / r - 2 * a4 / (r * r * r)) *
-                                          std::cos(2 * t));
+  const double ur = f * ((k - 1) * r + 2 * a2 / r +
+                         (2 * r + 2 * (k + 1) * a2 / r - 2 * a4 / (r * r * r)) * std::cos(2 * t));
   const double ut = f * (-2 * r + 2 * (1 - k) * a2 / r - 2 * a4 / (r * r * r)) * std::sin(2 * t);
   return {ur * std::cos(t) - ut * std::sin(t), ur * std::sin(t) + ut * std::cos(t)};
 }

@@ -2,9 +2,9 @@
 // output), fused compute + atomic CSR scatter (elements/s, GB/s of CSR traffic), the same kernel on
 // Kokkos::Serial as the single-thread baseline, and a STREAM-triad on the same Views as the
 // bandwidth roofline, all in one run so ratios are meaningful on a noisy machine.
+#include <bench/BenchMain.hpp>
 #include <kernels/LinearElasticity.hpp>
 #include <mesh/Generators.hpp>
-#include <solver/Environment.hpp>
 #include <solver/LinearSolver.hpp>
 
 #include <benchmark/benchmark.h>
@@ -142,13 +142,4 @@ BENCHMARK(streamTriad)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 
-int main(int argc, char **argv) {
-  mixcon::Environment env(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::AddCustomContext("kokkos", Environment::describe());
-  benchmark::AddCustomContext("hypre", hypreVersion());
-  benchmark::AddCustomContext("git", MIXCON_GIT_HASH);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }

@@ -11,9 +11,9 @@
 // unknowns (5 per node mixed, 2 displacement), iterations, setup_s (assembly + AMG setup),
 // solve_s, inner (CG iterations on M per outer iteration), Munknowns/s (unknowns / solve time).
 // MIXCON_BENCH_MAX_UNKNOWNS caps the sizes (default 1.1e6).
+#include <bench/BenchMain.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
-#include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>
 
 #include <benchmark/benchmark.h>
@@ -113,45 +113,25 @@ void sizes(benchmark::internal::Benchmark *b, std::initializer_list<int> methods
 BENCHMARK(strip)
     ->Name("strip/displacement")
     ->Apply([](auto *b) { sizes(b, {Displacement}, 0); })
-    ->ArgNames({"method", "nodes", "ny", "a%"})
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
+        -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
 BENCHMARK(strip)
     ->Name("strip/mixed-lumped")
     ->Apply([](auto *b) {
       sizes(b, {Lumped}, 0);
       sizes(b, {Lumped}, 5);
-    })
-    ->ArgNames({"method", "nodes", "ny", "a%"})
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
+    }) -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
 BENCHMARK(strip)
     ->Name("strip/mixed-exact")
     ->Apply([](auto *b) {
       sizes(b, {Exact}, 5);
       sizes(b, {Exact}, 1);
       sizes(b, {Exact}, 0);
-    })
-    ->ArgNames({"method", "nodes", "ny", "a%"})
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
+    }) -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
 BENCHMARK(strip)
     ->Name("strip/mixed-exact-kd")
     ->Apply([](auto *b) {
       sizes(b, {ExactKd}, 5);
       sizes(b, {ExactKd}, 1);
-    })
-    ->ArgNames({"method", "nodes", "ny", "a%"})
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
+    }) -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
 
-int main(int argc, char **argv) {
-  mixcon::Environment env(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  benchmark::AddCustomContext("kokkos", Environment::describe());
-  benchmark::AddCustomContext("hypre", hypreVersion());
-  benchmark::AddCustomContext("git", MIXCON_GIT_HASH);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }

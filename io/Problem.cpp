@@ -457,8 +457,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     if (s.has("krylov"))
       p.model.mixed.krylov =
           s["krylov"].choice({"cg", "gmres"}) == "gmres" ? KrylovMethod::Gmres : KrylovMethod::Cg;
-    if (s.has("preconditioner"))
-    {
+    if (s.has("preconditioner")) {
       const std::string v = s["preconditioner"].choice({"auto", "lumped_schur", "stiffness"});
       p.model.mixed.preconditioner = v == "stiffness"      ? SchurPreconditioner::Stiffness
                                      : v == "lumped_schur" ? SchurPreconditioner::LumpedSchur

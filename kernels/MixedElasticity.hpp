@@ -58,11 +58,11 @@ template <class MemorySpace> struct MixedElementData : ElementData<MemorySpace> 
 /// Scalar integrals of element e: gx[a][b] = t int dpsi_a/dx psi_b, gy[a][b] = t int dpsi_a/dy
 /// psi_b and m[a][b] = t int psi_a psi_b over the element (a: displacement node, b: stress node).
 template <class Elem, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void
-mixedIntegrals(const MeshView<MemorySpace> &mesh, LocalIndex e, double thickness,
-               double (&gx)[Elem::kNumNodes][Elem::kNumNodes],
-               double (&gy)[Elem::kNumNodes][Elem::kNumNodes],
-               double (&m)[Elem::kNumNodes][Elem::kNumNodes]) {
+KOKKOS_INLINE_FUNCTION void mixedIntegrals(const MeshView<MemorySpace> &mesh, LocalIndex e,
+                                           double thickness,
+                                           double (&gx)[Elem::kNumNodes][Elem::kNumNodes],
+                                           double (&gy)[Elem::kNumNodes][Elem::kNumNodes],
+                                           double (&m)[Elem::kNumNodes][Elem::kNumNodes]) {
   constexpr int n = Elem::kNumNodes;
   double xe[n][2];
   detail::gatherCoordinates<Elem>(mesh, e, xe);
@@ -106,6 +106,22 @@ KOKKOS_INLINE_FUNCTION void lumpMass(const double (&m)[Elem::kNumNodes][Elem::kN
   }
 }
 
+/// Everything the mixed kernels need of one element: the scalar integrals, the lumped masses and
+/// the element's compliance.
+template <class Elem> struct MixedElementBlocks {
+  double gx[Elem::kNumNodes][Elem::kNumNodes], gy[Elem::kNumNodes][Elem::kNumNodes];
+  double m[Elem::kNumNodes][Elem::kNumNodes], ml[Elem::kNumNodes];
+  PlaneMatrix d;
+};
+
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void mixedElementBlocks(const MixedElementData<MemorySpace> &d, LocalIndex e,
+                                               MixedElementBlocks<Elem> &b) {
+  mixedIntegrals<Elem>(d.mesh, e, d.thickness, b.gx, b.gy, b.m);
+  lumpMass<Elem>(b.m, b.ml);
+  b.d = d.compliance(d.material(e));
+}
+
 /// Element matrices of all elements: k12(e) (2n x 3n, dofs u_a,v_a by Sxx_b,Syy_b,Sxy_b),
 /// k22(e) = t int psi^T D psi (3n x 3n) and its lumped counterpart k22l(e) (3n x 3n, 3x3 nodal
 /// blocks on the diagonal).
@@ -118,21 +134,20 @@ void computeMixedElementMatrices(const ExecSpace &exec, const MixedElementData<M
       "mixcon::kernels::mixedElementMatrices",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
         constexpr int n = Elem::kNumNodes;
-        double gx[n][n], gy[n][n], m[n][n], ml[n];
-        mixedIntegrals<Elem>(d.mesh, e, d.thickness, gx, gy, m);
-        lumpMass<Elem>(m, ml);
-        const PlaneMatrix dm = d.compliance(d.material(e));
+        MixedElementBlocks<Elem> blk;
+        mixedElementBlocks<Elem>(d, e, blk);
         for (int a = 0; a < n; ++a)
           for (int b = 0; b < n; ++b) {
             // B_a^T = [dx 0 dy; 0 dy dx] times psi_b
-            const double v[2][3] = {{gx[a][b], 0.0, gy[a][b]}, {0.0, gy[a][b], gx[a][b]}};
+            const double v[2][3] = {{blk.gx[a][b], 0.0, blk.gy[a][b]},
+                                    {0.0, blk.gy[a][b], blk.gx[a][b]}};
             for (int i = 0; i < 2; ++i)
               for (int p = 0; p < 3; ++p)
                 k12(e, 2 * a + i, 3 * b + p) = v[i][p];
             for (int p = 0; p < 3; ++p)
               for (int r = 0; r < 3; ++r) {
-                k22(e, 3 * a + p, 3 * b + r) = m[a][b] * dm.m[p][r];
-                k22l(e, 3 * a + p, 3 * b + r) = a == b ? ml[a] * dm.m[p][r] : 0.0;
+                k22(e, 3 * a + p, 3 * b + r) = blk.m[a][b] * blk.d.m[p][r];
+                k22l(e, 3 * a + p, 3 * b + r) = a == b ? blk.ml[a] * blk.d.m[p][r] : 0.0;
               }
           }
       });
@@ -185,10 +200,9 @@ template <class MemorySpace> struct MixedOperators {
 /// Allocates and assembles the mixed operators of all elements (atomic scatter through the node
 /// scatter map of `graph`), then inverts the lumped blocks.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
-MixedOperators<MemorySpace> assembleMixedOperators(const ExecSpace &exec,
-                                                   const MixedElementData<MemorySpace> &d,
-                                                   const DeviceNodeGraph<MemorySpace> &graph,
-                                                   const Map &map) {
+MixedOperators<MemorySpace>
+assembleMixedOperators(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
+                       const DeviceNodeGraph<MemorySpace> &graph, const Map &map) {
   MixedOperators<MemorySpace> ops;
   ops.graph = graph;
   const Offset nnz = graph.columns.extent(0);
@@ -206,23 +220,21 @@ MixedOperators<MemorySpace> assembleMixedOperators(const ExecSpace &exec,
       "mixcon::kernels::assembleMixedOperators",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
         constexpr int n = Elem::kNumNodes;
-        double gx[n][n], gy[n][n], m[n][n], ml[n];
-        mixedIntegrals<Elem>(d.mesh, e, d.thickness, gx, gy, m);
-        lumpMass<Elem>(m, ml);
-        const PlaneMatrix dm = d.compliance(d.material(e));
+        MixedElementBlocks<Elem> blk;
+        mixedElementBlocks<Elem>(d, e, blk);
         for (int a = 0; a < n; ++a) { // a: stress node (row), b: displacement / stress column
           const LocalIndex k = d.mesh.connectivity(e, a);
           for (int b = 0; b < n; ++b) {
             const Offset p = ro(k) + map(e, a, b);
-            Kokkos::atomic_add(&cp(p, 0), gx[b][a]);
-            Kokkos::atomic_add(&cp(p, 1), gy[b][a]);
+            Kokkos::atomic_add(&cp(p, 0), blk.gx[b][a]);
+            Kokkos::atomic_add(&cp(p, 1), blk.gy[b][a]);
             for (int r = 0; r < 3; ++r)
               for (int s = 0; s < 3; ++s)
-                Kokkos::atomic_add(&cm(p, r, s), m[a][b] * dm.m[r][s]);
+                Kokkos::atomic_add(&cm(p, r, s), blk.m[a][b] * blk.d.m[r][s]);
           }
           for (int r = 0; r < 3; ++r)
             for (int s = 0; s < 3; ++s)
-              Kokkos::atomic_add(&lm(k, r, s), ml[a] * dm.m[r][s]);
+              Kokkos::atomic_add(&lm(k, r, s), blk.ml[a] * blk.d.m[r][s]);
         }
       });
   Kokkos::parallel_for(
@@ -249,8 +261,8 @@ void applyCouplingTranspose(const ExecSpace &exec, const MixedOperators<MemorySp
   auto co = ops.graph.columns;
   auto cp = ops.coupling;
   Kokkos::parallel_for(
-      "mixcon::mixed::couplingTranspose", Kokkos::RangePolicy<ExecSpace>(exec, 0, ops.graph.numNodes),
-      KOKKOS_LAMBDA(LocalIndex k) {
+      "mixcon::mixed::couplingTranspose",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, ops.graph.numNodes), KOKKOS_LAMBDA(LocalIndex k) {
         double s0 = 0.0, s1 = 0.0, s2 = 0.0;
         for (Offset p = ro(k); p < ro(k + 1); ++p) {
           const LocalIndex i = co(p);

@@ -53,7 +53,8 @@ void applyDirichlet(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
 /// unknowns, the diagonal `diag` the assembled preconditioner kept there (so both agree).
 /// y = P x.
 template <class ExecSpace, class MemorySpace>
-void maskConstrained(const ExecSpace &exec, const Kokkos::View<const int *, MemorySpace> &constrained,
+void maskConstrained(const ExecSpace &exec,
+                     const Kokkos::View<const int *, MemorySpace> &constrained,
                      const Kokkos::View<const double *, MemorySpace> &x,
                      const Kokkos::View<double *, MemorySpace> &y) {
   Kokkos::parallel_for(
@@ -98,7 +99,8 @@ void constrainedDiagonal(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
 
 /// Constrained right-hand side for A_c: b = P (f - A g) + D_c g, given Ag = A g.
 template <class ExecSpace, class MemorySpace>
-void constrainedRhs(const ExecSpace &exec, const Kokkos::View<const int *, MemorySpace> &constrained,
+void constrainedRhs(const ExecSpace &exec,
+                    const Kokkos::View<const int *, MemorySpace> &constrained,
                     const Kokkos::View<const double *, MemorySpace> &diag,
                     const Kokkos::View<const double *, MemorySpace> &f,
                     const Kokkos::View<const double *, MemorySpace> &g,

@@ -51,11 +51,7 @@ std::vector<double> LinearDisplacementModel::reactionHost(double loadFactor) con
     assembleInternalForce<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_),
                                           f);
   });
-  auto hf = toHost(f);
-  auto hl = toHost(load_);
-  for (std::size_t i = 0; i < hf.size(); ++i)
-    hf[i] -= loadFactor * hl[i];
-  return hf;
+  return reactionFrom(f, loadFactor);
 }
 
 } // namespace mixcon

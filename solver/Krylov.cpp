@@ -36,15 +36,9 @@ double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVect
 }
 
 KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
-                       const ConstDeviceVector &b, const DeviceVector &x) {
+                       const ConstDeviceVector &b, double bnorm, const DeviceVector &x) {
   const std::size_t n = b.extent(0);
   KrylovStats s;
-  const double bnorm = std::sqrt(dot(b, b));
-  if (bnorm == 0.0) {
-    Kokkos::deep_copy(x, 0.0);
-    s.converged = true;
-    return s;
-  }
   auto r = vec("mixcon::cg::r", n), rOld = vec("mixcon::cg::rOld", n), z = vec("mixcon::cg::z", n),
        d = vec("mixcon::cg::d", n), q = vec("mixcon::cg::q", n);
   double rnorm = residual(a, b, x, r);
@@ -81,16 +75,10 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
 }
 
 KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
-                          const ConstDeviceVector &b, const DeviceVector &x) {
+                          const ConstDeviceVector &b, double bnorm, const DeviceVector &x) {
   const std::size_t n = b.extent(0);
   const int m = o.restart;
   KrylovStats s;
-  const double bnorm = std::sqrt(dot(b, b));
-  if (bnorm == 0.0) {
-    Kokkos::deep_copy(x, 0.0);
-    s.converged = true;
-    return s;
-  }
   std::vector<DeviceVector> v, z;
   for (int j = 0; j <= m; ++j)
     v.push_back(vec("mixcon::gmres::v", n));
@@ -153,9 +141,16 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
 
 KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const LinearMap &p,
                         const ConstDeviceVector &b, const DeviceVector &x) {
+  const double bnorm = std::sqrt(dot(b, b));
+  if (bnorm == 0.0) { // the answer is x = 0 (relative residuals are undefined)
+    Kokkos::deep_copy(x, 0.0);
+    KrylovStats s;
+    s.converged = true;
+    return s;
+  }
   if (options.method == KrylovMethod::Cg)
-    return flexibleCg(options, a, p, b, x);
-  return flexibleGmres(options, a, p, b, x);
+    return flexibleCg(options, a, p, b, bnorm, x);
+  return flexibleGmres(options, a, p, b, bnorm, x);
 }
 
 } // namespace mixcon

@@ -32,7 +32,7 @@ struct LinearSolverOptions {
   /// Schur operator of the strip, but more iterations on the Lame cylinder and on Quad8
   /// (docs/mixed-model.md); off unless asked for.
   bool nodalCoarsening = false;
-  int printLevel = 0;           ///< hypre's own print level
+  int printLevel = 0; ///< hypre's own print level
 };
 
 struct LinearSolveStats {

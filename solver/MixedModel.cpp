@@ -53,6 +53,17 @@ void MixedModel::setInitialStress(const std::vector<double> &tau) {
   initialStress_ = tau;
 }
 
+Kokkos::View<double *, MixedModel::Memory> MixedModel::initialStressOnDevice() const {
+  Kokkos::View<double *, Memory> tau("mixcon::mixed::initialStress", s_.extent(0));
+  if (!initialStress_.empty()) {
+    auto h = Kokkos::create_mirror_view(tau);
+    for (std::size_t i = 0; i < initialStress_.size(); ++i)
+      h(i) = initialStress_[i];
+    Kokkos::deep_copy(tau, h);
+  }
+  return tau;
+}
+
 std::string MixedModel::solverName() const {
   std::ostringstream s;
   s << "mixed " << (options_.compliance == ComplianceMass::Consistent ? "consistent" : "lumped")
@@ -88,13 +99,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   graph_ = buildNodeGraph(mesh_);
   const auto dgraph = toDevice<Memory>(graph_);
   const auto map = elementScatterMap<Memory>(mesh_, graph_);
-  Kokkos::View<double *, Memory> tau("mixcon::mixed::initialStress", s_.extent(0));
-  if (!initialStress_.empty()) {
-    auto h = Kokkos::create_mirror_view(tau);
-    for (std::size_t i = 0; i < initialStress_.size(); ++i)
-      h(i) = initialStress_[i];
-    Kokkos::deep_copy(tau, h);
-  }
+  const auto tau = initialStressOnDevice();
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     ops_ = assembleMixedOperators<Elem>(Exec(), mixed_, dgraph, map);
@@ -103,8 +108,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     if (a > 0.0)
       assembleLinearStiffness<Elem>(Exec(), data_, map, stiffness_, a);
     if (!initialStress_.empty())
-      assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map,
-                                            stiffness_);
+      assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map, stiffness_);
   });
   constrainedDiagonal_ = Kokkos::View<double *, Memory>("mixcon::mixed::diagC", u_.extent(0));
   Exec().fence();
@@ -161,7 +165,10 @@ void MixedModel::applyComplianceInverse(const ConstDeviceVector &r, const Device
   o.maxIterations = options_.innerMaxIterations;
   Kokkos::deep_copy(s, 0.0);
   const auto st = krylovSolve(
-      o, [&](const ConstDeviceVector &x, const DeviceVector &y) { applyCompliance(Exec(), ops_, x, y); },
+      o,
+      [&](const ConstDeviceVector &x, const DeviceVector &y) {
+        applyCompliance(Exec(), ops_, x, y);
+      },
       [&](const ConstDeviceVector &x, const DeviceVector &y) {
         applyNodalBlocks(Exec(), ops_.lumpedInverse, x, y);
       },
@@ -259,13 +266,7 @@ void MixedModel::setupDirect() {
   const int nu = 2 * npe, ns = 3 * npe;
   Kokkos::View<double ***, Memory> k12("k12", ne, nu, ns), k22("k22", ne, ns, ns),
       k22l("k22l", ne, ns, ns), kd("kd", ne, nu, nu), kg("kg", ne, nu, nu);
-  Kokkos::View<double *, Memory> tau("tau", 3 * nn);
-  if (!initialStress_.empty()) {
-    auto h = Kokkos::create_mirror_view(tau);
-    for (std::size_t i = 0; i < initialStress_.size(); ++i)
-      h(i) = initialStress_[i];
-    Kokkos::deep_copy(tau, h);
-  }
+  const auto tau = initialStressOnDevice();
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     computeMixedElementMatrices<Elem>(Exec(), mixed_, k12, k22, k22l);
@@ -306,7 +307,8 @@ void MixedModel::setupDirect() {
         const LocalIndex nq = mesh_.node(e, q);
         for (int i = 0; i < 2; ++i) {
           for (int j = 0; j < 2; ++j)
-            add(2 * np + i, 2 * nq + j, a * hd(e, 2 * p + i, 2 * q + j) + hg(e, 2 * p + i, 2 * q + j));
+            add(2 * np + i, 2 * nq + j,
+                a * hd(e, 2 * p + i, 2 * q + j) + hg(e, 2 * p + i, 2 * q + j));
           for (int j = 0; j < 3; ++j) {
             const double v = (1.0 - a) * h12(e, 2 * p + i, 3 * q + j);
             add(2 * np + i, nU + 3 * nq + j, v);
@@ -361,11 +363,7 @@ std::vector<double> MixedModel::reactionHost(double loadFactor) const {
   DeviceVector f("mixcon::mixed::internalForce", u_.extent(0));
   multiply(Exec(), stiffness_, ConstDeviceVector(u_), f);
   applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(s_), 1.0, f);
-  auto hf = toHost(f);
-  auto hl = toHost(load_);
-  for (std::size_t i = 0; i < hf.size(); ++i)
-    hf[i] -= loadFactor * hl[i];
-  return hf;
+  return reactionFrom(f, loadFactor);
 }
 
 } // namespace mixcon

@@ -50,7 +50,7 @@ public:
   long operatorApplications() const { return operatorApplications_; }
 
   Kokkos::View<double *, Memory> stress() const { return s_; } ///< 3 per node, interleaved
-  std::vector<double> nodalStressHost() const override;       ///< the stress unknowns
+  std::vector<double> nodalStressHost() const override;        ///< the stress unknowns
   std::vector<double> reactionHost(double loadFactor) const override;
 
   const MixedOperators<Memory> &operators() const { return ops_; }
@@ -64,6 +64,7 @@ public:
 
 private:
   struct Direct;
+  Kokkos::View<double *, Memory> initialStressOnDevice() const; ///< zero when none was given
   void setupDirect();
   LinearSolveStats solveDirect(double loadFactor);
   LinearSolveStats solveSchur(double loadFactor);

@@ -112,6 +112,16 @@ std::vector<double> ModelBase::toHost(const Kokkos::View<const double *, Memory>
   return std::vector<double>(h.data(), h.data() + h.extent(0));
 }
 
+std::vector<double>
+ModelBase::reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
+                        double loadFactor) const {
+  auto r = toHost(internalForce);
+  const auto load = toHost(load_);
+  for (std::size_t i = 0; i < r.size(); ++i)
+    r[i] -= loadFactor * load[i];
+  return r;
+}
+
 std::vector<double> ModelBase::displacementHost() const { return toHost(u_); }
 
 void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,

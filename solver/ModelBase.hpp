@@ -63,6 +63,9 @@ public:
 protected:
   /// Copies the staged nodal forces (then clears them) and constraints to the device.
   void commitStaged();
+  /// Host copy of internalForce - lambda F (the reactions).
+  std::vector<double> reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
+                                   double loadFactor) const;
   /// Host vector of a device view.
   static std::vector<double> toHost(const Kokkos::View<const double *, Memory> &v);
 

@@ -64,11 +64,24 @@ inline LinearSolveStats solveCase(ModelBase &model, const Method &m, double tole
   return model.solve(1.0);
 }
 
+/// Solves, timing it, and fills the iteration and unknown counts of a CaseResult.
+inline CaseResult solveAndCount(ModelBase &model, const Method &m) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto st = solveCase(model, m);
+  CaseResult r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.iterations = st.iterations;
+  r.unknowns =
+      static_cast<long>(model.mesh().numNodes()) * (m.formulation == Formulation::Mixed ? 5 : 2);
+  return r;
+}
+
 /// Polar components (rr, tt, rt) of a Cartesian stress at angle t.
 inline std::array<double, 3> polar(const double *s, double t) {
   const double c = std::cos(t), n = std::sin(t);
   return {s[0] * c * c + s[1] * n * n + 2 * s[2] * n * c,
-          s[0] * n * n + s[1] * c * c - 2 * s[2] * n * c, (s[1] - s[0]) * n * c + s[2] * (c * c - n * n)};
+          s[0] * n * n + s[1] * c * c - 2 * s[2] * n * c,
+          (s[1] - s[0]) * n * c + s[2] * (c * c - n * n)};
 }
 
 /// Accumulates squared errors and squared references into a relative RMS.
@@ -94,13 +107,7 @@ inline CaseResult lameCase(ElementType type, int nr, int nt, const Method &m) {
   for (LocalIndex n : mesh.nodesOf("bottom"))
     model->prescribe(n, 1, 0.0);
   model->addEdgeLoad(mesh.boundaries.at("inner"), 0.0, 0.0, 1.0);
-  const auto start = std::chrono::steady_clock::now();
-  const auto st = solveCase(*model, m);
-  CaseResult r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.iterations = st.iterations;
-  r.unknowns = static_cast<long>(mesh.numNodes()) *
-               (m.formulation == Formulation::Mixed ? 5 : 2);
+  CaseResult r = solveAndCount(*model, m);
   const auto s = model->nodalStressHost();
   Rms surface, interior;
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
@@ -137,13 +144,7 @@ inline CaseResult kirschCase(ElementType type, int n, const Method &m) {
       model->prescribe(k, 0, u[0]);
       model->prescribe(k, 1, u[1]);
     }
-  const auto start = std::chrono::steady_clock::now();
-  const auto st = solveCase(*model, m);
-  CaseResult r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.iterations = st.iterations;
-  r.unknowns = static_cast<long>(mesh.numNodes()) *
-               (m.formulation == Formulation::Mixed ? 5 : 2);
+  CaseResult r = solveAndCount(*model, m);
   const auto s = model->nodalStressHost();
   Rms surface, interior;
   for (LocalIndex k = 0; k < mesh.numNodes(); ++k) {

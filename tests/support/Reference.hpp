@@ -86,26 +86,41 @@ inline Eigen::MatrixXd elementCoordinates(const Mesh &mesh, LocalIndex e) {
   return x;
 }
 
+/// Calls f(N, dN/dx, w det J) at every point of the element's Gauss rule (2x2 for Quad4, 3x3 for
+/// Quad8), with J(i, k) = d x_i / d xi_k from the element coordinates xe (n x 2).
+template <class F> void forEachReferencePoint(const Eigen::MatrixXd &xe, F &&f) {
+  const int n = static_cast<int>(xe.rows());
+  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
+    Eigen::VectorXd sh;
+    Eigen::MatrixXd dn;
+    referenceShape(n, g[0], g[1], sh, dn);
+    const Eigen::Matrix2d j = xe.transpose() * dn;
+    f(sh, Eigen::MatrixXd(dn * j.inverse()), g[2] * j.determinant());
+  }
+}
+
+/// The 3 x 2n strain-displacement matrix [B^L] of Eq. (25) from the gradients dN/dx (n x 2).
+inline Eigen::MatrixXd referenceB(const Eigen::MatrixXd &dx) {
+  const int n = static_cast<int>(dx.rows());
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2 * n);
+  for (int a = 0; a < n; ++a) {
+    b(0, 2 * a) = dx(a, 0);
+    b(1, 2 * a + 1) = dx(a, 1);
+    b(2, 2 * a) = dx(a, 1);
+    b(2, 2 * a + 1) = dx(a, 0);
+  }
+  return b;
+}
+
 /// K^L = t int B^T C B dA with the 3 x 2n matrix B of Eq. (25) built explicitly.
 inline Eigen::MatrixXd referenceStiffness(const Eigen::MatrixXd &xe, const Eigen::Matrix3d &c,
                                           double t) {
   const int n = static_cast<int>(xe.rows());
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
-    Eigen::VectorXd sh;
-    Eigen::MatrixXd dn;
-    referenceShape(n, g[0], g[1], sh, dn);
-    const Eigen::Matrix2d j = xe.transpose() * dn; // J(i, k) = d x_i / d xi_k
-    const Eigen::MatrixXd dx = dn * j.inverse();   // d N / d x
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2 * n);
-    for (int a = 0; a < n; ++a) {
-      b(0, 2 * a) = dx(a, 0);
-      b(1, 2 * a + 1) = dx(a, 1);
-      b(2, 2 * a) = dx(a, 1);
-      b(2, 2 * a + 1) = dx(a, 0);
-    }
-    k += b.transpose() * c * b * (g[2] * j.determinant() * t);
-  }
+  forEachReferencePoint(xe, [&](const Eigen::VectorXd &, const Eigen::MatrixXd &dx, double w) {
+    const Eigen::MatrixXd b = referenceB(dx);
+    k += b.transpose() * c * b * (w * t);
+  });
   return k;
 }
 
@@ -116,25 +131,14 @@ inline void referenceMixed(const Eigen::MatrixXd &xe, const Eigen::Matrix3d &d, 
   const int n = static_cast<int>(xe.rows());
   k12 = Eigen::MatrixXd::Zero(2 * n, 3 * n);
   k22 = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
-    Eigen::VectorXd sh;
-    Eigen::MatrixXd dn;
-    referenceShape(n, g[0], g[1], sh, dn);
-    const Eigen::Matrix2d j = xe.transpose() * dn;
-    const Eigen::MatrixXd dx = dn * j.inverse();
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3, 2 * n), psi = Eigen::MatrixXd::Zero(3, 3 * n);
-    for (int a = 0; a < n; ++a) {
-      b(0, 2 * a) = dx(a, 0);
-      b(1, 2 * a + 1) = dx(a, 1);
-      b(2, 2 * a) = dx(a, 1);
-      b(2, 2 * a + 1) = dx(a, 0);
+  forEachReferencePoint(xe, [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &dx, double w) {
+    Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
+    for (int a = 0; a < n; ++a)
       for (int c = 0; c < 3; ++c)
         psi(c, 3 * a + c) = sh(a);
-    }
-    const double w = g[2] * j.determinant() * t;
-    k12 += b.transpose() * psi * w;
-    k22 += psi.transpose() * d * psi * w;
-  }
+    k12 += referenceB(dx).transpose() * psi * (w * t);
+    k22 += psi.transpose() * d * psi * (w * t);
+  });
 }
 
 /// Geometric stiffness K11 = t int [B^sigma]^T [tau] [B^sigma] dA (Eq. (25), (31)) with the 4 x 2n
@@ -145,32 +149,22 @@ inline void referenceGeometric(const Eigen::MatrixXd &xe, const Eigen::MatrixXd 
   const int n = static_cast<int>(xe.rows());
   kg = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   fnl = Eigen::VectorXd::Zero(2 * n);
-  for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
-    Eigen::VectorXd sh;
-    Eigen::MatrixXd dn;
-    referenceShape(n, g[0], g[1], sh, dn);
-    const Eigen::Matrix2d j = xe.transpose() * dn;
-    const Eigen::MatrixXd dx = dn * j.inverse();
+  forEachReferencePoint(xe, [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &dx, double w) {
     const Eigen::Vector3d tau = s.transpose() * sh;
-    Eigen::MatrixXd bs = Eigen::MatrixXd::Zero(4, 2 * n), bl = Eigen::MatrixXd::Zero(3, 2 * n);
+    Eigen::MatrixXd bs = Eigen::MatrixXd::Zero(4, 2 * n);
     for (int a = 0; a < n; ++a) {
       bs(0, 2 * a) = dx(a, 0);
       bs(1, 2 * a) = dx(a, 1);
       bs(2, 2 * a + 1) = dx(a, 0);
       bs(3, 2 * a + 1) = dx(a, 1);
-      bl(0, 2 * a) = dx(a, 0);
-      bl(1, 2 * a + 1) = dx(a, 1);
-      bl(2, 2 * a) = dx(a, 1);
-      bl(2, 2 * a + 1) = dx(a, 0);
     }
     Eigen::Matrix4d tm = Eigen::Matrix4d::Zero();
     tm(0, 0) = tm(2, 2) = tau(0);
     tm(1, 1) = tm(3, 3) = tau(1);
     tm(0, 1) = tm(1, 0) = tm(2, 3) = tm(3, 2) = tau(2);
-    const double w = g[2] * j.determinant() * t;
-    kg += bs.transpose() * tm * bs * w;
-    fnl += bl.transpose() * tau * w;
-  }
+    kg += bs.transpose() * tm * bs * (w * t);
+    fnl += referenceB(dx).transpose() * tau * (w * t);
+  });
 }
 
 /// Moves interior nodes of a mesh randomly by up to `amount` times the local spacing `h`

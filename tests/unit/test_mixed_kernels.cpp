@@ -169,8 +169,7 @@ TEST_P(MixedKernelTest, AssembledOperatorsMatchDenseAssembly) {
   const Eigen::VectorXd u = randomVector(2 * nn, 1), s = randomVector(3 * nn, 2),
                         f0 = randomVector(2 * nn, 3);
   auto du = toView(u), ds = toView(s), df = toView(f0);
-  Kokkos::View<double *, Memory> r("r", 3 * nn), y("y", 3 * nn), yl("yl", 3 * nn),
-      yi("yi", 3 * nn);
+  Kokkos::View<double *, Memory> r("r", 3 * nn), y("y", 3 * nn), yl("yl", 3 * nn), yi("yi", 3 * nn);
   applyCouplingTranspose(Exec(), ops, ConstDeviceVector(du), r);
   applyCoupling(Exec(), ops, 0.7, ConstDeviceVector(ds), -2.0, df);
   applyCompliance(Exec(), ops, ConstDeviceVector(ds), y);

@@ -72,9 +72,9 @@ TEST_P(MixedSolverTest, DirectSaddlePointEqualsSchurAmgPaths) {
         o.innerTolerance = 1e-13;
         o.krylov = krylov;
         const Solution amg = solvePlate(GetParam(), o);
-        const std::string what = std::string(compliance == ComplianceMass::Lumped ? "lumped" : "consistent") +
-                                 " a=" + std::to_string(a) +
-                                 (krylov == KrylovMethod::Cg ? " CG" : " GMRES");
+        const std::string what =
+            std::string(compliance == ComplianceMass::Lumped ? "lumped" : "consistent") +
+            " a=" + std::to_string(a) + (krylov == KrylovMethod::Cg ? " CG" : " GMRES");
         ASSERT_TRUE(amg.stats.converged) << what << " residual " << amg.stats.relativeResidual;
         EXPECT_GT(amg.stats.iterations, 1) << what;
         EXPECT_LT(maxRelativeDifference(amg.u, direct.u), 1e-8) << what;
@@ -110,8 +110,7 @@ TEST(MixedPrestress, GmresSolvesTheIndefiniteSchurComplement) {
   std::vector<double> tau(3 * mesh.numNodes(), 0.0);
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
     tau[3 * n] = -30.0 * euler;
-  auto solve = [&](LinearSolverType type, KrylovMethod krylov, ComplianceMass m,
-                   double *rayleigh) {
+  auto solve = [&](LinearSolverType type, KrylovMethod krylov, ComplianceMass m, double *rayleigh) {
     MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0),
                      {isotropicStiffness(e, nu, PlaneAnalysis::PlaneStress)}, 1.0);
     for (LocalIndex n : mesh.nodesOf("left")) {

@@ -112,14 +112,15 @@ std::vector<BadCase> badCases() {
       {"mixed_unstable_pairing",
        replace(g, "formulation: displacement", "formulation: mixed, stress_element: quad4"),
        "Mirza-Olson", 3},
-      {"mixed_key_on_displacement", replace(g, "thickness: 0.5", "thickness: 0.5, stabilization: 0"),
+      {"mixed_key_on_displacement",
+       replace(g, "thickness: 0.5", "thickness: 0.5, stabilization: 0"),
        "applies to formulation: mixed only", 3},
       {"bad_stabilization",
        replace(g, "formulation: displacement", "formulation: mixed, stabilization: 1.5"),
        "stabilization must lie in [0, 1)", 3},
       {"unknown_preconditioner",
-       replace(replace(g, "formulation: displacement", "formulation: mixed"), "solver: {type: direct}",
-               "solver: {type: amg, preconditioner: jacobi}"),
+       replace(replace(g, "formulation: displacement", "formulation: mixed"),
+               "solver: {type: direct}", "solver: {type: amg, preconditioner: jacobi}"),
        "unknown value 'jacobi'", 14},
   };
 }
@@ -159,8 +160,9 @@ TEST(Problem, ParsesValidFile) {
 TEST(Problem, ParsesMixedFormulation) {
   std::string y = replace(kGood, "formulation: displacement",
                           "formulation: mixed, compliance: consistent, stabilization: 0.2");
-  y = replace(y, "solver: {type: direct}",
-              "solver: {type: amg, krylov: gmres, preconditioner: stiffness, inner_tolerance: 1e-9}");
+  y = replace(
+      y, "solver: {type: direct}",
+      "solver: {type: amg, krylov: gmres, preconditioner: stiffness, inner_tolerance: 1e-9}");
   const Problem p = parseProblem(y, "mixed.yaml", "");
   EXPECT_EQ(p.model.formulation, Formulation::Mixed);
   EXPECT_EQ(p.model.mixed.compliance, ComplianceMass::Consistent);
@@ -314,8 +316,9 @@ TEST(Cli, MixedRunWritesStressUnknownsAndGaussPointStresses) {
   const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
   const hid_t g = H5Gopen2(f, "/steps/2", H5P_DEFAULT);
-  EXPECT_NE(readStringAttribute(g, "stress_source").find("nodal stress unknowns of the mixed model"),
-            std::string::npos);
+  EXPECT_NE(
+      readStringAttribute(g, "stress_source").find("nodal stress unknowns of the mixed model"),
+      std::string::npos);
   const hid_t gp = H5Gopen2(g, "gauss_points", H5P_DEFAULT);
   EXPECT_NE(readStringAttribute(gp, "stress_source").find("from the displacements"),
             std::string::npos);

@@ -31,7 +31,8 @@ TEST_P(MixedConvergenceTest, LameSurfaceStressConvergesFasterThanDisplacementMod
   const int nr = q8 ? 8 : 16, nt = q8 ? 12 : 24;
   const Method mixed = defaultMixed(), report{Formulation::Mixed, ComplianceMass::Consistent, 0.0};
   const Method displacement{Formulation::Displacement, ComplianceMass::Consistent, 0.0};
-  const auto m1 = lameCase(GetParam(), nr, nt, mixed), m2 = lameCase(GetParam(), 2 * nr, 2 * nt, mixed);
+  const auto m1 = lameCase(GetParam(), nr, nt, mixed),
+             m2 = lameCase(GetParam(), 2 * nr, 2 * nt, mixed);
   const auto r1 = lameCase(GetParam(), nr, nt, report),
              r2 = lameCase(GetParam(), 2 * nr, 2 * nt, report);
   const auto d2 = lameCase(GetParam(), 2 * nr, 2 * nt, displacement);
@@ -41,7 +42,8 @@ TEST_P(MixedConvergenceTest, LameSurfaceStressConvergesFasterThanDisplacementMod
   EXPECT_GT(rate(r1, r2), 1.85);
   // The mixed model's surface stresses beat the displacement model's recovered ones (measured
   // ratio at this mesh: Quad4 0.4, Quad8 0.8).
-  EXPECT_LT(m2.surface, (q8 ? 0.9 : 0.6) * d2.surface) << "mixed " << m2.surface << " displacement " << d2.surface;
+  EXPECT_LT(m2.surface, (q8 ? 0.9 : 0.6) * d2.surface)
+      << "mixed " << m2.surface << " displacement " << d2.surface;
   EXPECT_LT(r2.surface, m2.surface); // a = 0 is the most accurate on the surface
   // Peak hoop stress sigma_theta(a) = 5/3 p.
   EXPECT_NEAR(m2.peak, 5.0 / 3.0, 0.01 * 5.0 / 3.0);

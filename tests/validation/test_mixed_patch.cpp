@@ -6,7 +6,7 @@
 // Reference: the linear field and its constant stress.
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
-#include <support/Reference.hpp>
+#include <support/Patch.hpp>
 
 #include <gtest/gtest.h>
 
@@ -40,26 +40,14 @@ std::vector<Variant> allVariants() {
 } // namespace
 
 class MixedPatchTest : public ::testing::TestWithParam<Variant> {};
-INSTANTIATE_TEST_SUITE_P(Variants, MixedPatchTest, ::testing::ValuesIn(allVariants()),
-                         variantName);
+INSTANTIATE_TEST_SUITE_P(Variants, MixedPatchTest, ::testing::ValuesIn(allVariants()), variantName);
 
 TEST_P(MixedPatchTest, ConstantStressIsExactAtEveryNode) {
   const Variant v = GetParam();
-  Mesh mesh = rectangleMesh(2.0, 1.5, 5, 4, v.element, -0.3, 0.2);
-  test::distortInterior(mesh, 0.4, 0.3, 11);
-  validateMesh(mesh);
-  const PlaneMatrix c = orthotropicStiffness({1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4},
-                                             PlaneAnalysis::PlaneStress, 0.35);
-  MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c}, 1.0);
-  auto exact = [](double x, double y) {
-    return std::array<double, 2>{1e-3 + 2e-3 * x - 1e-3 * y, -2e-3 + 5e-4 * x + 3e-3 * y};
-  };
-  for (const char *side : {"left", "right", "bottom", "top"})
-    for (LocalIndex n : mesh.nodesOf(side)) {
-      const auto u = exact(mesh.x(n), mesh.y(n));
-      model.prescribe(n, 0, u[0]);
-      model.prescribe(n, 1, u[1]);
-    }
+  const test::PatchCase pc = test::makePatchCase(v.element);
+  const Mesh &mesh = pc.mesh;
+  MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), {pc.c}, 1.0);
+  pc.prescribeBoundary(model);
   MixedOptions o;
   o.compliance = v.compliance;
   o.stabilization = v.a;
@@ -71,13 +59,11 @@ TEST_P(MixedPatchTest, ConstantStressIsExactAtEveryNode) {
   ASSERT_TRUE(st.converged) << st.relativeResidual;
   const auto u = model.displacementHost();
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
-    const auto ue = exact(mesh.x(n), mesh.y(n));
+    const auto ue = test::PatchCase::field(mesh.x(n), mesh.y(n));
     EXPECT_NEAR(u[2 * n], ue[0], 1e-10) << "node " << n;
     EXPECT_NEAR(u[2 * n + 1], ue[1], 1e-10) << "node " << n;
   }
-  const double eps[3] = {2e-3, 3e-3, -5e-4};
-  double sig[3];
-  applyStiffness(c, eps, sig);
+  const auto &sig = pc.sigma;
   const auto s = model.nodalStressHost();
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
     for (int k = 0; k < 3; ++k)

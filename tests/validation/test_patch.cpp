@@ -3,7 +3,7 @@
 // exactly constant stress. Reference: the linear field itself.
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
-#include <support/Reference.hpp>
+#include <support/Patch.hpp>
 
 #include <gtest/gtest.h>
 
@@ -21,21 +21,12 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST_P(PatchTest, LinearFieldIsReproducedExactly) {
   const auto [type, solver] = GetParam();
-  Mesh mesh = rectangleMesh(2.0, 1.5, 5, 4, type, -0.3, 0.2);
-  test::distortInterior(mesh, 0.4, 0.3, 11);
-  validateMesh(mesh);
-  const PlaneMatrix c = orthotropicStiffness({1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4},
-                                             PlaneAnalysis::PlaneStress, 0.35);
+  const test::PatchCase pc = test::makePatchCase(type);
+  const Mesh &mesh = pc.mesh;
+  const PlaneMatrix &c = pc.c;
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c}, 1.0);
-  auto exact = [](double x, double y) {
-    return std::array<double, 2>{1e-3 + 2e-3 * x - 1e-3 * y, -2e-3 + 5e-4 * x + 3e-3 * y};
-  };
-  for (const char *side : {"left", "right", "bottom", "top"})
-    for (LocalIndex n : mesh.nodesOf(side)) {
-      const auto u = exact(mesh.x(n), mesh.y(n));
-      model.prescribe(n, 0, u[0]);
-      model.prescribe(n, 1, u[1]);
-    }
+  const auto exact = test::PatchCase::field;
+  pc.prescribeBoundary(model);
   LinearSolverOptions o;
   o.type = solver;
   o.tolerance = 1e-13;
@@ -50,10 +41,7 @@ TEST_P(PatchTest, LinearFieldIsReproducedExactly) {
     interior += mesh.x(n) > -0.29 && mesh.x(n) < 1.69 && mesh.y(n) > 0.21 && mesh.y(n) < 1.69;
   }
   EXPECT_GT(interior, 5); // the test has free interior nodes to get right
-  // Constant stress C eps with eps = (2e-3, 3e-3, -1e-3 + 5e-4).
-  const double eps[3] = {2e-3, 3e-3, -5e-4};
-  double sig[3];
-  applyStiffness(c, eps, sig);
+  const auto &sig = pc.sigma;
   const auto s = model.nodalStressHost();
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
     for (int k = 0; k < 3; ++k)
