@@ -131,7 +131,19 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
                     "%.2e  %s  %.3f s  ETA %.1f s\n",
                     k + 1, nsteps, lambda, r.iterations, r.linearIterations, r.residual,
                     r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
-      *log << line << std::flush;
+      *log << line;
+      if (mixed) {
+        const auto &m = static_cast<const MixedModel &>(model);
+        if (m.innerIterations() > 0 && m.operatorApplications() > 0) {
+          std::snprintf(line, sizeof line,
+                        "        inner CG on M: %.1f iterations per Schur "
+                        "product (%ld products)\n",
+                        static_cast<double>(m.innerIterations()) / m.operatorApplications(),
+                        m.operatorApplications());
+          *log << line;
+        }
+      }
+      *log << std::flush;
     }
     if (!s.converged) {
       result.converged = false;

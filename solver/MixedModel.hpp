@@ -44,7 +44,7 @@ public:
   double assemblySeconds() const override { return assemblySeconds_; }
   double solverSetupSeconds() const override { return solverSetupSeconds_; }
   std::string solverName() const override;
-  /// Inner CG iterations on M in the last solve (operator applications plus stress recovery).
+  /// Inner CG iterations on M in the Schur products of the last solve.
   long innerIterations() const { return innerIterations_; }
   /// Operator applications in the last solve.
   long operatorApplications() const { return operatorApplications_; }
