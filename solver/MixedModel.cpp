@@ -87,7 +87,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     throw InputError("mixed model: compliance: lumped is not available for quad8 elements: "
                      "serendipity row sums are negative at corner nodes, and the positive (HRZ) "
                      "lumping fails the constant-stress patch test; use compliance: consistent "
-                     "(the HRZ-lumped operator then serves as the AMG preconditioner)");
+                     "(preconditioner: lumped_schur still uses the HRZ-lumped operator for AMG)");
   options_ = options;
   if (options_.preconditioner == SchurPreconditioner::Auto)
     options_.preconditioner = options_.compliance == ComplianceMass::Lumped
