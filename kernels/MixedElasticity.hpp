@@ -13,7 +13,7 @@
 // Data flow: mesh -> kernels (this) -> solver (MixedModel).
 #pragma once
 
-#include <kernels/LinearElasticity.hpp>
+#include <kernels/GeometricStiffness.hpp>
 
 namespace mixcon {
 
@@ -393,67 +393,13 @@ void assembleLumpedSchur(const ExecSpace &exec, const MixedOperators<MemorySpace
       });
 }
 
-namespace detail {
-/// Nodal stresses of element e interpolated at a point: tau = sum_b psi_b S_b.
-template <int N, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void interpolateStress(const MeshView<MemorySpace> &mesh, LocalIndex e,
-                                              const Kokkos::View<const double *, MemorySpace> &s,
-                                              const double (&sh)[N], double (&tau)[3]) {
-  tau[0] = tau[1] = tau[2] = 0.0;
-  for (int b = 0; b < N; ++b) {
-    const LocalIndex k = mesh.connectivity(e, b);
-    for (int c = 0; c < 3; ++c)
-      tau[c] += sh[b] * s(3 * k + c);
-  }
-}
-} // namespace detail
-
-/// Geometric stiffness K11 = t int [B^sigma]^T [tau] [B^sigma] dA of element e (Eq. (31)) with tau
-/// interpolated from the nodal stresses s (3 per node): kg[2a+i][2b+i] = t int g_a^T tau g_b.
-template <class Elem, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void
-mixedGeometricStiffness(const ElementData<MemorySpace> &d,
-                        const Kokkos::View<const double *, MemorySpace> &s, LocalIndex e,
-                        double (&kg)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2];
-  detail::gatherCoordinates<Elem>(d.mesh, e, xe);
-  for (int i = 0; i < 2 * n; ++i)
-    for (int j = 0; j < 2 * n; ++j)
-      kg[i][j] = 0.0;
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2], g[n][2], tau[3];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn);
-    const double f = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
-    detail::interpolateStress<n>(d.mesh, e, s, sh, tau);
-    for (int a = 0; a < n; ++a) {
-      const double ta0 = (tau[0] * g[a][0] + tau[2] * g[a][1]) * f;
-      const double ta1 = (tau[2] * g[a][0] + tau[1] * g[a][1]) * f;
-      for (int b = 0; b < n; ++b) {
-        const double v = ta0 * g[b][0] + ta1 * g[b][1];
-        kg[2 * a][2 * b] += v;
-        kg[2 * a + 1][2 * b + 1] += v;
-      }
-    }
-  }
-}
-
-/// Element geometric stiffness matrices of all elements into kg(e, i, j) (E x 2n x 2n).
+/// Geometric stiffness K11 (Eq. (31)) and F^NL with tau interpolated from nodal stresses s (3 per
+/// node): the generic kernels of kernels/GeometricStiffness.hpp with a NodalStressField.
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
 void computeMixedGeometricStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                                     const Kokkos::View<const double *, MemorySpace> &s,
                                     const Kokkos::View<double ***, P...> &kg) {
-  Kokkos::parallel_for(
-      "mixcon::kernels::mixedGeometricStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int nd = 2 * Elem::kNumNodes;
-        double k[nd][nd];
-        mixedGeometricStiffness<Elem>(d, s, e, k);
-        for (int i = 0; i < nd; ++i)
-          for (int j = 0; j < nd; ++j)
-            kg(e, i, j) = k[i][j];
-      });
+  computeGeometricStiffness<Elem>(exec, d, NodalStressField<MemorySpace>{d.mesh, s}, kg);
 }
 
 /// Adds K11 of all elements into `a` (2 dofs per node) through the scatter map of a's graph.
@@ -461,45 +407,15 @@ template <class Elem, class ExecSpace, class MemorySpace, class Map>
 void assembleMixedGeometricStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                                      const Kokkos::View<const double *, MemorySpace> &s,
                                      const Map &map, const CsrMatrix<MemorySpace> &a) {
-  Kokkos::parallel_for(
-      "mixcon::kernels::assembleMixedGeometricStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int nd = 2 * Elem::kNumNodes;
-        double k[nd][nd];
-        mixedGeometricStiffness<Elem>(d, s, e, k);
-        scatterElementMatrix<Elem>(a, map, d.mesh, e, k);
-      });
+  assembleGeometricStiffness<Elem>(exec, d, NodalStressField<MemorySpace>{d.mesh, s}, map, a);
 }
 
-/// Adds F^NL = t int [B^L]^T {tau} dA (Eq. (31)) to f (2 per node), tau interpolated from the
-/// nodal stresses s, element by element.
+/// Adds F^NL = t int [B^L]^T {tau} dA (Eq. (31)) to f (2 per node).
 template <class Elem, class ExecSpace, class MemorySpace>
 void assembleMixedStressForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                               const Kokkos::View<const double *, MemorySpace> &s,
                               const Kokkos::View<double *, MemorySpace> &f) {
-  Kokkos::parallel_for(
-      "mixcon::kernels::mixedStressForce",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double xe[n][2], fe[n][2] = {};
-        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
-        for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sh[n], dn[n][2], g[n][2], tau[3];
-          Elem::quadraturePoint(q, xi, eta, w);
-          Elem::shape(xi, eta, sh, dn);
-          const double jw = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
-          detail::interpolateStress<n>(d.mesh, e, s, sh, tau);
-          for (int a = 0; a < n; ++a) {
-            fe[a][0] += (g[a][0] * tau[0] + g[a][1] * tau[2]) * jw;
-            fe[a][1] += (g[a][1] * tau[1] + g[a][0] * tau[2]) * jw;
-          }
-        }
-        for (int a = 0; a < n; ++a) {
-          const LocalIndex node = d.mesh.connectivity(e, a);
-          Kokkos::atomic_add(&f(2 * node), fe[a][0]);
-          Kokkos::atomic_add(&f(2 * node + 1), fe[a][1]);
-        }
-      });
+  assembleStressForce<Elem>(exec, d, NodalStressField<MemorySpace>{d.mesh, s}, f);
 }
 
 } // namespace mixcon

@@ -6,6 +6,8 @@
 #include <mesh/Generators.hpp>
 #include <support/Reference.hpp>
 
+#include <random>
+
 namespace mixcon::test {
 
 using Memory = Kokkos::DefaultExecutionSpace::memory_space;
@@ -40,6 +42,34 @@ inline Fixture makeFixture(ElementType type, int nx = 6, int ny = 5) {
   hs(1) = f.materials[1];
   Kokkos::deep_copy(f.data.stiffness, hs);
   return f;
+}
+
+/// Random vector with entries in [-1, 1], reproducible by seed.
+inline Eigen::VectorXd randomVector(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i)
+    v(i) = d(rng);
+  return v;
+}
+
+inline Kokkos::View<double *, Memory> toView(const Eigen::VectorXd &v) {
+  Kokkos::View<double *, Memory> d("v", v.size());
+  auto h = Kokkos::create_mirror_view(d);
+  for (int i = 0; i < v.size(); ++i)
+    h(i) = v(i);
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+inline Eigen::VectorXd toEigen(const Kokkos::View<double *, Memory> &d) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
+  return Eigen::Map<const Eigen::VectorXd>(h.data(), h.extent(0));
+}
+
+inline double relativeError(const Eigen::MatrixXd &a, const Eigen::MatrixXd &b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }
 
 } // namespace mixcon::test

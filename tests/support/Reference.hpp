@@ -141,16 +141,18 @@ inline void referenceMixed(const Eigen::MatrixXd &xe, const Eigen::Matrix3d &d, 
   });
 }
 
-/// Geometric stiffness K11 = t int [B^sigma]^T [tau] [B^sigma] dA (Eq. (25), (31)) with the 4 x 2n
-/// [B^sigma] and the 4 x 4 [tau] of the report; tau interpolated from nodal stresses s (n x 3).
-/// Also F^NL = t int [B^L]^T {tau} dA into fnl (2n).
-inline void referenceGeometric(const Eigen::MatrixXd &xe, const Eigen::MatrixXd &s, double t,
-                               Eigen::MatrixXd &kg, Eigen::VectorXd &fnl) {
+/// Geometric stiffness K^sigma = K11 = t int [B^sigma]^T [tau] [B^sigma] dA (Eq. (25), (31)) with
+/// the 4 x 2n [B^sigma] and the 4 x 4 [tau] of the report, tau = tauAt(q, N) at quadrature point q
+/// (xi fastest, as the kernels number them). Also F = t int [B^L]^T {tau} dA into fnl (2n).
+template <class TauAt>
+void referenceGeometricAt(const Eigen::MatrixXd &xe, const TauAt &tauAt, double t,
+                          Eigen::MatrixXd &kg, Eigen::VectorXd &fnl) {
   const int n = static_cast<int>(xe.rows());
   kg = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   fnl = Eigen::VectorXd::Zero(2 * n);
+  int q = 0;
   forEachReferencePoint(xe, [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &dx, double w) {
-    const Eigen::Vector3d tau = s.transpose() * sh;
+    const Eigen::Vector3d tau = tauAt(q++, sh);
     Eigen::MatrixXd bs = Eigen::MatrixXd::Zero(4, 2 * n);
     for (int a = 0; a < n; ++a) {
       bs(0, 2 * a) = dx(a, 0);
@@ -165,6 +167,27 @@ inline void referenceGeometric(const Eigen::MatrixXd &xe, const Eigen::MatrixXd 
     kg += bs.transpose() * tm * bs * (w * t);
     fnl += referenceB(dx).transpose() * tau * (w * t);
   });
+}
+
+/// Nonlinear-strain energy t int tau_ij eta_ij dA, eta_ij = 1/2 u_k,i u_k,j (Eq. (10)), of element
+/// displacements u (2n), tau = tauAt(q, N): its Hessian is K^sigma.
+template <class TauAt>
+double referenceInitialStressEnergy(const Eigen::MatrixXd &xe, const TauAt &tauAt, double t,
+                                    const Eigen::VectorXd &u) {
+  const int n = static_cast<int>(xe.rows());
+  double energy = 0.0;
+  int q = 0;
+  forEachReferencePoint(xe, [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &dx, double w) {
+    const Eigen::Vector3d tau = tauAt(q++, sh);
+    Eigen::Matrix2d grad = Eigen::Matrix2d::Zero(); // grad(k, i) = u_k,i
+    for (int a = 0; a < n; ++a)
+      for (int c = 0; c < 2; ++c)
+        for (int i = 0; i < 2; ++i)
+          grad(c, i) += u(2 * a + c) * dx(a, i);
+    const Eigen::Matrix2d eta = 0.5 * grad.transpose() * grad;
+    energy += (tau(0) * eta(0, 0) + tau(1) * eta(1, 1) + 2 * tau(2) * eta(0, 1)) * w * t;
+  });
+  return energy;
 }
 
 /// Moves interior nodes of a mesh randomly by up to `amount` times the local spacing `h`

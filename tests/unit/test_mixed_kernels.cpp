@@ -77,33 +77,6 @@ DenseBlocks denseBlocks(const Fixture &f) {
   return b;
 }
 
-Eigen::VectorXd randomVector(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> d(-1.0, 1.0);
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i)
-    v(i) = d(rng);
-  return v;
-}
-
-Kokkos::View<double *, Memory> toView(const Eigen::VectorXd &v) {
-  Kokkos::View<double *, Memory> d("v", v.size());
-  auto h = Kokkos::create_mirror_view(d);
-  for (int i = 0; i < v.size(); ++i)
-    h(i) = v(i);
-  Kokkos::deep_copy(d, h);
-  return d;
-}
-
-Eigen::VectorXd toEigen(const Kokkos::View<double *, Memory> &d) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
-  return Eigen::Map<const Eigen::VectorXd>(h.data(), h.extent(0));
-}
-
-double relativeError(const Eigen::MatrixXd &a, const Eigen::MatrixXd &b) {
-  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
-}
-
 MixedOperators<Memory> kernelOperators(const Fixture &f, const MixedElementData<Memory> &d) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
@@ -209,87 +182,17 @@ TEST_P(MixedKernelTest, AssembledStabilizedLumpedSchurMatchesDenseProduct) {
   EXPECT_LT((expected - dense).cwiseAbs().maxCoeff(), 1e-11 * expected.cwiseAbs().maxCoeff());
 }
 
-TEST_P(MixedKernelTest, GeometricStiffnessAndStressForceMatchReference) {
+/// F^NL = t int [B^L]^T {tau} dA with tau interpolated from nodal stresses is K12 applied to them
+/// (the same interpolation); K11 and F^NL themselves are checked in test_geometric.cpp.
+TEST_P(MixedKernelTest, StressForceIsCouplingTimesNodalStress) {
   const Fixture f = makeFixture(GetParam(), 4, 3);
-  const int nn = f.mesh.numNodes(), n = f.mesh.nodesPerElement, ne = f.mesh.numElements();
+  const int nn = f.mesh.numNodes();
   const Eigen::VectorXd s = 100.0 * randomVector(3 * nn, 5);
-  auto ds = toView(s);
-  Kokkos::View<double ***, Memory> kg("kg", ne, 2 * n, 2 * n);
   Kokkos::View<double *, Memory> fnl("fnl", 2 * nn);
   dispatchElement(GetParam(), [&](auto elem) {
-    using Elem = decltype(elem);
-    computeMixedGeometricStiffness<Elem>(Exec(), f.data, ConstDeviceVector(ds), kg);
-    assembleMixedStressForce<Elem>(Exec(), f.data, ConstDeviceVector(ds), fnl);
+    assembleMixedStressForce<decltype(elem)>(Exec(), f.data, ConstDeviceVector(toView(s)), fnl);
   });
-  auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kg);
-  Eigen::VectorXd fref = Eigen::VectorXd::Zero(2 * nn);
-  for (LocalIndex e = 0; e < ne; ++e) {
-    Eigen::MatrixXd se(n, 3), rk, got(2 * n, 2 * n);
-    for (int a = 0; a < n; ++a)
-      for (int c = 0; c < 3; ++c)
-        se(a, c) = s(3 * f.mesh.node(e, a) + c);
-    Eigen::VectorXd rf;
-    referenceGeometric(elementCoordinates(f.mesh, e), se, f.data.thickness, rk, rf);
-    for (int i = 0; i < 2 * n; ++i)
-      for (int j = 0; j < 2 * n; ++j)
-        got(i, j) = hg(e, i, j);
-    ASSERT_LT(relativeError(got, rk), 1e-12) << "K11 of element " << e;
-    ASSERT_LT((got - got.transpose()).cwiseAbs().maxCoeff(), 1e-12 * got.cwiseAbs().maxCoeff());
-    for (int a = 0; a < n; ++a)
-      fref.segment<2>(2 * f.mesh.node(e, a)) += rf.segment<2>(2 * a);
-  }
-  EXPECT_LT(relativeError(toEigen(fnl), fref), 1e-12);
-  // F^NL is K12 applied to the nodal stresses (the same interpolation).
   EXPECT_LT(relativeError(toEigen(fnl), denseBlocks(f).k12 * s), 1e-12);
-}
-
-/// K11 is the tangent of the nonlinear-strain term of Eq. (17): with eta_ij = 1/2 u_k,i u_k,j and
-/// W(u) = t int tau_ij eta_ij dA (tau from the nodal stresses), grad W = K11 u. Central finite
-/// differences of W on each element give v^T K11 u and v^T K11 v for random u and v.
-TEST_P(MixedKernelTest, GeometricStiffnessIsTheFiniteDifferenceTangent) {
-  const Fixture f = makeFixture(GetParam(), 3, 2);
-  const int nn = f.mesh.numNodes(), n = f.mesh.nodesPerElement, ne = f.mesh.numElements();
-  const Eigen::VectorXd s = 100.0 * randomVector(3 * nn, 9);
-  Kokkos::View<double ***, Memory> kg("kg", ne, 2 * n, 2 * n);
-  dispatchElement(GetParam(), [&](auto elem) {
-    computeMixedGeometricStiffness<decltype(elem)>(Exec(), f.data, ConstDeviceVector(toView(s)),
-                                                   kg);
-  });
-  auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kg);
-  for (LocalIndex e = 0; e < ne; ++e) {
-    const auto xe = elementCoordinates(f.mesh, e);
-    Eigen::MatrixXd se(n, 3), k(2 * n, 2 * n);
-    for (int a = 0; a < n; ++a)
-      for (int c = 0; c < 3; ++c)
-        se(a, c) = s(3 * f.mesh.node(e, a) + c);
-    for (int i = 0; i < 2 * n; ++i)
-      for (int j = 0; j < 2 * n; ++j)
-        k(i, j) = hg(e, i, j);
-    auto energy = [&](const Eigen::VectorXd &u) { // W_e(u)
-      double w = 0.0;
-      forEachReferencePoint(
-          xe, [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &dx, double jw) {
-            const Eigen::Vector3d tau = se.transpose() * sh;
-            Eigen::Matrix2d grad = Eigen::Matrix2d::Zero(); // grad(k, i) = u_k,i
-            for (int a = 0; a < n; ++a)
-              for (int c = 0; c < 2; ++c)
-                for (int i = 0; i < 2; ++i)
-                  grad(c, i) += u(2 * a + c) * dx(a, i);
-            const Eigen::Matrix2d eta = 0.5 * grad.transpose() * grad;
-            w += (tau(0) * eta(0, 0) + tau(1) * eta(1, 1) + 2 * tau(2) * eta(0, 1)) * jw *
-                 f.data.thickness;
-          });
-      return w;
-    };
-    const Eigen::VectorXd u = 1e-2 * randomVector(2 * n, 100 + e), v = randomVector(2 * n, 200 + e);
-    const double h = 1e-4;
-    const double first = (energy(u + h * v) - energy(u - h * v)) / (2 * h);
-    const double second = (energy(u + h * v) - 2 * energy(u) + energy(u - h * v)) / (h * h);
-    const double scale = k.cwiseAbs().maxCoeff() * u.norm() * v.norm();
-    EXPECT_NEAR(first, v.dot(k * u), 1e-8 * scale) << "element " << e;
-    EXPECT_NEAR(second, v.dot(k * v), 1e-4 * k.cwiseAbs().maxCoeff() * v.squaredNorm())
-        << "element " << e;
-  }
 }
 
 TEST(MixedLumping, Quad8RowSumsAreNegativeAtCornersAndHrzIsPositive) {
