@@ -25,7 +25,11 @@ void axpby(double alpha, const ConstDeviceVector &x, double beta, const DeviceVe
 
 namespace {
 
-DeviceVector vec(const std::string &label, std::size_t n) { return DeviceVector(label, n); }
+/// Work vector; every one is fully written (by the operator, preconditioner or a copy) before it
+/// is read, so it is not zero-filled.
+DeviceVector vec(const std::string &label, std::size_t n) {
+  return DeviceVector(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), n);
+}
 
 /// r = b - A x; returns ||r||.
 double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVector &x,

@@ -47,17 +47,19 @@ public:
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
     std::vector<HYPRE_Int> ncols(n), diagSizes(n), offdSizes(n, 0);
-    std::vector<HYPRE_BigInt> rows(n), cols(co.extent(0));
+    std::vector<HYPRE_BigInt> cols(co.extent(0));
+    rows_.resize(n); // owned global rows, reused by every solve() and precondition()
+    zero_.assign(n, 0.0);
     for (HYPRE_Int i = 0; i < n; ++i) {
       ncols[i] = diagSizes[i] = static_cast<HYPRE_Int>(ro(i + 1) - ro(i));
-      rows[i] = lo + i;
+      rows_[i] = lo + i;
     }
     for (std::size_t k = 0; k < cols.size(); ++k)
       cols[k] = lo + co(k); // serial numbering: local column + first owned row
     check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, diagSizes.data(), offdSizes.data()),
           "IJMatrixSetDiagOffdSizes");
     check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
-    check(HYPRE_IJMatrixSetValues(ij_, n, ncols.data(), rows.data(), cols.data(), va.data()),
+    check(HYPRE_IJMatrixSetValues(ij_, n, ncols.data(), rows_.data(), cols.data(), va.data()),
           "IJMatrixSetValues");
     check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
     check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
@@ -104,21 +106,17 @@ public:
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
     auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
-    std::vector<HYPRE_BigInt> rows(n);
-    std::vector<double> zero(n, 0.0);
     double bnorm = 0.0;
-    for (HYPRE_Int i = 0; i < n; ++i) {
-      rows[i] = dofs_.ownedBegin + i;
+    for (HYPRE_Int i = 0; i < n; ++i)
       bnorm += hb(i) * hb(i);
-    }
     MPI_Allreduce(MPI_IN_PLACE, &bnorm, 1, MPI_DOUBLE, MPI_SUM, comm_);
     if (bnorm == 0.0) { // hypre divides by ||b||; the answer is x = 0
       Kokkos::deep_copy(x, 0.0);
       s.converged = true;
       return s;
     }
-    HYPRE_IJVectorSetValues(ijb_, n, rows.data(), hb.data());
-    HYPRE_IJVectorSetValues(ijx_, n, rows.data(), zero.data());
+    HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+    HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
     const HYPRE_Int err = HYPRE_ParCSRPCGSolve(pcg_, parA_, parb_, parx_);
     HYPRE_Int its = 0;
     double res = 0.0;
@@ -127,7 +125,7 @@ public:
     if (err != 0)
       HYPRE_ClearAllErrors(); // non-convergence is reported through stats
     auto hx = Kokkos::create_mirror_view(x);
-    HYPRE_IJVectorGetValues(ijx_, n, rows.data(), hx.data());
+    HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
     Kokkos::deep_copy(x, hx);
     s.iterations = its;
     s.relativeResidual = res;
@@ -142,12 +140,6 @@ public:
     const HYPRE_Int n = dofs_.numOwned();
     auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
     auto hx = Kokkos::create_mirror_view(x);
-    if (rows_.size() != static_cast<std::size_t>(n)) {
-      rows_.resize(n);
-      for (HYPRE_Int i = 0; i < n; ++i)
-        rows_[i] = dofs_.ownedBegin + i;
-    }
-    zero_.assign(n, 0.0);
     HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
     HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
     HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
@@ -183,8 +175,8 @@ private:
   HYPRE_ParCSRMatrix parA_ = nullptr;
   HYPRE_ParVector parb_ = nullptr, parx_ = nullptr;
   HYPRE_Solver pcg_ = nullptr, amg_ = nullptr;
-  std::vector<HYPRE_BigInt> rows_;
-  std::vector<double> zero_;
+  std::vector<HYPRE_BigInt> rows_; ///< owned global row numbers
+  std::vector<double> zero_;       ///< zero initial guess
   double setupSeconds_ = 0.0;
 };
 

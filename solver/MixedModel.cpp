@@ -111,6 +111,8 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
       assembleMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), map, stiffness_);
   });
   constrainedDiagonal_ = Kokkos::View<double *, Memory>("mixcon::mixed::diagC", u_.extent(0));
+  workStressRhs_ = DeviceVector("mixcon::mixed::workStressRhs", s_.extent(0));
+  workStress_ = DeviceVector("mixcon::mixed::workStress", s_.extent(0));
   Exec().fence();
   assemblySeconds_ = secondsSince(start);
 
@@ -155,13 +157,18 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
 }
 
 void MixedModel::applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s) {
+  innerIterations_ += solveCompliance(r, s, options_.innerTolerance);
+}
+
+long MixedModel::solveCompliance(const ConstDeviceVector &r, const DeviceVector &s,
+                                 double tolerance) {
   if (options_.compliance == ComplianceMass::Lumped) {
     applyNodalBlocks(Exec(), ops_.lumpedInverse, r, s);
-    return;
+    return 0;
   }
   KrylovOptions o;
   o.method = KrylovMethod::Cg;
-  o.tolerance = options_.innerTolerance;
+  o.tolerance = tolerance;
   o.maxIterations = options_.innerMaxIterations;
   Kokkos::deep_copy(s, 0.0);
   const auto st = krylovSolve(
@@ -173,22 +180,20 @@ void MixedModel::applyComplianceInverse(const ConstDeviceVector &r, const Device
         applyNodalBlocks(Exec(), ops_.lumpedInverse, x, y);
       },
       r, s);
-  innerIterations_ += st.iterations;
   if (!st.converged)
     throw std::runtime_error("mixed model: the inner CG on the compliance mass did not converge "
                              "(relative residual " +
                              std::to_string(st.relativeResidual) + " after " +
                              std::to_string(st.iterations) + " iterations)");
+  return st.iterations;
 }
 
 void MixedModel::applySchur(const ConstDeviceVector &u, const DeviceVector &y) {
   ++operatorApplications_;
-  const std::size_t ns = s_.extent(0);
-  DeviceVector r("mixcon::mixed::r", ns), s("mixcon::mixed::s", ns);
-  applyCouplingTranspose(Exec(), ops_, u, r);
-  applyComplianceInverse(r, s);
+  applyCouplingTranspose(Exec(), ops_, u, workStressRhs_);
+  applyComplianceInverse(ConstDeviceVector(workStressRhs_), workStress_);
   multiply(Exec(), stiffness_, u, y); // a Kd u + K11 u
-  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(s), 1.0, y);
+  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(workStress_), 1.0, y);
 }
 
 LinearSolveStats MixedModel::solve(double loadFactor) {
@@ -237,14 +242,9 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   const KrylovStats ks = krylovSolve(ko, op, prec, ConstDeviceVector(b), u_);
 
   // Stresses from the displacements with the same M as the solve (tight inner tolerance).
-  DeviceVector r("mixcon::mixed::r", s_.extent(0));
-  applyCouplingTranspose(Exec(), ops_, ConstDeviceVector(u_), r);
-  const double inner = options_.innerTolerance;
-  const long counted = innerIterations_; // report the Schur products' inner iterations only
-  options_.innerTolerance = std::min(inner, 1e-12);
-  applyComplianceInverse(r, s_);
-  options_.innerTolerance = inner;
-  innerIterations_ = counted;
+  // (not counted in innerIterations(), which reports the Schur products' inner iterations)
+  applyCouplingTranspose(Exec(), ops_, ConstDeviceVector(u_), workStressRhs_);
+  solveCompliance(ConstDeviceVector(workStressRhs_), s_, std::min(options_.innerTolerance, 1e-12));
   Exec().fence();
 
   LinearSolveStats s;
@@ -273,7 +273,8 @@ void MixedModel::setupDirect() {
     using Elem = decltype(elem);
     computeMixedElementMatrices<Elem>(Exec(), mixed_, k12, k22, k22l);
     computeLinearStiffness<Elem>(Exec(), data_, kd);
-    computeMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), kg);
+    if (!initialStress_.empty()) // kg stays zero otherwise
+      computeMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), kg);
   });
   auto h12 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k12);
   auto h22 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lumped ? k22l : k22);

@@ -57,7 +57,7 @@ public:
   const MixedElementData<Memory> &elementData() const { return mixed_; }
   /// y = S_a u, unconstrained (with the options' M; consistent M through the inner CG).
   void applySchur(const ConstDeviceVector &u, const DeviceVector &y);
-  /// s = M^-1 r (consistent: inner CG; lumped: nodal blocks).
+  /// s = M^-1 r (consistent: inner CG to inner_tolerance; lumped: nodal blocks).
   void applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s);
   /// The assembled preconditioner matrix (lumped S_a without K11, or Kd), constrained rows.
   const CsrMatrix<Memory> &preconditionerMatrix() const { return precMatrix_; }
@@ -66,6 +66,9 @@ private:
   struct Direct;
   Kokkos::View<double *, Memory> initialStressOnDevice() const; ///< zero when none was given
   void setupDirect();
+  /// s = M^-1 r to `tolerance` (consistent M: inner CG; lumped: nodal blocks); returns the
+  /// inner iterations.
+  long solveCompliance(const ConstDeviceVector &r, const DeviceVector &s, double tolerance);
   LinearSolveStats solveDirect(double loadFactor);
   LinearSolveStats solveSchur(double loadFactor);
 
@@ -78,6 +81,7 @@ private:
   std::vector<double> initialStress_;
   Kokkos::View<double *, Memory> s_;
   Kokkos::View<double *, Memory> constrainedDiagonal_;
+  DeviceVector workStressRhs_, workStress_; ///< K12^T u and M^-1 K12^T u inside applySchur
   std::unique_ptr<LinearSolver> amg_;
   std::unique_ptr<Direct> direct_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
