@@ -4,13 +4,161 @@
 #include <solver/DisplacementModel.hpp>
 #include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>
+#include <solver/Nonlinear.hpp>
 
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <ostream>
+#include <sstream>
 
 namespace mixcon {
+
+namespace {
+
+/// Prescribed displacements and loads of the problem on a model; pressures marked follower go to
+/// `nonlinear` (geometrically nonlinear runs) as follower pressures.
+void applyConditions(const Problem &p, ModelBase &model, NonlinearModel *nonlinear) {
+  for (const auto &bc : p.dirichlet)
+    for (LocalIndex n : p.mesh.nodesOf(bc.target)) {
+      if (bc.ux)
+        model.prescribe(n, 0, *bc.ux);
+      if (bc.uy)
+        model.prescribe(n, 1, *bc.uy);
+    }
+  for (const auto &l : p.loads) {
+    switch (l.kind) {
+    case LoadKind::Traction:
+      model.addEdgeLoad(p.mesh.boundaries.at(l.target), l.vector[0], l.vector[1], 0.0);
+      break;
+    case LoadKind::Pressure:
+      if (nonlinear && l.follower)
+        nonlinear->addFollowerPressure(p.mesh.boundaries.at(l.target), l.pressure);
+      else
+        model.addEdgeLoad(p.mesh.boundaries.at(l.target), 0.0, 0.0, l.pressure);
+      break;
+    case LoadKind::Force:
+      for (LocalIndex n : p.mesh.nodesOf(l.target))
+        model.addNodalForce(n, l.vector[0], l.vector[1]);
+      break;
+    case LoadKind::BodyForce: {
+      const int region = p.mesh.regionIndex(l.target);
+      const auto f = l.vector;
+      const Mesh &mesh = p.mesh;
+      model.addBodyForce([&mesh, region, f](double, double, LocalIndex e) {
+        return mesh.elementRegion[e] == region ? f : std::array<double, 2>{0.0, 0.0};
+      });
+      break;
+    }
+    }
+  }
+}
+
+std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
+  std::ostringstream s;
+  s << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
+    << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
+    << (mixed ? "mixed model, " : "displacement model, ")
+    << (p.model.geometricNonlinearity ? "geometrically nonlinear, " : "")
+    << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained()
+    << " constrained; " << Environment::describe() << "\n";
+  return s.str();
+}
+
+/// The geometrically nonlinear analysis: load stepping with equilibrium iterations.
+RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm comm,
+                       const std::vector<int> &elementMaterial,
+                       const std::vector<PlaneMatrix> &stiffness, RunResult result) {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  std::ostream *log = options.log;
+  const bool mixed = p.model.formulation == Formulation::Mixed;
+  std::unique_ptr<NonlinearModel> owner;
+  if (mixed)
+    owner = std::make_unique<NonlinearMixedModel>(p.mesh, elementMaterial, stiffness,
+                                                  p.model.thickness);
+  else
+    owner = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
+                                                         p.model.thickness);
+  NonlinearModel &model = *owner;
+  applyConditions(p, model, &model);
+  ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
+  if (log)
+    *log << modelLine(p, model, mixed);
+  model.setup(p.solver, comm);
+  if (log)
+    *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "
+         << p.nonlinear.tolerance << ", residual tolerance " << p.nonlinear.residualTolerance
+         << ", linear solver " << model.solverName() << "\n";
+  LoadStepper stepper(model, p.nonlinear, log);
+  const int nsteps = static_cast<int>(p.loadFactors.size());
+  result.converged = true;
+  for (int k = 0; k < nsteps; ++k) {
+    const auto stepStart = clock::now();
+    const double lambda = p.loadFactors[k];
+    const double setupBefore = model.solverSetupSeconds();
+    const IncrementOutcome o = stepper.advance(lambda);
+    StepRecord r;
+    r.step = k + 1;
+    r.loadFactor = o.converged ? lambda : stepper.loadFactor();
+    r.iterations = o.iterations;
+    r.linearIterations = o.linearIterations;
+    r.residual = o.history.empty() ? o.initialResidual : o.history.back().residual;
+    r.setupSeconds = model.solverSetupSeconds() - setupBefore;
+    r.solveSeconds = o.solveSeconds;
+    r.converged = o.converged;
+    r.cuts = o.cuts;
+    r.residualHistory.push_back(o.initialResidual);
+    for (const auto &h : o.history) {
+      r.residualHistory.push_back(h.residual);
+      r.incrementHistory.push_back(h.increment);
+    }
+    StepFields f;
+    f.displacement = model.displacementHost();
+    f.stress = model.nodalStressHost();
+    f.stressSource = mixed ? "nodal Cauchy stress of the mixed model (2nd Piola-Kirchhoff "
+                             "increments pushed forward at the nodes, Eq. (5b))"
+                           : "Cauchy stress from the Almansi strain (Eq. (26)), 2x2 Gauss "
+                             "points extrapolated to the nodes and averaged";
+    f.reaction = model.reactionHost(lambda);
+    model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
+    model.gaussPointFieldsHost(f.gaussGradient, f.gaussCurrentCoordinates);
+    if (mixed)
+      f.gaussInterpolatedStress =
+          static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();
+    r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count();
+    writer.writeStep(r, f);
+    result.steps.push_back(r);
+    result.displacement = std::move(f.displacement);
+    result.stress = std::move(f.stress);
+    if (log) {
+      const double elapsed = std::chrono::duration<double>(clock::now() - start).count();
+      const double eta = elapsed / (k + 1) * (nsteps - k - 1);
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  "
+                    "residual %.2e  %s  %.3f s  ETA %.1f s\n",
+                    k + 1, nsteps, lambda, r.iterations, r.cuts, r.linearIterations, r.residual,
+                    r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
+      *log << line << std::flush;
+    }
+    if (!o.converged) {
+      result.converged = false;
+      writer.finish(false, "step " + std::to_string(k + 1) + ": " + o.message +
+                               "; the results of the converged steps are in the output");
+      if (log)
+        *log << "mixcon: step " << k + 1 << " failed: " << o.message << "\n";
+      return result;
+    }
+  }
+  writer.finish(true, "");
+  if (log)
+    *log << "mixcon: wrote " << result.outputDirectory << "/{"
+         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "") << "summary.json}\n";
+  return result;
+}
+
+} // namespace
 
 RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm) {
   using clock = std::chrono::steady_clock;
@@ -31,6 +179,9 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
+  if (p.model.geometricNonlinearity)
+    return runNonlinear(p, options, comm, elementMaterial, stiffness, std::move(result));
+
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<ModelBase> owner;
   if (mixed)
@@ -40,43 +191,11 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     owner = std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
                                                       p.model.thickness);
   ModelBase &model = *owner;
-  for (const auto &bc : p.dirichlet)
-    for (LocalIndex n : p.mesh.nodesOf(bc.target)) {
-      if (bc.ux)
-        model.prescribe(n, 0, *bc.ux);
-      if (bc.uy)
-        model.prescribe(n, 1, *bc.uy);
-    }
-  for (const auto &l : p.loads) {
-    switch (l.kind) {
-    case LoadKind::Traction:
-      model.addEdgeLoad(p.mesh.boundaries.at(l.target), l.vector[0], l.vector[1], 0.0);
-      break;
-    case LoadKind::Pressure:
-      model.addEdgeLoad(p.mesh.boundaries.at(l.target), 0.0, 0.0, l.pressure);
-      break;
-    case LoadKind::Force:
-      for (LocalIndex n : p.mesh.nodesOf(l.target))
-        model.addNodalForce(n, l.vector[0], l.vector[1]);
-      break;
-    case LoadKind::BodyForce: {
-      const int region = p.mesh.regionIndex(l.target);
-      const auto f = l.vector;
-      model.addBodyForce([&, region, f](double, double, LocalIndex e) {
-        return p.mesh.elementRegion[e] == region ? f : std::array<double, 2>{0.0, 0.0};
-      });
-      break;
-    }
-    }
-  }
+  applyConditions(p, model, nullptr);
 
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
   if (log)
-    *log << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
-         << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
-         << (mixed ? "mixed model, " : "displacement model, ")
-         << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained()
-         << " constrained; " << Environment::describe() << "\n";
+    *log << modelLine(p, model, mixed);
 
   if (mixed) {
     MixedOptions o = p.model.mixed;

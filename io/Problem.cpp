@@ -231,9 +231,12 @@ ModelSpec readModel(const Item &m) {
     s.thickness = m["thickness"].positive();
   if (m.has("geometric_nonlinearity")) {
     s.geometricNonlinearity = m["geometric_nonlinearity"].boolean();
-    if (s.geometricNonlinearity)
-      m["geometric_nonlinearity"].fail("geometrically nonlinear analysis is not available in this "
-                                       "version yet (use false)");
+    if (s.geometricNonlinearity && s.formulation == Formulation::Mixed)
+      for (const char *key : {"compliance", "stabilization", "stress_element"})
+        if (m.has(key))
+          m[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver; the "
+                                         "geometrically nonlinear mixed model is the report's "
+                                         "(a = 0, consistent M, equal order)");
   }
   return s;
 }
@@ -385,8 +388,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     loads.requireSequence();
     for (std::size_t i = 0; i < loads.node.size(); ++i) {
       const Item l = loads.at(i);
-      l.allowOnly(
-          {"boundary", "node_set", "region", "traction", "pressure", "force", "body_force"});
+      l.allowOnly({"boundary", "node_set", "region", "traction", "pressure", "force", "body_force",
+                   "follower"});
       LoadSpec s;
       s.line = l.line();
       const int kinds =
@@ -419,13 +422,49 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
         s.kind = LoadKind::BodyForce;
         s.vector = l["body_force"].pair();
       }
+      if (l.has("follower")) {
+        if (s.kind != LoadKind::Pressure)
+          l["follower"].fail("follower applies to pressures only (tractions, forces and body "
+                             "forces are dead loads)");
+        if (!p.model.geometricNonlinearity)
+          l["follower"].fail("follower pressure needs model: geometric_nonlinearity: true");
+        s.follower = l["follower"].boolean();
+      }
       p.loads.push_back(s);
     }
   }
 
   if (top.has("steps")) {
     const Item s = top["steps"];
-    s.allowOnly({"increments", "load_factors"});
+    s.allowOnly({"increments", "load_factors", "iteration", "tolerance", "residual_tolerance",
+                 "max_iterations", "max_cuts"});
+    for (const char *key :
+         {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts"})
+      if (s.has(key) && !p.model.geometricNonlinearity)
+        s[key].fail(std::string(key) +
+                    " applies to geometrically nonlinear analyses (model: geometric_nonlinearity: "
+                    "true); linear steps are single solves");
+    auto &n = p.nonlinear;
+    if (s.has("iteration")) {
+      const std::string v = s["iteration"].choice({"newton", "modified_newton", "none"});
+      n.method = v == "none"              ? IterationMethod::None
+                 : v == "modified_newton" ? IterationMethod::ModifiedNewton
+                                          : IterationMethod::Newton;
+    }
+    if (s.has("tolerance"))
+      n.tolerance = s["tolerance"].positive();
+    if (s.has("residual_tolerance"))
+      n.residualTolerance = s["residual_tolerance"].positive();
+    if (s.has("max_iterations")) {
+      n.maxIterations = s["max_iterations"].integer();
+      if (n.maxIterations < 1)
+        s["max_iterations"].fail("must be at least 1");
+    }
+    if (s.has("max_cuts")) {
+      n.maxCuts = s["max_cuts"].integer();
+      if (n.maxCuts < 0)
+        s["max_cuts"].fail("must be 0 or more");
+    }
     if (s.has("increments") && s.has("load_factors"))
       s.fail("give 'increments' or 'load_factors', not both");
     if (s.has("increments")) {
@@ -446,14 +485,21 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
   }
 
+  const bool nonlinearMixed =
+      p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
+  if (nonlinearMixed)
+    p.solver.type = LinearSolverType::Direct;
   if (top.has("solver")) {
     const Item s = top["solver"];
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
                  "print_level", "krylov", "preconditioner", "inner_tolerance",
                  "interpolation_max_elements", "nodal_coarsening"});
-    for (const char *key : {"krylov", "preconditioner", "inner_tolerance"})
+    for (const char *key : {"krylov", "preconditioner", "inner_tolerance"}) {
       if (s.has(key) && p.model.formulation != Formulation::Mixed)
         s[key].fail(std::string(key) + " applies to formulation: mixed only");
+      if (s.has(key) && nonlinearMixed)
+        s[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver only");
+    }
     if (s.has("krylov"))
       p.model.mixed.krylov =
           s["krylov"].choice({"cg", "gmres"}) == "gmres" ? KrylovMethod::Gmres : KrylovMethod::Cg;
@@ -465,9 +511,14 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
     if (s.has("inner_tolerance"))
       p.model.mixed.innerTolerance = s["inner_tolerance"].positive();
-    if (s.has("type"))
+    if (s.has("type")) {
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
                                                                       : LinearSolverType::Amg;
+      if (p.solver.type == LinearSolverType::Amg && nonlinearMixed)
+        s["type"].fail("the geometrically nonlinear mixed model solves with type: direct only "
+                       "(its displacement-dependent coupling K12(u) is not yet in the Schur/AMG "
+                       "path)");
+    }
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();
     if (s.has("max_iterations"))
@@ -517,6 +568,10 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
     if (p.materials.size() != 1 || p.materials[0].type != "isotropic")
       v.fail("closed-form verification needs a single isotropic material");
+    if (p.model.geometricNonlinearity)
+      v.fail("the closed forms of verification are linear; run without geometric_nonlinearity "
+             "(the nonlinear cantilever is checked by examples/cantilever_study.py and the "
+             "validation tests)");
   }
   return p;
 }

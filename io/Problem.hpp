@@ -6,6 +6,7 @@
 #include <kernels/Material.hpp>
 #include <mesh/Mesh.hpp>
 #include <solver/MixedOptions.hpp>
+#include <solver/Nonlinear.hpp>
 
 #include <array>
 #include <optional>
@@ -50,6 +51,9 @@ struct LoadSpec {
   std::string target; ///< boundary, node set or region
   std::array<double, 2> vector{0.0, 0.0};
   double pressure = 0.0;
+  /// Pressure only, geometrically nonlinear analyses: normal to the deformed boundary (default)
+  /// or a dead load on the reference geometry.
+  bool follower = true;
   int line = 0;
 };
 
@@ -69,6 +73,8 @@ struct Problem {
   std::vector<DirichletSpec> dirichlet;
   std::vector<LoadSpec> loads;
   std::vector<double> loadFactors{1.0};
+  /// Equilibrium iterations of geometrically nonlinear analyses (steps: iteration, tolerance...).
+  NonlinearOptions nonlinear;
   LinearSolverOptions solver;
   std::string outputDirectory = "out";
   bool writeHdf5 = true;

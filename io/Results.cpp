@@ -1,5 +1,6 @@
 // HDF5 (C API), XDMF 3 and JSON writers.
 #include <io/Results.hpp>
+#include <solver/Nonlinear.hpp>
 
 #include <mixcon_version.hpp>
 
@@ -146,7 +147,19 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
     writeDataset(gp, "stress", f.gaussStress.data(), H5T_NATIVE_DOUBLE, nq, 3);
     writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
-    writeStringAttribute(gp, "stress_source", "C eps(u) from the displacements");
+    const bool nonlinear = !f.gaussGradient.empty();
+    writeStringAttribute(gp, "stress_source",
+                         nonlinear ? "Cauchy stress C e(u) from the Almansi strain of the "
+                                     "displacements"
+                                   : "C eps(u) from the displacements");
+    if (nonlinear) {
+      writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
+      writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
+                   nq, 2);
+    }
+    if (!f.gaussInterpolatedStress.empty())
+      writeDataset(gp, "interpolated_stress", f.gaussInterpolatedStress.data(), H5T_NATIVE_DOUBLE,
+                   nq, 3);
     H5Gclose(gp);
     writeStringAttribute(g, "stress_source", f.stressSource);
     writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
@@ -228,7 +241,20 @@ void ResultsWriter::writeSummary() const {
       << ", \"setup_seconds\": " << number(s.setupSeconds)
       << ", \"solve_seconds\": " << number(s.solveSeconds)
       << ", \"total_seconds\": " << number(s.totalSeconds)
-      << ", \"converged\": " << (s.converged ? "true" : "false") << "}";
+      << ", \"converged\": " << (s.converged ? "true" : "false");
+    if (!s.residualHistory.empty()) {
+      auto list = [&](const char *key, const std::vector<double> &v) {
+        j << ", \"" << key << "\": [";
+        for (std::size_t k = 0; k < v.size(); ++k)
+          j << (k ? ", " : "") << number(v[k]);
+        j << "]";
+      };
+      list("residuals", s.residualHistory);
+      list("increments", s.incrementHistory);
+      list("convergence_orders", convergenceOrders(s.residualHistory));
+      j << ", \"cuts\": " << s.cuts;
+    }
+    j << "}";
   }
   j << "\n  ]";
   for (const auto &[k, v] : extra_)

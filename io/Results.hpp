@@ -23,6 +23,10 @@ struct StepRecord {
   double solveSeconds = 0.0;
   double totalSeconds = 0.0;
   bool converged = false;
+  /// Geometrically nonlinear steps: relative residual before the first and after every
+  /// correction, relative increment norms, and the increment cuts needed.
+  std::vector<double> residualHistory, incrementHistory;
+  int cuts = 0;
 };
 
 /// Host arrays of one step's fields (row-major).
@@ -33,6 +37,9 @@ struct StepFields {
   std::vector<double> gaussCoordinates; ///< (E * nq) x 2
   std::vector<double> gaussStress;      ///< (E * nq) x 3
   int pointsPerElement = 0;
+  /// Geometrically nonlinear runs (empty otherwise): du/dx (4 per point: du/dx, du/dy, dv/dx,
+  /// dv/dy), current point coordinates, and (mixed model) the nodal stresses interpolated there.
+  std::vector<double> gaussGradient, gaussCurrentCoordinates, gaussInterpolatedStress;
   std::string stressSource; ///< how the nodal stresses were obtained (an HDF5 attribute)
 };
 

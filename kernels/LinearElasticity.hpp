@@ -341,31 +341,44 @@ void gaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace> &d,
       });
 }
 
+/// Stress C eps(u) of the linear model at natural point (xi, eta) of element e (a functor for
+/// recoverNodalStress).
+template <class Elem, class MemorySpace> struct LinearPointStress {
+  ElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> u;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, double xi, double eta,
+                                         double (&sig)[3]) const {
+    double xe[Elem::kNumNodes][2];
+    detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+    detail::stressAt<Elem>(d, u, e, xe, xi, eta, sig);
+  }
+};
+
 /// Nodal stresses recovered from the 2x2 Gauss points (the superconvergent points of both Quad4
-/// and Quad8): the four values are extrapolated bilinearly to every element node, then averaged
-/// over the elements sharing the node. `nodal` (N x 3) is overwritten.
-template <class Elem, class ExecSpace, class MemorySpace>
-void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &d,
-                         const Kokkos::View<const double *, MemorySpace> &u,
-                         const Kokkos::View<double *[3], MemorySpace> &nodal) {
+/// and Quad8): the four values pointStress(e, xi, eta, s) are extrapolated bilinearly to every
+/// element node, then averaged over the elements sharing the node. `nodal` (N x 3) is
+/// overwritten.
+template <class Elem, class ExecSpace, class MemorySpace, class PointStress>
+void recoverNodalStress(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                        const PointStress &pointStress,
+                        const Kokkos::View<double *[3], MemorySpace> &nodal) {
   const LocalIndex nn = nodal.extent(0);
   Kokkos::View<double *, MemorySpace> count("mixcon::kernels::stressCount", nn);
   Kokkos::deep_copy(exec, nodal, 0.0);
   Kokkos::parallel_for(
       "mixcon::kernels::nodalStressRecovery",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        double xe[Elem::kNumNodes][2], sg[4][3];
-        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        double sg[4][3];
         constexpr double g = 0.57735026918962576451; // 1/sqrt(3)
         for (int p = 0; p < 4; ++p)
-          detail::stressAt<Elem>(d, u, e, xe, detail::cornerXi(p) * g, detail::cornerEta(p) * g,
-                                 sg[p]);
+          pointStress(e, detail::cornerXi(p) * g, detail::cornerEta(p) * g, sg[p]);
         for (int a = 0; a < Elem::kNumNodes; ++a) {
           double xi, eta;
           Elem::nodeNatural(a, xi, eta);
           // Bilinear through the Gauss points: local coordinate r = xi * sqrt(3).
           const double r = xi / g, s = eta / g;
-          const LocalIndex node = d.mesh.connectivity(e, a);
+          const LocalIndex node = mesh.connectivity(e, a);
           for (int c = 0; c < 3; ++c) {
             double v = 0.0;
             for (int p = 0; p < 4; ++p)
@@ -383,6 +396,14 @@ void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &
           for (int c = 0; c < 3; ++c)
             nodal(n, c) /= count(n);
       });
+}
+
+/// Nodal stresses of the linear model (recoverNodalStress of C eps(u)).
+template <class Elem, class ExecSpace, class MemorySpace>
+void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+                         const Kokkos::View<const double *, MemorySpace> &u,
+                         const Kokkos::View<double *[3], MemorySpace> &nodal) {
+  recoverNodalStress<Elem>(exec, d.mesh, LinearPointStress<Elem, MemorySpace>{d, u}, nodal);
 }
 
 } // namespace mixcon

@@ -88,15 +88,27 @@ public:
     HYPRE_BoomerAMGSetTol(amg_, 0.0);
     HYPRE_BoomerAMGSetPrintLevel(amg_, options_.printLevel);
 
-    HYPRE_ParCSRPCGCreate(comm_, &pcg_);
-    HYPRE_PCGSetTol(pcg_, options_.tolerance);
-    HYPRE_PCGSetAbsoluteTol(pcg_, 0.0);
-    HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
-    HYPRE_PCGSetTwoNorm(pcg_, 1);
-    HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
-    HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                        reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-    check(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup");
+    if (options_.symmetric) {
+      HYPRE_ParCSRPCGCreate(comm_, &pcg_);
+      HYPRE_PCGSetTol(pcg_, options_.tolerance);
+      HYPRE_PCGSetAbsoluteTol(pcg_, 0.0);
+      HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
+      HYPRE_PCGSetTwoNorm(pcg_, 1);
+      HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
+      HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                          reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      check(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup");
+    } else {
+      HYPRE_ParCSRGMRESCreate(comm_, &gmres_);
+      HYPRE_GMRESSetKDim(gmres_, options_.gmresRestart);
+      HYPRE_GMRESSetTol(gmres_, options_.tolerance);
+      HYPRE_GMRESSetAbsoluteTol(gmres_, 0.0);
+      HYPRE_GMRESSetMaxIter(gmres_, options_.maxIterations);
+      HYPRE_GMRESSetPrintLevel(gmres_, options_.printLevel);
+      HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      check(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup");
+    }
     setupSeconds_ = seconds(start);
   }
 
@@ -117,11 +129,17 @@ public:
     }
     HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
     HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
-    const HYPRE_Int err = HYPRE_ParCSRPCGSolve(pcg_, parA_, parb_, parx_);
-    HYPRE_Int its = 0;
+    HYPRE_Int err = 0, its = 0;
     double res = 0.0;
-    HYPRE_PCGGetNumIterations(pcg_, &its);
-    HYPRE_PCGGetFinalRelativeResidualNorm(pcg_, &res);
+    if (pcg_) {
+      err = HYPRE_ParCSRPCGSolve(pcg_, parA_, parb_, parx_);
+      HYPRE_PCGGetNumIterations(pcg_, &its);
+      HYPRE_PCGGetFinalRelativeResidualNorm(pcg_, &res);
+    } else {
+      err = HYPRE_ParCSRGMRESSolve(gmres_, parA_, parb_, parx_);
+      HYPRE_GMRESGetNumIterations(gmres_, &its);
+      HYPRE_GMRESGetFinalRelativeResidualNorm(gmres_, &res);
+    }
     if (err != 0)
       HYPRE_ClearAllErrors(); // non-convergence is reported through stats
     auto hx = Kokkos::create_mirror_view(x);
@@ -147,13 +165,17 @@ public:
     Kokkos::deep_copy(x, hx);
   }
 
-  std::string name() const override { return "hypre PCG + BoomerAMG"; }
+  std::string name() const override {
+    return options_.symmetric ? "hypre PCG + BoomerAMG" : "hypre GMRES + BoomerAMG";
+  }
   double setupSeconds() const override { return setupSeconds_; }
 
 private:
   void release() {
     if (pcg_)
       HYPRE_ParCSRPCGDestroy(pcg_);
+    if (gmres_)
+      HYPRE_ParCSRGMRESDestroy(gmres_);
     if (amg_)
       HYPRE_BoomerAMGDestroy(amg_);
     if (ij_)
@@ -162,7 +184,7 @@ private:
       HYPRE_IJVectorDestroy(ijb_);
     if (ijx_)
       HYPRE_IJVectorDestroy(ijx_);
-    pcg_ = amg_ = nullptr;
+    pcg_ = gmres_ = amg_ = nullptr;
     ij_ = nullptr;
     ijb_ = ijx_ = nullptr;
   }
@@ -174,7 +196,7 @@ private:
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr;
   HYPRE_ParCSRMatrix parA_ = nullptr;
   HYPRE_ParVector parb_ = nullptr, parx_ = nullptr;
-  HYPRE_Solver pcg_ = nullptr, amg_ = nullptr;
+  HYPRE_Solver pcg_ = nullptr, gmres_ = nullptr, amg_ = nullptr;
   std::vector<HYPRE_BigInt> rows_; ///< owned global row numbers
   std::vector<double> zero_;       ///< zero initial guess
   double setupSeconds_ = 0.0;
@@ -182,7 +204,7 @@ private:
 
 class DirectSolver final : public LinearSolver {
 public:
-  explicit DirectSolver(MPI_Comm comm) {
+  DirectSolver(MPI_Comm comm, bool symmetric) : symmetric_(symmetric) {
     int size = 1;
     MPI_Comm_size(comm, &size);
     if (size != 1)
@@ -202,8 +224,10 @@ public:
           t.emplace_back(i, co(k), va(k));
     matrix_.resize(a.numRows, a.numColumns);
     matrix_.setFromTriplets(t.begin(), t.end());
-    ldlt_.compute(matrix_);
-    useLu_ = ldlt_.info() != Eigen::Success;
+    // LDL^T reads one triangle only: a nonsymmetric matrix goes to LU directly.
+    if (symmetric_)
+      ldlt_.compute(matrix_);
+    useLu_ = !symmetric_ || ldlt_.info() != Eigen::Success;
     if (useLu_) { // not symmetric positive definite: fall back to LU
       lu_.compute(matrix_);
       if (lu_.info() != Eigen::Success)
@@ -238,13 +262,16 @@ public:
     solve(b, x);
   }
 
-  std::string name() const override { return "direct (Eigen SimplicialLDLT)"; }
+  std::string name() const override {
+    return useLu_ || !symmetric_ ? "direct (Eigen SparseLU)" : "direct (Eigen SimplicialLDLT)";
+  }
   double setupSeconds() const override { return setupSeconds_; }
 
 private:
   Eigen::SparseMatrix<double> matrix_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  bool symmetric_ = true;
   bool useLu_ = false;
   double setupSeconds_ = 0.0;
 };
@@ -254,7 +281,7 @@ private:
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &options,
                                                const DofMap &dofs, MPI_Comm comm) {
   if (options.type == LinearSolverType::Direct)
-    return std::make_unique<DirectSolver>(comm);
+    return std::make_unique<DirectSolver>(comm, options.symmetric);
   return std::make_unique<HypreAmgSolver>(options, dofs, comm);
 }
 

@@ -33,6 +33,10 @@ struct LinearSolverOptions {
   /// (docs/mixed-model.md); off unless asked for.
   bool nodalCoarsening = false;
   int printLevel = 0; ///< hypre's own print level
+  /// false for a nonsymmetric matrix (the exact tangent of the geometrically nonlinear
+  /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of LDL^T.
+  bool symmetric = true;
+  int gmresRestart = 50;
 };
 
 struct LinearSolveStats {

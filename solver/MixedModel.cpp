@@ -31,21 +31,28 @@ MixedModel::MixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial
                        ElementType stressElement)
     : ModelBase(mesh, elementMaterial, stiffness, thickness) {
   checkMixedPairing(mesh.elementType, stressElement);
-  static_cast<ElementData<Memory> &>(mixed_) = data_;
-  mixed_.compliance =
-      Kokkos::View<PlaneMatrix *, Memory>("mixcon::mixed::compliance", stiffness.size());
-  auto h = Kokkos::create_mirror_view(mixed_.compliance);
+  mixed_ = withCompliance(data_, stiffness);
+  s_ = Kokkos::View<double *, Memory>("mixcon::mixed::stress", 3 * mesh.numNodes());
+}
+
+MixedModel::~MixedModel() = default;
+
+MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
+                                             const std::vector<PlaneMatrix> &stiffness) {
+  MixedElementData<DeviceSpace> m;
+  static_cast<ElementData<DeviceSpace> &>(m) = d;
+  m.compliance =
+      Kokkos::View<PlaneMatrix *, DeviceSpace>("mixcon::mixed::compliance", stiffness.size());
+  auto h = Kokkos::create_mirror_view(m.compliance);
   for (std::size_t i = 0; i < stiffness.size(); ++i) {
     if (!isPositiveDefinite(stiffness[i]) || invert3(stiffness[i], h(i)) <= 0.0)
       throw InputError("material " + std::to_string(i) +
                        ": the plane constitutive matrix [C] is not positive definite, so the "
                        "mixed model has no compliance D = C^-1");
   }
-  Kokkos::deep_copy(mixed_.compliance, h);
-  s_ = Kokkos::View<double *, Memory>("mixcon::mixed::stress", 3 * mesh.numNodes());
+  Kokkos::deep_copy(m.compliance, h);
+  return m;
 }
-
-MixedModel::~MixedModel() = default;
 
 void MixedModel::setInitialStress(const std::vector<double> &tau) {
   if (tau.size() != 3 * static_cast<std::size_t>(mesh_.numNodes()))

@@ -21,6 +21,11 @@
 
 namespace mixcon {
 
+/// Element data plus the compliance D = C^-1 of every material; throws InputError when a [C] is
+/// not positive definite.
+MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
+                                             const std::vector<PlaneMatrix> &stiffness);
+
 class MixedModel final : public ModelBase {
 public:
   /// Throws InputError for an unsupported (displacement, stress) pairing or a material whose [C]

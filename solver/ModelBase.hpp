@@ -54,8 +54,8 @@ public:
   /// stress unknowns themselves).
   virtual std::vector<double> nodalStressHost() const = 0;
   /// Stresses C eps(u) at the quadrature points, computed from the displacements.
-  void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
-                            int &pointsPerElement) const;
+  virtual void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
+                                    int &pointsPerElement) const;
   /// Reactions (internal force - lambda F, N x 2): support forces at constrained nodes, ~0
   /// elsewhere.
   virtual std::vector<double> reactionHost(double loadFactor) const = 0;

@@ -1,0 +1,494 @@
+// Geometrically nonlinear (updated-Lagrangian) element kernels of both models, with their exact
+// tangents (derivations in docs/theory.md, section "Geometric nonlinearity"):
+//  - displacement model: Cauchy stress from the Almansi strain of the total displacement,
+//    sigma = C : e, e = (h + h^T - h^T h) / 2, h = du/dx (Eq. (26) corrected); internal force
+//    t int B^T sigma da over the current configuration (F^sigma of Eq. (24)) and its exact
+//    derivative (K^L + K^sigma plus the terms of the Almansi law's linearization; not symmetric);
+//  - mixed model: the incremental Hellinger-Reissner residual relative to the last converged
+//    configuration c1 with prestress tau (Eq. (9), (16)-(22) without the linearization (12)):
+//    G_u = t int F Sigma grad(N) dA - F_ext, Sigma = tau + S, F = I + du/dX,
+//    G_S = t int psi (E(u) - D S) dA, E the Green-Lagrange strain of the increment; its Jacobian
+//    [K11(Sigma), K12(u); K12(u)^T, -M] is Eq. (30) at u = 0, S = 0;
+//  - follower pressure on the current boundary and its load stiffness;
+//  - the push-forward of the nodal 2nd Piola-Kirchhoff stress to Cauchy stress (Eq. (5b)).
+// Element type is a template parameter; all device code, no virtual calls. Data flow:
+// kernels -> solver.
+#pragma once
+
+#include <kernels/GeometricStiffness.hpp>
+#include <kernels/MixedElasticity.hpp>
+
+namespace mixcon {
+
+namespace detail {
+
+/// h[i][j] = sum_a ue[a][i] g[a][j] (gradient of a nodal vector field).
+template <int N>
+KOKKOS_INLINE_FUNCTION void nodalGradient(const double (&ue)[N][2], const double (&g)[N][2],
+                                          double (&h)[2][2]) {
+  h[0][0] = h[0][1] = h[1][0] = h[1][1] = 0.0;
+  for (int a = 0; a < N; ++a)
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        h[i][j] += ue[a][i] * g[a][j];
+}
+
+/// Almansi strain e = (h + h^T - h^T h) / 2 of the spatial displacement gradient h = du/dx.
+KOKKOS_INLINE_FUNCTION void almansiStrain(const double (&h)[2][2], double (&e)[2][2]) {
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      e[i][j] = 0.5 * (h[i][j] + h[j][i] - h[0][i] * h[0][j] - h[1][i] * h[1][j]);
+}
+
+/// Voigt (xx, yy, engineering xy) of a symmetric tensor and C times it as a tensor.
+KOKKOS_INLINE_FUNCTION void stressFromStrainTensor(const PlaneMatrix &c, const double (&e)[2][2],
+                                                   double (&s)[2][2]) {
+  const double ev[3] = {e[0][0], e[1][1], e[0][1] + e[1][0]};
+  double sv[3];
+  for (int r = 0; r < 3; ++r)
+    sv[r] = c.m[r][0] * ev[0] + c.m[r][1] * ev[1] + c.m[r][2] * ev[2];
+  s[0][0] = sv[0];
+  s[1][1] = sv[1];
+  s[0][1] = s[1][0] = sv[2];
+}
+
+/// Element nodal coordinates x = X + u (current configuration) and displacements.
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void gatherCurrent(const MeshView<MemorySpace> &m,
+                                          const Kokkos::View<const double *, MemorySpace> &u,
+                                          LocalIndex e, double (&xe)[Elem::kNumNodes][2],
+                                          double (&ue)[Elem::kNumNodes][2]) {
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex n = m.connectivity(e, a);
+    for (int i = 0; i < 2; ++i) {
+      ue[a][i] = u(2 * n + i);
+      xe[a][i] = m.coordinates(n, i) + ue[a][i];
+    }
+  }
+}
+
+} // namespace detail
+
+/// Displacement model, element e: internal force fe = t int B^T sigma da on the current
+/// configuration x = X + u (X: d.mesh) and, when `Tangent`, its exact derivative ke = d fe / du.
+/// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
+template <class Elem, bool Tangent, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
+                                           const Kokkos::View<const double *, MemorySpace> &u,
+                                           LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
+                                           double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][2], ue[n][2];
+  detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
+  const PlaneMatrix c = d.stiffness(d.material(e));
+  bool valid = true;
+  for (int i = 0; i < 2 * n; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < 2 * n; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, sh, dn);
+    const double det = physicalGradients<Elem>(xe, dn, g);
+    if (!(det > 0.0))
+      valid = false;
+    const double jw = d.thickness * w * det;
+    detail::nodalGradient<n>(ue, g, h);
+    detail::almansiStrain(h, es);
+    detail::stressFromStrainTensor(c, es, s);
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        fe[2 * a + i] += jw * (s[i][0] * g[a][0] + s[i][1] * g[a][1]);
+    if (!Tangent)
+      continue;
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < 2; ++m) {
+        // Perturbation delta u_b = unit vector m: dl[k][l] = delta_km g_bl, and
+        // de = sym(dl) - (dl^T e + e dl), dsigma = C : de.
+        double de[2][2], ds[2][2];
+        for (int k = 0; k < 2; ++k)
+          for (int l = 0; l < 2; ++l)
+            de[k][l] = 0.5 * ((k == m ? g[b][l] : 0.0) + (l == m ? g[b][k] : 0.0)) -
+                       g[b][k] * es[m][l] - es[k][m] * g[b][l];
+        detail::stressFromStrainTensor(c, de, ds);
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < 2; ++i) {
+            // d(sigma_ij g_aj da) = dsigma_ij g_aj + sigma_ij g_aj tr(dl) - sigma_ij g_ak dl_kj
+            double v = 0.0;
+            for (int j = 0; j < 2; ++j)
+              v += ds[i][j] * g[a][j] + s[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
+            ke[2 * a + i][2 * b + m] += jw * v;
+          }
+      }
+  }
+  return valid;
+}
+
+/// Cauchy stress (Almansi law) of total displacements u at natural point (xi, eta) of element e
+/// (a functor for recoverNodalStress).
+template <class Elem, class MemorySpace> struct AlmansiPointStress {
+  ElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> u;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, double xi, double eta,
+                                         double (&sig)[3]) const {
+    constexpr int n = Elem::kNumNodes;
+    double xe[n][2], ue[n][2], sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
+    detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
+    Elem::shape(xi, eta, sh, dn);
+    physicalGradients<Elem>(xe, dn, g);
+    detail::nodalGradient<n>(ue, g, h);
+    detail::almansiStrain(h, es);
+    detail::stressFromStrainTensor(d.stiffness(d.material(e)), es, s);
+    sig[0] = s[0][0];
+    sig[1] = s[1][1];
+    sig[2] = s[0][1];
+  }
+};
+
+/// Cauchy stress (Almansi law) and spatial displacement gradient du/dx at every quadrature point
+/// for total displacements u: stress(e, q, 0..2) = (xx, yy, xy), grad(e, q, 0..3) = (du/dx,
+/// du/dy, dv/dx, dv/dy); xq(e, q, 0..1) the current quadrature-point coordinates.
+template <class Elem, class ExecSpace, class MemorySpace>
+void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+                             const Kokkos::View<const double *, MemorySpace> &u,
+                             const Kokkos::View<double **[3], MemorySpace> &stress,
+                             const Kokkos::View<double **[4], MemorySpace> &grad,
+                             const Kokkos::View<double **[2], MemorySpace> &xq) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::almansiGaussPointStress",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes;
+        double xe[n][2], ue[n][2];
+        detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
+        const PlaneMatrix c = d.stiffness(d.material(e));
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
+          Elem::quadraturePoint(q, xi, eta, w);
+          Elem::shape(xi, eta, sh, dn);
+          physicalGradients<Elem>(xe, dn, g);
+          detail::nodalGradient<n>(ue, g, h);
+          detail::almansiStrain(h, es);
+          detail::stressFromStrainTensor(c, es, s);
+          stress(e, q, 0) = s[0][0];
+          stress(e, q, 1) = s[1][1];
+          stress(e, q, 2) = s[0][1];
+          grad(e, q, 0) = h[0][0];
+          grad(e, q, 1) = h[0][1];
+          grad(e, q, 2) = h[1][0];
+          grad(e, q, 3) = h[1][1];
+          double x = 0.0, y = 0.0;
+          for (int a = 0; a < n; ++a) {
+            x += sh[a] * xe[a][0];
+            y += sh[a] * xe[a][1];
+          }
+          xq(e, q, 0) = x;
+          xq(e, q, 1) = y;
+        }
+      });
+}
+
+/// Adds an element matrix with `Ndof` interleaved unknowns per node into `a` (pattern from
+/// expandGraph(graph, Ndof)) through the scatter map of the graph.
+template <int Ndof, class Elem, class MemorySpace, class Map>
+KOKKOS_INLINE_FUNCTION void
+scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace> &m,
+                   LocalIndex e,
+                   const double (&ke)[Ndof * Elem::kNumNodes][Ndof * Elem::kNumNodes]) {
+  for (int p = 0; p < Elem::kNumNodes; ++p) {
+    const LocalIndex row = m.connectivity(e, p);
+    for (int i = 0; i < Ndof; ++i) {
+      const Offset start = a.rowOffsets(Ndof * row + i);
+      for (int b = 0; b < Elem::kNumNodes; ++b) {
+        const Offset k = start + Ndof * map(e, p, b);
+        for (int j = 0; j < Ndof; ++j)
+          Kokkos::atomic_add(&a.values(k + j), ke[Ndof * p + i][Ndof * b + j]);
+      }
+    }
+  }
+}
+
+/// Displacement model: f += internal force of every element at total displacement u, and, when
+/// `a.numRows > 0`, a += tangent (2 dofs per node, scatter map `map`). Returns the number of
+/// inverted elements.
+template <class Elem, class ExecSpace, class MemorySpace, class Map>
+LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+                           const Kokkos::View<const double *, MemorySpace> &u, const Map &map,
+                           const CsrMatrix<MemorySpace> &a,
+                           const Kokkos::View<double *, MemorySpace> &f) {
+  LocalIndex inverted = 0;
+  const bool tangent = a.numRows > 0;
+  Kokkos::parallel_reduce(
+      "mixcon::kernels::assembleAlmansi",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+        constexpr int nd = 2 * Elem::kNumNodes;
+        double fe[nd], ke[nd][nd];
+        const bool ok = tangent ? almansiElement<Elem, true>(d, u, e, fe, ke)
+                                : almansiElement<Elem, false>(d, u, e, fe, ke);
+        if (!ok)
+          ++bad;
+        for (int p = 0; p < Elem::kNumNodes; ++p) {
+          const LocalIndex node = d.mesh.connectivity(e, p);
+          Kokkos::atomic_add(&f(2 * node), fe[2 * p]);
+          Kokkos::atomic_add(&f(2 * node + 1), fe[2 * p + 1]);
+        }
+        if (tangent)
+          scatterBlockMatrix<2, Elem>(a, map, d.mesh, e, ke);
+      },
+      inverted);
+  return inverted;
+}
+
+/// Mixed model, element e: the incremental Hellinger-Reissner residual ge (5 per node: G_u x, y,
+/// G_S xx, yy, xy; without external loads) at increment (u, S) from configuration c1 (d.mesh)
+/// with nodal prestress tau, and when `Tangent` its Jacobian ke. Returns false for an inverted
+/// element (in c1 or in the incremented configuration).
+template <class Elem, bool Tangent, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+mixedIncrementElement(const MixedElementData<MemorySpace> &d,
+                      const Kokkos::View<const double *, MemorySpace> &tau,
+                      const Kokkos::View<const double *, MemorySpace> &x, LocalIndex e,
+                      double (&ge)[5 * Elem::kNumNodes],
+                      double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][2], ue[n][2], se[n][3], te[n][3];
+  detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+  for (int a = 0; a < n; ++a) {
+    const LocalIndex k = d.mesh.connectivity(e, a);
+    for (int i = 0; i < 2; ++i)
+      ue[a][i] = x(5 * k + i);
+    for (int c = 0; c < 3; ++c) {
+      se[a][c] = x(5 * k + 2 + c);
+      te[a][c] = tau(3 * k + c);
+    }
+  }
+  const PlaneMatrix dm = d.compliance(d.material(e));
+  bool valid = true;
+  for (int i = 0; i < 5 * n; ++i) {
+    ge[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < 5 * n; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, sh, dn);
+    const double det = physicalGradients<Elem>(xe, dn, g);
+    const double jw = d.thickness * w * det;
+    detail::nodalGradient<n>(ue, g, h);
+    const double f[2][2] = {{1.0 + h[0][0], h[0][1]}, {h[1][0], 1.0 + h[1][1]}};
+    if (!(det > 0.0) || !(f[0][0] * f[1][1] - f[0][1] * f[1][0] > 0.0))
+      valid = false;
+    double sv[3] = {}, tv[3] = {};
+    for (int b = 0; b < n; ++b)
+      for (int c = 0; c < 3; ++c) {
+        sv[c] += sh[b] * se[b][c];
+        tv[c] += sh[b] * te[b][c];
+      }
+    const double sig[2][2] = {{tv[0] + sv[0], tv[2] + sv[2]}, {tv[2] + sv[2], tv[1] + sv[1]}};
+    // Green-Lagrange strain of the increment, Voigt (xx, yy, 2 xy), minus D S.
+    double r[3] = {h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+                   h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+                   h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1]};
+    for (int c = 0; c < 3; ++c)
+      r[c] -= dm.m[c][0] * sv[0] + dm.m[c][1] * sv[1] + dm.m[c][2] * sv[2];
+    // (F Sigma)_ik
+    double fs[2][2];
+    for (int i = 0; i < 2; ++i)
+      for (int k = 0; k < 2; ++k)
+        fs[i][k] = f[i][0] * sig[0][k] + f[i][1] * sig[1][k];
+    for (int a = 0; a < n; ++a) {
+      for (int i = 0; i < 2; ++i)
+        ge[5 * a + i] += jw * (fs[i][0] * g[a][0] + fs[i][1] * g[a][1]);
+      for (int c = 0; c < 3; ++c)
+        ge[5 * a + 2 + c] += jw * sh[a] * r[c];
+    }
+    if (!Tangent)
+      continue;
+    for (int a = 0; a < n; ++a) {
+      // dE(voigt)/du_(a,i) = B_a(i, c): (F_i0 g_a0, F_i1 g_a1, F_i0 g_a1 + F_i1 g_a0).
+      double bl[2][3];
+      for (int i = 0; i < 2; ++i) {
+        bl[i][0] = f[i][0] * g[a][0];
+        bl[i][1] = f[i][1] * g[a][1];
+        bl[i][2] = f[i][0] * g[a][1] + f[i][1] * g[a][0];
+      }
+      const double ga0 = sig[0][0] * g[a][0] + sig[0][1] * g[a][1];
+      const double ga1 = sig[1][0] * g[a][0] + sig[1][1] * g[a][1];
+      for (int b = 0; b < n; ++b) {
+        const double kg = jw * (ga0 * g[b][0] + ga1 * g[b][1]);
+        ke[5 * a][5 * b] += kg;
+        ke[5 * a + 1][5 * b + 1] += kg;
+        for (int i = 0; i < 2; ++i)
+          for (int c = 0; c < 3; ++c) {
+            const double v = jw * bl[i][c] * sh[b];
+            ke[5 * a + i][5 * b + 2 + c] += v;
+            ke[5 * b + 2 + c][5 * a + i] += v;
+          }
+        for (int c = 0; c < 3; ++c)
+          for (int k = 0; k < 3; ++k)
+            ke[5 * a + 2 + c][5 * b + 2 + k] -= jw * sh[a] * sh[b] * dm.m[c][k];
+      }
+    }
+  }
+  return valid;
+}
+
+/// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
+/// u, v, Sxx, Syy, Sxy) and, when `a.numRows > 0`, a += its Jacobian. Returns the number of
+/// inverted elements.
+template <class Elem, class ExecSpace, class MemorySpace, class Map>
+LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
+                                  const Kokkos::View<const double *, MemorySpace> &tau,
+                                  const Kokkos::View<const double *, MemorySpace> &x,
+                                  const Map &map, const CsrMatrix<MemorySpace> &a,
+                                  const Kokkos::View<double *, MemorySpace> &g) {
+  LocalIndex inverted = 0;
+  const bool tangent = a.numRows > 0;
+  Kokkos::parallel_reduce(
+      "mixcon::kernels::assembleMixedIncrement",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+        constexpr int nd = 5 * Elem::kNumNodes;
+        double ge[nd], ke[nd][nd];
+        const bool ok = tangent ? mixedIncrementElement<Elem, true>(d, tau, x, e, ge, ke)
+                                : mixedIncrementElement<Elem, false>(d, tau, x, e, ge, ke);
+        if (!ok)
+          ++bad;
+        for (int p = 0; p < Elem::kNumNodes; ++p) {
+          const LocalIndex node = d.mesh.connectivity(e, p);
+          for (int i = 0; i < 5; ++i)
+            Kokkos::atomic_add(&g(5 * node + i), ge[5 * p + i]);
+        }
+        if (tangent)
+          scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
+      },
+      inverted);
+  return inverted;
+}
+
+/// Follower pressure p (positive into the body) on element edges, on the current configuration:
+/// nodal coordinates m.coordinates + u (u: displacement dofs `Ndof * node + i` of `u`).
+/// Adds -f_ext to g (the residual is internal minus external force) and, when mat.numRows > 0,
+/// the load stiffness -d f_ext / du to mat. The pressure force is linear in the nodal positions:
+/// f_a = -p t int N_a (dy/ds, -dx/ds) ds.
+template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Map>
+void assembleFollowerPressure(const ExecSpace &exec, const MeshView<MemorySpace> &m,
+                              const Kokkos::View<const double *, MemorySpace> &u,
+                              const Kokkos::View<LocalIndex *[2], MemorySpace> &edges,
+                              const Kokkos::View<const double *, MemorySpace> &pressure,
+                              double scale, double thickness, const Map &map,
+                              const CsrMatrix<MemorySpace> &mat,
+                              const Kokkos::View<double *, MemorySpace> &g) {
+  const bool tangent = mat.numRows > 0;
+  Kokkos::parallel_for(
+      "mixcon::kernels::followerPressure", Kokkos::RangePolicy<ExecSpace>(exec, 0, edges.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        constexpr int ne = Elem::kNodesPerEdge;
+        const LocalIndex e = edges(k, 0);
+        const int edge = edges(k, 1);
+        const double p = scale * pressure(k) * thickness;
+        int local[ne];
+        LocalIndex nodes[ne];
+        double xe[ne][2], fe[ne][2] = {}, kab[ne][ne] = {};
+        for (int a = 0; a < ne; ++a) {
+          local[a] = Elem::edgeNode(edge, a);
+          nodes[a] = m.connectivity(e, local[a]);
+          for (int i = 0; i < 2; ++i)
+            xe[a][i] = m.coordinates(nodes[a], i) + u(Ndof * nodes[a] + i);
+        }
+        for (int q = 0; q < Elem::kNumEdgeQp; ++q) {
+          double s, w, sh[ne], ds[ne];
+          detail::gauss1d(Elem::kNumEdgeQp, q, s, w);
+          edgeShape<ne>(s, sh, ds);
+          double tx = 0.0, ty = 0.0;
+          for (int a = 0; a < ne; ++a) {
+            tx += ds[a] * xe[a][0];
+            ty += ds[a] * xe[a][1];
+          }
+          for (int a = 0; a < ne; ++a) {
+            fe[a][0] -= p * w * sh[a] * ty;
+            fe[a][1] += p * w * sh[a] * tx;
+            for (int b = 0; b < ne; ++b)
+              kab[a][b] += p * w * sh[a] * ds[b];
+          }
+        }
+        for (int a = 0; a < ne; ++a)
+          for (int i = 0; i < 2; ++i)
+            Kokkos::atomic_add(&g(Ndof * nodes[a] + i), -fe[a][i]);
+        if (!tangent)
+          return;
+        // -d f_ax / d y_b = p t int N_a dN_b/ds, -d f_ay / d x_b = -p t int N_a dN_b/ds.
+        for (int a = 0; a < ne; ++a)
+          for (int b = 0; b < ne; ++b) {
+            const Offset base = Ndof * map(e, local[a], local[b]);
+            Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a]) + base + 1), kab[a][b]);
+            Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a] + 1) + base), -kab[a][b]);
+          }
+      });
+}
+
+/// Push-forward of the nodal stresses at the end of a mixed increment (Eq. (9), (5b)):
+/// tau <- F (tau + S) F^T / det F with F = I + du/dX1 averaged over the elements sharing each
+/// node (each element's gradient evaluated at the node). x holds (u, v, Sxx, Syy, Sxy) per node.
+template <class Elem, class ExecSpace, class MemorySpace>
+void pushForwardNodalStress(const ExecSpace &exec, const MeshView<MemorySpace> &m,
+                            const Kokkos::View<const double *, MemorySpace> &x,
+                            const Kokkos::View<double *, MemorySpace> &tau) {
+  const LocalIndex nn = m.coordinates.extent(0);
+  Kokkos::View<double *[5], MemorySpace> acc("mixcon::kernels::nodalDeformationGradient", nn);
+  Kokkos::parallel_for(
+      "mixcon::kernels::nodalDeformationGradient",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, m.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes;
+        double xe[n][2], ue[n][2];
+        detail::gatherCoordinates<Elem>(m, e, xe);
+        for (int a = 0; a < n; ++a) {
+          const LocalIndex k = m.connectivity(e, a);
+          ue[a][0] = x(5 * k);
+          ue[a][1] = x(5 * k + 1);
+        }
+        for (int a = 0; a < n; ++a) {
+          double xi, eta, sh[n], dn[n][2], g[n][2], h[2][2];
+          Elem::nodeNatural(a, xi, eta);
+          Elem::shape(xi, eta, sh, dn);
+          physicalGradients<Elem>(xe, dn, g);
+          detail::nodalGradient<n>(ue, g, h);
+          const LocalIndex k = m.connectivity(e, a);
+          Kokkos::atomic_add(&acc(k, 0), h[0][0]);
+          Kokkos::atomic_add(&acc(k, 1), h[0][1]);
+          Kokkos::atomic_add(&acc(k, 2), h[1][0]);
+          Kokkos::atomic_add(&acc(k, 3), h[1][1]);
+          Kokkos::atomic_add(&acc(k, 4), 1.0);
+        }
+      });
+  Kokkos::parallel_for(
+      "mixcon::kernels::pushForwardNodalStress", Kokkos::RangePolicy<ExecSpace>(exec, 0, nn),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        const double c = acc(k, 4) > 0.0 ? 1.0 / acc(k, 4) : 0.0;
+        const double f[2][2] = {{1.0 + c * acc(k, 0), c * acc(k, 1)},
+                                {c * acc(k, 2), 1.0 + c * acc(k, 3)}};
+        const double j = f[0][0] * f[1][1] - f[0][1] * f[1][0];
+        const double s[2][2] = {{tau(3 * k) + x(5 * k + 2), tau(3 * k + 2) + x(5 * k + 4)},
+                                {tau(3 * k + 2) + x(5 * k + 4), tau(3 * k + 1) + x(5 * k + 3)}};
+        double t[2][2];
+        for (int i = 0; i < 2; ++i)
+          for (int l = 0; l < 2; ++l) {
+            double v = 0.0;
+            for (int p = 0; p < 2; ++p)
+              for (int q = 0; q < 2; ++q)
+                v += f[i][p] * s[p][q] * f[l][q];
+            t[i][l] = v / j;
+          }
+        tau(3 * k) = t[0][0];
+        tau(3 * k + 1) = t[1][1];
+        tau(3 * k + 2) = t[0][1];
+      });
+}
+
+} // namespace mixcon

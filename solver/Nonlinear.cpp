@@ -1,0 +1,587 @@
+// Nonlinear models (host orchestration of the kernels in kernels/Nonlinear.hpp) and the load
+// stepper.
+#include <solver/Dirichlet.hpp>
+#include <solver/MixedModel.hpp>
+#include <solver/Nonlinear.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <ostream>
+#include <sstream>
+
+namespace mixcon {
+
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using Memory = DeviceSpace;
+using Vec = Kokkos::View<double *, Memory>;
+using ConstVec = Kokkos::View<const double *, Memory>;
+
+double seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Two-norm of the first `width` of every `stride` entries of v, restricted to entries whose
+/// flag is `flagged` (flags: nullptr-like empty view means all).
+double strideNorm(const ConstVec &v, int stride, int first, int width,
+                  const Kokkos::View<const int *, Memory> &flags, int flagged) {
+  const LocalIndex n = v.extent(0) / stride;
+  const bool useFlags = flags.extent(0) > 0;
+  double s = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::nonlinear::norm", Kokkos::RangePolicy<Exec>(0, n),
+      KOKKOS_LAMBDA(LocalIndex k, double &acc) {
+        for (int c = first; c < first + width; ++c) {
+          const LocalIndex i = stride * k + c;
+          if (!useFlags || (flags(i) != 0) == (flagged != 0))
+            acc += v(i) * v(i);
+        }
+      },
+      s);
+  return std::sqrt(s);
+}
+
+double relative(double num, double den) {
+  if (den > 0.0)
+    return num / den;
+  return num == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+
+/// y(stride k + c) += alpha x(2 k + c), c = 0, 1.
+void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / 2) + i % 2) += alpha * x(i); });
+}
+
+/// Solves the constrained tangent for the correction: rhs = -g on free rows; prescribed rows
+/// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained
+/// and handed to the solver; a reused one (modified Newton) keeps its factorization.
+LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
+                                  CsrMatrix<Memory> &work, const Kokkos::View<const int *, Memory> &flags,
+                                  const ConstVec &g, const ConstVec &target, const Vec &rhs,
+                                  const Vec &diag, LinearSolver &solver, const Vec &dx,
+                                  double &setupSeconds) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::rhs", Kokkos::RangePolicy<Exec>(0, g.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { rhs(i) = -g(i); });
+  if (fresh) {
+    const auto start = std::chrono::steady_clock::now();
+    if (work.numRows == 0)
+      work = cloneValues(tangent);
+    else
+      Kokkos::deep_copy(work.values, tangent.values);
+    applyDirichlet(Exec(), work, flags, target, rhs);
+    constrainedDiagonal(Exec(), work, flags, diag);
+    Exec().fence();
+    solver.setup(work);
+    setupSeconds += seconds(start);
+  } else {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::constrainedRhs", Kokkos::RangePolicy<Exec>(0, g.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex i) {
+          if (flags(i))
+            rhs(i) = diag(i) * target(i);
+        });
+  }
+  return solver.solve(rhs, dx);
+}
+
+} // namespace
+
+const char *iterationMethodName(IterationMethod m) {
+  switch (m) {
+  case IterationMethod::ModifiedNewton:
+    return "modified_newton";
+  case IterationMethod::None:
+    return "none";
+  case IterationMethod::Newton:
+  default:
+    return "newton";
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// NonlinearModel
+
+void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges,
+                                         double pressure) {
+  for (const auto &e : edges) {
+    followerEdges_.push_back(e);
+    followerPressure_.push_back(pressure);
+  }
+}
+
+NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
+  FollowerLoads f{Kokkos::View<LocalIndex *[2], Memory>("mixcon::nonlinear::followerEdges",
+                                                        followerEdges_.size()),
+                  Kokkos::View<double *, Memory>("mixcon::nonlinear::followerPressure",
+                                                 followerPressure_.size())};
+  auto he = Kokkos::create_mirror_view(f.edges);
+  auto hp = Kokkos::create_mirror_view(f.pressure);
+  for (std::size_t k = 0; k < followerEdges_.size(); ++k) {
+    he(k, 0) = followerEdges_[k].element;
+    he(k, 1) = followerEdges_[k].edge;
+    hp(k) = followerPressure_[k];
+  }
+  Kokkos::deep_copy(f.edges, he);
+  Kokkos::deep_copy(f.pressure, hp);
+  return f;
+}
+
+LinearSolveStats NonlinearModel::solve(double loadFactor) {
+  LoadStepper stepper(*this, NonlinearOptions{});
+  const IncrementOutcome o = stepper.advance(loadFactor);
+  LinearSolveStats s;
+  s.converged = o.converged;
+  s.iterations = o.linearIterations;
+  s.relativeResidual = o.history.empty() ? o.initialResidual : o.history.back().residual;
+  s.solveSeconds = o.solveSeconds;
+  return s;
+}
+
+void NonlinearModel::gaussPointStressHost(std::vector<double> &coordinates,
+                                          std::vector<double> &stress,
+                                          int &pointsPerElement) const {
+  std::vector<double> gradient, current;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);
+    Kokkos::View<double **[2], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
+    Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
+    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc);
+    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
+    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    pointsPerElement = Elem::kNumQp;
+    coordinates.assign(hx.data(), hx.data() + hx.size());
+    stress.assign(hs.data(), hs.data() + hs.size());
+  });
+}
+
+void NonlinearModel::gaussPointFieldsHost(std::vector<double> &gradient,
+                                          std::vector<double> &currentCoordinates) const {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[2], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
+    Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc);
+    auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gq);
+    auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xc);
+    gradient.assign(hg.data(), hg.data() + hg.size());
+    currentCoordinates.assign(hc.data(), hc.data() + hc.size());
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// NonlinearDisplacementModel
+
+NonlinearDisplacementModel::~NonlinearDisplacementModel() = default;
+
+void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = buildNodeGraph(mesh_);
+  tangent_ = expandGraph<Memory>(graph_, 2);
+  map_ = elementScatterMap<Memory>(mesh_, graph_);
+  constrained_ = CsrMatrix<Memory>{};
+  commitStaged();
+  follower_ = followerLoads();
+  const LocalIndex n = dofs_.numOwned();
+  g_ = Vec("mixcon::nonlinear::residual", n);
+  committed_ = Vec("mixcon::nonlinear::committed", n);
+  du_ = Vec("mixcon::nonlinear::correction", n);
+  rhs_ = Vec("mixcon::nonlinear::rhs", n);
+  target_ = Vec("mixcon::nonlinear::target", n);
+  diag_ = Vec("mixcon::nonlinear::diagonal", n);
+  Kokkos::deep_copy(committed_, u_);
+  linearOptions_ = options;
+  linearOptions_.symmetric = false; // the exact tangent of the Almansi law is not symmetric
+  solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
+  assemblySeconds_ = seconds(start);
+}
+
+std::string NonlinearDisplacementModel::solverName() const {
+  return solver_ ? solver_->name() : std::string("none");
+}
+
+void NonlinearDisplacementModel::setDisplacement(const std::vector<double> &u) {
+  auto h = Kokkos::create_mirror_view(u_);
+  for (std::size_t i = 0; i < u.size(); ++i)
+    h(i) = u[i];
+  Kokkos::deep_copy(u_, h);
+}
+
+double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::deep_copy(g_, 0.0);
+  if (tangent)
+    Kokkos::deep_copy(tangent_.values, 0.0);
+  const CsrMatrix<Memory> none;
+  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  LocalIndex inverted = 0;
+  double fint = 0.0;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, a, g_);
+    fint = strideNorm(g_, 1, 0, 1, {}, 0);
+    addDisplacementVector(g_, 2, -lambda, load_);
+    if (follower_.edges.extent(0) > 0)
+      assembleFollowerPressure<2, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
+                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_, a,
+                                        g_);
+  });
+  fresh_ = tangent;
+  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  const double r = relative(strideNorm(g_, 1, 0, 1, isConstrained_, 0), std::max(fint, fext));
+  assemblySeconds_ += seconds(start);
+  return inverted > 0 ? std::numeric_limits<double>::infinity() : r;
+}
+
+LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
+  auto u = u_;
+  auto flags = isConstrained_;
+  auto p = prescribed_;
+  auto t = target_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::target", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { t(i) = flags(i) ? lambda * p(i) - u(i) : 0.0; });
+  const LinearSolveStats s = constrainedSolve(tangent_, fresh_, constrained_, flags, g_, target_,
+                                              rhs_, diag_, *solver_, du_, solverSetupSeconds_);
+  fresh_ = false;
+  auto du = du_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::update", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { u(i) += du(i); });
+  increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  return s;
+}
+
+void NonlinearDisplacementModel::commit() { Kokkos::deep_copy(committed_, u_); }
+void NonlinearDisplacementModel::rollback() { Kokkos::deep_copy(u_, committed_); }
+
+std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
+  Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    recoverNodalStress<Elem>(Exec(), data_.mesh, AlmansiPointStress<Elem, Memory>{data_, u_}, s);
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
+  return std::vector<double>(h.data(), h.data() + h.size());
+}
+
+std::vector<double> NonlinearDisplacementModel::reactionHost(double) const { return toHost(g_); }
+
+// ---------------------------------------------------------------------------------------------
+// NonlinearMixedModel
+
+NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                                         const std::vector<PlaneMatrix> &stiffness,
+                                         double thickness)
+    : NonlinearModel(mesh, elementMaterial, stiffness, thickness) {
+  checkMixedPairing(mesh.elementType, mesh.elementType);
+  current_ = withCompliance(data_, stiffness);
+  current_.mesh.coordinates = Kokkos::View<double *[2], Memory>(
+      "mixcon::nonlinear::configuration", mesh.numNodes());
+  Kokkos::deep_copy(current_.mesh.coordinates, data_.mesh.coordinates);
+  const LocalIndex nn = mesh.numNodes();
+  tau_ = Vec("mixcon::nonlinear::cauchyStress", 3 * nn);
+  x_ = Vec("mixcon::nonlinear::increment", 5 * nn);
+}
+
+NonlinearMixedModel::~NonlinearMixedModel() = default;
+
+void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (options.type != LinearSolverType::Direct)
+    throw InputError("the geometrically nonlinear mixed model solves its increments with "
+                     "solver: direct only (the Schur/AMG path does not yet take the "
+                     "displacement-dependent coupling K12(u)); set solver: {type: direct}");
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = buildNodeGraph(mesh_);
+  tangent_ = expandGraph<Memory>(graph_, 5);
+  map_ = elementScatterMap<Memory>(mesh_, graph_);
+  commitStaged();
+  follower_ = followerLoads();
+  const LocalIndex nn = mesh_.numNodes();
+  g_ = Vec("mixcon::nonlinear::residual", 5 * nn);
+  committed_ = Vec("mixcon::nonlinear::committed", 2 * nn);
+  dx_ = Vec("mixcon::nonlinear::correction", 5 * nn);
+  rhs_ = Vec("mixcon::nonlinear::rhs", 5 * nn);
+  target_ = Vec("mixcon::nonlinear::target", 5 * nn);
+  diag_ = Vec("mixcon::nonlinear::diagonal", 5 * nn);
+  work_ = CsrMatrix<Memory>{};
+  constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", 5 * nn);
+  auto c2 = isConstrained_;
+  auto c5 = constrained5_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::constrained5", Kokkos::RangePolicy<Exec>(0, c2.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { c5(5 * (i / 2) + i % 2) = c2(i); });
+  Kokkos::deep_copy(committed_, u_);
+  linearOptions_ = options;
+  linearOptions_.symmetric = false; // symmetric but indefinite: LU
+  solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
+  assemblySeconds_ = seconds(start);
+}
+
+std::string NonlinearMixedModel::solverName() const {
+  return "mixed saddle point, " + (solver_ ? solver_->name() : std::string("none"));
+}
+
+void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) {
+  auto h = Kokkos::create_mirror_view(tau_);
+  for (std::size_t i = 0; i < tau.size(); ++i)
+    h(i) = tau[i];
+  Kokkos::deep_copy(tau_, h);
+}
+
+void NonlinearMixedModel::setIncrement(const std::vector<double> &x) {
+  auto h = Kokkos::create_mirror_view(x_);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    h(i) = x[i];
+  Kokkos::deep_copy(x_, h);
+  updateTotalDisplacement();
+}
+
+void NonlinearMixedModel::updateTotalDisplacement() {
+  auto u = u_;
+  auto c = committed_;
+  auto x = x_;
+  const bool haveCommitted = c.extent(0) == u.extent(0);
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::totalDisplacement", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        u(i) = (haveCommitted ? c(i) : 0.0) + x(5 * (i / 2) + i % 2);
+      });
+}
+
+double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::deep_copy(g_, 0.0);
+  if (tangent)
+    Kokkos::deep_copy(tangent_.values, 0.0);
+  const CsrMatrix<Memory> none;
+  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  LocalIndex inverted = 0;
+  double fint = 0.0;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), map_,
+                                            a, g_);
+    fint = strideNorm(g_, 5, 0, 2, {}, 0);
+    addDisplacementVector(g_, 5, -lambda, load_);
+    if (follower_.edges.extent(0) > 0)
+      assembleFollowerPressure<5, Elem>(Exec(), current_.mesh, ConstVec(x_), follower_.edges,
+                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_, a,
+                                        g_);
+  });
+  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0), std::max(fint, fext));
+  fresh_ = tangent;
+  assemblySeconds_ += seconds(start);
+  return inverted > 0 ? std::numeric_limits<double>::infinity() : r;
+}
+
+LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
+  auto u = u_;
+  auto flags = constrained5_;
+  auto p = prescribed_;
+  auto t = target_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::target", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex j = 2 * (i / 5) + i % 5; // displacement dof when i % 5 < 2
+        t(i) = flags(i) ? lambda * p(j) - u(j) : 0.0;
+      });
+  const LinearSolveStats s =
+      constrainedSolve(tangent_, fresh_, work_, flags, g_, target_, rhs_, diag_, *solver_, dx_,
+                       solverSetupSeconds_);
+  fresh_ = false;
+  auto x = x_;
+  auto dx = dx_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::update", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { x(i) += dx(i); });
+  updateTotalDisplacement();
+  // Total stress tau + S for the stress part of the increment norm.
+  Vec total("mixcon::nonlinear::totalStress", x_.extent(0));
+  auto tau = tau_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::totalStress", Kokkos::RangePolicy<Exec>(0, tau.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { total(5 * (i / 3) + 2 + i % 3) = tau(i) + x(5 * (i / 3) + 2 + i % 3); });
+  const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(total, 5, 2, 3, {}, 0));
+  increment = std::max(du, ds);
+  return s;
+}
+
+void NonlinearMixedModel::commit() {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
+  });
+  auto xc = current_.mesh.coordinates;
+  auto x = x_;
+  auto c = committed_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::updateConfiguration", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i) {
+          xc(k, i) += x(5 * k + i);
+          c(2 * k + i) += x(5 * k + i);
+        }
+      });
+  Kokkos::deep_copy(x_, 0.0);
+  updateTotalDisplacement();
+}
+
+void NonlinearMixedModel::rollback() {
+  Kokkos::deep_copy(x_, 0.0);
+  updateTotalDisplacement();
+}
+
+std::vector<double> NonlinearMixedModel::nodalStressHost() const {
+  auto t = toHost(tau_);
+  const auto x = toHost(x_);
+  for (std::size_t k = 0; k < t.size() / 3; ++k)
+    for (int c = 0; c < 3; ++c)
+      t[3 * k + c] += x[5 * k + 2 + c];
+  return t;
+}
+
+std::vector<double> NonlinearMixedModel::reactionHost(double) const {
+  const auto g = toHost(g_);
+  std::vector<double> r(2 * (g.size() / 5));
+  for (std::size_t k = 0; k < r.size() / 2; ++k)
+    for (int i = 0; i < 2; ++i)
+      r[2 * k + i] = g[5 * k + i];
+  return r;
+}
+
+std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
+  std::vector<double> out;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
+    const NodalStressField<Memory> field{current_.mesh, ConstVec(tau_)};
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::interpolatedStress", Kokkos::RangePolicy<Exec>(0, ne),
+        KOKKOS_LAMBDA(LocalIndex e) {
+          for (int q = 0; q < Elem::kNumQp; ++q) {
+            double xi, eta, w, sh[Elem::kNumNodes], dn[Elem::kNumNodes][2], t[3];
+            Elem::quadraturePoint(q, xi, eta, w);
+            Elem::shape(xi, eta, sh, dn);
+            field(e, q, sh, t);
+            for (int c = 0; c < 3; ++c)
+              sq(e, q, c) = t[c];
+          }
+        });
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    out.assign(h.data(), h.data() + h.size());
+  });
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// LoadStepper
+
+LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log)
+    : model_(model), options_(options), log_(log) {}
+
+bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why) {
+  out.history.clear();
+  const double r0 = model_.evaluate(lambda, true);
+  out.initialResidual = r0;
+  if (!std::isfinite(r0)) {
+    why = "an element is inverted at the start of the increment";
+    return false;
+  }
+  for (int it = 1; it <= options_.maxIterations; ++it) {
+    double inc = 0.0;
+    const LinearSolveStats s = model_.correct(lambda, inc);
+    ++out.iterations;
+    out.linearIterations += s.iterations;
+    out.solveSeconds += s.solveSeconds;
+    if (!s.converged) {
+      why = "the linear solver did not converge (relative residual " +
+            std::to_string(s.relativeResidual) + ")";
+      return false;
+    }
+    const bool tangent = options_.method == IterationMethod::Newton;
+    const double r = model_.evaluate(lambda, tangent);
+    out.history.push_back({inc, r, s.iterations});
+    if (log_) {
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "    load factor %.5g  iteration %d  |du|/|u| %.3e  residual %.3e  linear its "
+                    "%d\n",
+                    lambda, it, inc, r, s.iterations);
+      *log_ << line << std::flush;
+    }
+    if (!std::isfinite(r) || !std::isfinite(inc)) {
+      why = "an element inverted or the residual is not finite";
+      return false;
+    }
+    if (options_.method == IterationMethod::None)
+      return true;
+    if (inc <= options_.tolerance && r <= options_.residualTolerance)
+      return true;
+    if (it >= 3 && r > 1e3 * std::max(r0, options_.residualTolerance)) {
+      why = "the iteration diverges (residual " + std::to_string(r) + ")";
+      return false;
+    }
+  }
+  std::ostringstream m;
+  m << "no convergence in " << options_.maxIterations << " iterations (|du|/|u| = "
+    << out.history.back().increment << ", residual = " << out.history.back().residual << ")";
+  why = m.str();
+  return false;
+}
+
+IncrementOutcome LoadStepper::advance(double target) {
+  IncrementOutcome out;
+  double step = target - lambda_;
+  while (std::abs(target - lambda_) > 1e-14 * std::max(1.0, std::abs(target))) {
+    const double next = std::abs(target - lambda_) <= std::abs(step) * (1 + 1e-12) ? target
+                                                                                   : lambda_ + step;
+    std::string why;
+    if (attempt(next, out, why)) {
+      model_.commit();
+      lambda_ = next;
+      ++out.subincrements;
+      continue;
+    }
+    model_.rollback();
+    if (++out.cuts > options_.maxCuts) {
+      std::ostringstream m;
+      m << "load factor " << next << ": " << why << "; gave up after " << options_.maxCuts
+        << " increment cuts (last increment " << step << ")";
+      out.message = m.str();
+      return out;
+    }
+    if (log_)
+      *log_ << "    load factor " << next << ": " << why << "; cutting the increment to "
+            << step / 2 << "\n";
+    step *= 0.5;
+  }
+  out.converged = true;
+  return out;
+}
+
+std::vector<double> convergenceOrders(const std::vector<double> &r) {
+  std::vector<double> q;
+  for (std::size_t k = 2; k < r.size(); ++k)
+    if (r[k] > 0 && r[k - 1] > 0 && r[k - 2] > 0 && r[k - 1] != r[k - 2])
+      q.push_back(std::log(r[k] / r[k - 1]) / std::log(r[k - 1] / r[k - 2]));
+  return q;
+}
+
+} // namespace mixcon

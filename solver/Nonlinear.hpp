@@ -1,0 +1,202 @@
+// Geometrically nonlinear (updated-Lagrangian) analysis: the two models of the report with exact
+// tangents, and the load stepping that drives them (Eq. (27)-(28)): full Newton-Raphson, modified
+// Newton-Raphson (tangent formed once per increment) or no equilibrium iterations; convergence
+// on the report's relative increment norm epsilon plus a relative force-residual norm; automatic
+// step cutting when an increment fails. Prescribed displacements and loads scale with the load
+// factor; follower pressures act normal to the deformed boundary. Theory: docs/theory.md.
+// Data flow: mesh -> kernels -> solver (this) -> io.
+#pragma once
+
+#include <kernels/MixedElasticity.hpp>
+#include <solver/ModelBase.hpp>
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+enum class IterationMethod { Newton, ModifiedNewton, None };
+
+/// "newton" | "modified_newton" | "none".
+const char *iterationMethodName(IterationMethod m);
+
+struct NonlinearOptions {
+  IterationMethod method = IterationMethod::Newton;
+  /// epsilon: ||delta u|| / ||u|| (mixed: also ||delta S|| / ||tau + S||), the report's measure.
+  double tolerance = 1e-3;
+  /// ||G|| / max(||internal force||, ||external force||) over the free displacement unknowns.
+  double residualTolerance = 1e-6;
+  int maxIterations = 30;
+  /// Halvings of a failed increment before the analysis stops.
+  int maxCuts = 8;
+};
+
+/// A geometrically nonlinear model: iterate (evaluate, correct), then commit or roll back.
+/// Host-side interface (virtual, never called on the device).
+class NonlinearModel : public ModelBase {
+public:
+  using ModelBase::ModelBase;
+
+  /// A follower pressure p (reference value, scaled by the load factor; positive pushes into the
+  /// body) on the current, deformed position of `edges`.
+  void addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure);
+
+  /// Builds the sparsity pattern and the linear solver. Call after loads and constraints.
+  virtual void setup(const LinearSolverOptions &options, MPI_Comm comm) = 0;
+  /// Residual G (internal minus external force) at the current iterate for load factor lambda,
+  /// and the tangent when `tangent`. Returns ||G|| / max(||f_int||, ||f_ext||) over the free
+  /// displacement unknowns; infinity when an element is inverted.
+  virtual double evaluate(double lambda, bool tangent) = 0;
+  /// Solves the last tangent for the correction (prescribed values reach lambda g), applies it,
+  /// and returns the solver statistics; `increment` receives the relative increment norm.
+  virtual LinearSolveStats correct(double lambda, double &increment) = 0;
+  /// Accepts the current state as converged (configuration and stress update).
+  virtual void commit() = 0;
+  /// Returns to the last committed state.
+  virtual void rollback() = 0;
+
+  /// One increment from the committed state straight to lambda with default NonlinearOptions.
+  LinearSolveStats solve(double loadFactor) override;
+  double assemblySeconds() const override { return assemblySeconds_; }
+  double solverSetupSeconds() const override { return solverSetupSeconds_; }
+
+  /// Quadrature-point output of the current state: coordinates (reference), the Cauchy stress of
+  /// the Almansi law from the displacements, the spatial displacement gradient du/dx (4 per
+  /// point), and the current coordinates.
+  void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
+                            int &pointsPerElement) const override;
+  void gaussPointFieldsHost(std::vector<double> &gradient,
+                            std::vector<double> &currentCoordinates) const;
+
+protected:
+  struct FollowerLoads {
+    Kokkos::View<LocalIndex *[2], Memory> edges;
+    Kokkos::View<double *, Memory> pressure;
+  };
+  /// Device copy of the staged follower pressures (empty views when none).
+  FollowerLoads followerLoads() const;
+  LinearSolverOptions linearOptions_;
+  double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
+  bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
+
+private:
+  std::vector<BoundaryEdge> followerEdges_;
+  std::vector<double> followerPressure_;
+};
+
+/// The displacement model (Eq. (24)-(28)): Cauchy stress from the Almansi strain of the total
+/// displacement, integrals over the current configuration, exact (nonsymmetric) tangent.
+class NonlinearDisplacementModel final : public NonlinearModel {
+public:
+  using NonlinearModel::NonlinearModel;
+  ~NonlinearDisplacementModel() override;
+
+  void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  double evaluate(double lambda, bool tangent) override;
+  LinearSolveStats correct(double lambda, double &increment) override;
+  void commit() override;
+  void rollback() override;
+
+  std::string solverName() const override;
+  std::vector<double> nodalStressHost() const override; ///< Almansi law, recovered at nodes
+  std::vector<double> reactionHost(double loadFactor) const override;
+  /// The last assembled tangent (unconstrained) and residual, for tests.
+  const CsrMatrix<Memory> &tangent() const { return tangent_; }
+  Kokkos::View<const double *, Memory> residual() const { return g_; }
+  void setDisplacement(const std::vector<double> &u);
+
+private:
+  NodeGraph graph_;
+  Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
+  CsrMatrix<Memory> tangent_, constrained_;
+  Kokkos::View<double *, Memory> g_, committed_, du_, rhs_, target_, diag_;
+  FollowerLoads follower_;
+  std::unique_ptr<LinearSolver> solver_;
+};
+
+/// The mixed model (Eq. (29)-(32) with (9), (5b)): per increment from the last converged
+/// configuration c1 with nodal Cauchy stress tau, unknowns the displacement increment u and the
+/// incremental 2nd Piola-Kirchhoff stress S (5 per node, interleaved u, v, Sxx, Syy, Sxy); at
+/// convergence tau <- F (tau + S) F^T / J at the nodes and c1 <- c1 + u.
+class NonlinearMixedModel final : public NonlinearModel {
+public:
+  NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                      const std::vector<PlaneMatrix> &stiffness, double thickness);
+  ~NonlinearMixedModel() override;
+
+  /// Only solver: direct is available (the saddle point with K12(u) is not yet in the Schur/AMG
+  /// path); throws InputError otherwise.
+  void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  double evaluate(double lambda, bool tangent) override;
+  LinearSolveStats correct(double lambda, double &increment) override;
+  void commit() override;
+  void rollback() override;
+
+  std::string solverName() const override;
+  std::vector<double> nodalStressHost() const override; ///< tau (+ S during an increment)
+  std::vector<double> reactionHost(double loadFactor) const override;
+  /// Nodal stresses interpolated at the quadrature points (the report's way to get Cauchy stress
+  /// in the mixed model), (E * nq) x 3.
+  std::vector<double> interpolatedGaussStressHost() const;
+
+  /// Test access: prestress tau, increment x (5 per node), the last Jacobian and residual.
+  void setPrestress(const std::vector<double> &tau);
+  void setIncrement(const std::vector<double> &x);
+  const CsrMatrix<Memory> &tangent() const { return tangent_; }
+  Kokkos::View<const double *, Memory> residual() const { return g_; }
+  Kokkos::View<const double *, Memory> prestress() const { return tau_; }
+
+private:
+  void updateTotalDisplacement();
+  MixedElementData<Memory> current_; ///< c1: coordinates of the last converged configuration
+  NodeGraph graph_;
+  Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
+  CsrMatrix<Memory> tangent_, work_;
+  Kokkos::View<double *, Memory> tau_, x_, g_, committed_, dx_, rhs_, target_, diag_;
+  Kokkos::View<int *, Memory> constrained5_;
+  FollowerLoads follower_;
+  std::unique_ptr<LinearSolver> solver_;
+};
+
+/// One iteration's record.
+struct IterationRecord {
+  double increment = 0.0; ///< relative increment norm after the correction
+  double residual = 0.0;  ///< relative residual after the correction
+  int linearIterations = 0;
+};
+
+/// Outcome of advancing to one requested load factor (possibly in cut sub-increments).
+struct IncrementOutcome {
+  bool converged = false;
+  int iterations = 0; ///< corrections over all sub-increments
+  int linearIterations = 0;
+  int cuts = 0;
+  int subincrements = 0;
+  double initialResidual = 0.0; ///< of the last sub-increment, before its first correction
+  std::vector<IterationRecord> history; ///< of the last (converged) sub-increment
+  std::string message;                  ///< why it failed
+  double solveSeconds = 0.0;
+};
+
+/// Drives a NonlinearModel through load factors. Progress lines (one per iteration) go to `log`.
+class LoadStepper {
+public:
+  LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log = nullptr);
+  /// Advances from the committed load factor to `target`, cutting the increment on failure.
+  IncrementOutcome advance(double target);
+  double loadFactor() const { return lambda_; }
+
+private:
+  bool attempt(double lambda, IncrementOutcome &out, std::string &why);
+  NonlinearModel &model_;
+  NonlinearOptions options_;
+  std::ostream *log_;
+  double lambda_ = 0.0;
+};
+
+/// Convergence orders log(r_k+1 / r_k) / log(r_k / r_k-1) of a residual history (2: quadratic).
+std::vector<double> convergenceOrders(const std::vector<double> &residuals);
+
+} // namespace mixcon
