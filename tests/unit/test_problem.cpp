@@ -122,6 +122,30 @@ std::vector<BadCase> badCases() {
        replace(replace(g, "formulation: displacement", "formulation: mixed"),
                "solver: {type: direct}", "solver: {type: amg, preconditioner: jacobi}"),
        "unknown value 'jacobi'", 14},
+      {"nonlinear_key_on_linear",
+       replace(g, "steps: {load_factors: [0.5, 1.0]}",
+               "steps: {load_factors: [0.5, 1.0], iteration: newton}"),
+       "applies to geometrically nonlinear analyses", 13},
+      {"unknown_iteration",
+       replace(replace(g, "thickness: 0.5", "thickness: 0.5, geometric_nonlinearity: true"),
+               "steps: {load_factors: [0.5, 1.0]}",
+               "steps: {load_factors: [0.5, 1.0], iteration: secant}"),
+       "unknown value 'secant'", 13},
+      {"follower_on_traction",
+       replace(replace(g, "thickness: 0.5", "thickness: 0.5, geometric_nonlinearity: true"),
+               "traction: [0, -1.0]}", "traction: [0, -1.0], follower: true}"),
+       "follower applies to pressures only", 9},
+      {"follower_on_linear", replace(g, "pressure: 2.0}", "pressure: 2.0, follower: true}"),
+       "follower pressure needs model: geometric_nonlinearity: true", 10},
+      {"nonlinear_mixed_amg",
+       replace(replace(g, "formulation: displacement",
+                       "formulation: mixed, geometric_nonlinearity: true"),
+               "solver: {type: direct}", "solver: {type: amg}"),
+       "solves with type: direct only", 14},
+      {"nonlinear_mixed_stabilization",
+       replace(g, "formulation: displacement",
+               "formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05"),
+       "the geometrically nonlinear mixed model is the report's", 3},
   };
 }
 
@@ -171,6 +195,31 @@ TEST(Problem, ParsesMixedFormulation) {
   EXPECT_EQ(p.model.mixed.preconditioner, SchurPreconditioner::Stiffness);
   EXPECT_DOUBLE_EQ(p.model.mixed.innerTolerance, 1e-9);
   EXPECT_EQ(p.solver.type, LinearSolverType::Amg);
+}
+
+TEST(Problem, ParsesNonlinearSteps) {
+  std::string y = replace(kGood, "thickness: 0.5", "thickness: 0.5, geometric_nonlinearity: true");
+  y = replace(y, "steps: {load_factors: [0.5, 1.0]}",
+              "steps: {increments: 4, iteration: modified_newton, tolerance: 1e-4, "
+              "residual_tolerance: 1e-7, max_iterations: 12, max_cuts: 3}");
+  y = replace(y, "pressure: 2.0}", "pressure: 2.0, follower: false}");
+  const Problem p = parseProblem(y, "nonlinear.yaml", "");
+  EXPECT_TRUE(p.model.geometricNonlinearity);
+  EXPECT_EQ(p.nonlinear.method, IterationMethod::ModifiedNewton);
+  EXPECT_DOUBLE_EQ(p.nonlinear.tolerance, 1e-4);
+  EXPECT_DOUBLE_EQ(p.nonlinear.residualTolerance, 1e-7);
+  EXPECT_EQ(p.nonlinear.maxIterations, 12);
+  EXPECT_EQ(p.nonlinear.maxCuts, 3);
+  EXPECT_EQ(p.loadFactors, (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
+  EXPECT_FALSE(p.loads[1].follower);
+  // The nonlinear mixed model defaults to the direct solver.
+  const Problem m = parseProblem(
+      replace(replace(kGood, "formulation: displacement",
+                      "formulation: mixed, geometric_nonlinearity: true"),
+              "solver: {type: direct}\n", ""),
+      "m.yaml", "");
+  EXPECT_EQ(m.solver.type, LinearSolverType::Direct);
+  EXPECT_TRUE(m.loads[1].follower);
 }
 
 TEST(Problem, BadInputGivesDocumentedErrors) {
@@ -323,6 +372,40 @@ TEST(Cli, MixedRunWritesStressUnknownsAndGaussPointStresses) {
   EXPECT_NE(readStringAttribute(gp, "stress_source").find("from the displacements"),
             std::string::npos);
   H5Gclose(gp);
+  H5Gclose(g);
+  H5Fclose(f);
+}
+
+TEST(Cli, NonlinearMixedRunWritesConvergenceHistoryAndGaussFields) {
+  TempDir dir;
+  const fs::path file = dir.path() / "nonlinear.yaml";
+  std::string y = replace(kGood, "formulation: displacement",
+                          "formulation: mixed, geometric_nonlinearity: true");
+  y = replace(y, "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2, iteration: newton}");
+  std::ofstream(file) << y;
+  std::string out;
+  const fs::path outDir = dir.path() / "results";
+  ASSERT_EQ(runMixcon("run " + file.string() + " --output " + outDir.string(), out, dir.path()), 0)
+      << out;
+  EXPECT_NE(out.find("geometrically nonlinear"), std::string::npos) << out;
+  EXPECT_NE(out.find("iteration 1"), std::string::npos) << out; // per-iteration progress
+  std::ifstream in(outDir / "summary.json");
+  std::stringstream summary;
+  summary << in.rdbuf();
+  for (const char *key : {"\"residuals\"", "\"increments\"", "\"convergence_orders\"", "\"cuts\""})
+    EXPECT_NE(summary.str().find(key), std::string::npos) << key;
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char *name : {"/steps/2/gauss_points/displacement_gradient",
+                           "/steps/2/gauss_points/current_coordinates",
+                           "/steps/2/gauss_points/interpolated_stress"}) {
+    const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+    EXPECT_GE(d, 0) << name;
+    if (d >= 0)
+      H5Dclose(d);
+  }
+  const hid_t g = H5Gopen2(f, "/steps/2", H5P_DEFAULT);
+  EXPECT_NE(readStringAttribute(g, "stress_source").find("pushed forward"), std::string::npos);
   H5Gclose(g);
   H5Fclose(f);
 }
