@@ -74,10 +74,14 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   std::ostream *log = options.log;
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<NonlinearModel> owner;
-  if (mixed)
-    owner = std::make_unique<NonlinearMixedModel>(p.mesh, elementMaterial, stiffness,
-                                                  p.model.thickness);
-  else
+  if (mixed) {
+    auto m = std::make_unique<NonlinearMixedModel>(p.mesh, elementMaterial, stiffness,
+                                                   p.model.thickness);
+    m->setForm(p.model.mixedForm);
+    m->setStressUpdate(p.model.stressUpdate);
+    m->setStabilization(p.model.mixed.stabilization);
+    owner = std::move(m);
+  } else
     owner = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
                                                          p.model.thickness);
   NonlinearModel &model = *owner;

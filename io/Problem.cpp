@@ -203,7 +203,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
 
 ModelSpec readModel(const Item &m) {
   m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity", "compliance",
-               "stabilization", "stress_element"});
+               "stabilization", "stress_element", "mixed_form", "stress_update"});
   ModelSpec s;
   if (m.has("formulation"))
     s.formulation = m["formulation"].choice({"displacement", "mixed"}) == "mixed"
@@ -232,11 +232,29 @@ ModelSpec readModel(const Item &m) {
   if (m.has("geometric_nonlinearity")) {
     s.geometricNonlinearity = m["geometric_nonlinearity"].boolean();
     if (s.geometricNonlinearity && s.formulation == Formulation::Mixed)
-      for (const char *key : {"compliance", "stabilization", "stress_element"})
+      for (const char *key : {"compliance", "stress_element"})
         if (m.has(key))
           m[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver; the "
-                                         "geometrically nonlinear mixed model is the report's "
-                                         "(a = 0, consistent M, equal order)");
+                                         "geometrically nonlinear mixed model uses the "
+                                         "consistent M and equal-order interpolation");
+  }
+  const bool nonlinearMixed = s.geometricNonlinearity && s.formulation == Formulation::Mixed;
+  for (const char *key : {"mixed_form", "stress_update"})
+    if (m.has(key) && !nonlinearMixed)
+      m[key].fail(std::string(key) + " applies to formulation: mixed with "
+                                     "geometric_nonlinearity: true only");
+  if (nonlinearMixed && !m.has("stabilization"))
+    s.mixed.stabilization = 0.0; // the report's model unless asked otherwise
+  if (m.has("mixed_form"))
+    s.mixedForm = m["mixed_form"].choice({"current", "incremental"}) == "incremental"
+                      ? MixedForm::Incremental
+                      : MixedForm::Current;
+  if (m.has("stress_update")) {
+    if (s.mixedForm != MixedForm::Incremental)
+      m["stress_update"].fail("stress_update applies to mixed_form: incremental only");
+    s.stressUpdate = m["stress_update"].choice({"projected", "nodal_average"}) == "nodal_average"
+                         ? StressUpdate::NodalAverage
+                         : StressUpdate::Projected;
   }
   return s;
 }

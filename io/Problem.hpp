@@ -26,6 +26,9 @@ struct ModelSpec {
   /// stabilization a, and the Schur solve settings (MixedOptions.linear is Problem::solver).
   std::optional<ElementType> stressElement;
   MixedOptions mixed;
+  /// Geometrically nonlinear mixed model: its form and (form incremental) stress update.
+  MixedForm mixedForm = MixedForm::Current;
+  StressUpdate stressUpdate = StressUpdate::Projected;
 };
 
 struct MaterialSpec {

@@ -244,28 +244,33 @@ LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace>
 
 /// Mixed model, element e: the incremental Hellinger-Reissner residual ge (5 per node: G_u x, y,
 /// G_S xx, yy, xy; without external loads) at increment (u, S) from configuration c1 (d.mesh)
-/// with nodal prestress tau, and when `Tangent` its Jacobian ke. Returns false for an inverted
-/// element (in c1 or in the incremented configuration).
+/// with nodal prestress tau, and when `Tangent` its Jacobian ke. With stabilization a > 0 the
+/// equilibrium stress is tau + (1 - a) S + a C E(u) and the stress equations are scaled by
+/// (1 - a): the nonlinear form of the linear model's a Kd + (1 - a) K12 M^-1 K12^T (a = 0: the
+/// report's model). Returns false for an inverted element (in c1 or in the incremented
+/// configuration).
 template <class Elem, bool Tangent, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool
 mixedIncrementElement(const MixedElementData<MemorySpace> &d,
                       const Kokkos::View<const double *, MemorySpace> &tau,
-                      const Kokkos::View<const double *, MemorySpace> &x, LocalIndex e,
+                      const Kokkos::View<const double *, MemorySpace> &x, double a, LocalIndex e,
                       double (&ge)[5 * Elem::kNumNodes],
                       double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) {
   constexpr int n = Elem::kNumNodes;
   double xe[n][2], ue[n][2], se[n][3], te[n][3];
   detail::gatherCoordinates<Elem>(d.mesh, e, xe);
-  for (int a = 0; a < n; ++a) {
-    const LocalIndex k = d.mesh.connectivity(e, a);
+  for (int p = 0; p < n; ++p) {
+    const LocalIndex k = d.mesh.connectivity(e, p);
     for (int i = 0; i < 2; ++i)
-      ue[a][i] = x(5 * k + i);
+      ue[p][i] = x(5 * k + i);
     for (int c = 0; c < 3; ++c) {
-      se[a][c] = x(5 * k + 2 + c);
-      te[a][c] = tau(3 * k + c);
+      se[p][c] = x(5 * k + 2 + c);
+      te[p][c] = tau(3 * k + c);
     }
   }
   const PlaneMatrix dm = d.compliance(d.material(e));
+  const PlaneMatrix cm = d.stiffness(d.material(e));
+  const double b1 = 1.0 - a;
   bool valid = true;
   for (int i = 0; i < 5 * n; ++i) {
     ge[i] = 0.0;
@@ -284,68 +289,223 @@ mixedIncrementElement(const MixedElementData<MemorySpace> &d,
     if (!(det > 0.0) || !(f[0][0] * f[1][1] - f[0][1] * f[1][0] > 0.0))
       valid = false;
     double sv[3] = {}, tv[3] = {};
-    for (int b = 0; b < n; ++b)
+    for (int p = 0; p < n; ++p)
       for (int c = 0; c < 3; ++c) {
-        sv[c] += sh[b] * se[b][c];
-        tv[c] += sh[b] * te[b][c];
+        sv[c] += sh[p] * se[p][c];
+        tv[c] += sh[p] * te[p][c];
       }
-    const double sig[2][2] = {{tv[0] + sv[0], tv[2] + sv[2]}, {tv[2] + sv[2], tv[1] + sv[1]}};
-    // Green-Lagrange strain of the increment, Voigt (xx, yy, 2 xy), minus D S.
-    double r[3] = {h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
-                   h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
-                   h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1]};
+    // Green-Lagrange strain of the increment, Voigt (xx, yy, 2 xy), and C E for the
+    // stabilization.
+    const double ev[3] = {h[0][0] + 0.5 * (h[0][0] * h[0][0] + h[1][0] * h[1][0]),
+                          h[1][1] + 0.5 * (h[0][1] * h[0][1] + h[1][1] * h[1][1]),
+                          h[0][1] + h[1][0] + h[0][0] * h[0][1] + h[1][0] * h[1][1]};
+    double ce[3], r[3];
+    for (int c = 0; c < 3; ++c) {
+      ce[c] = cm.m[c][0] * ev[0] + cm.m[c][1] * ev[1] + cm.m[c][2] * ev[2];
+      r[c] = b1 * (ev[c] - (dm.m[c][0] * sv[0] + dm.m[c][1] * sv[1] + dm.m[c][2] * sv[2]));
+    }
+    double sig[3];
     for (int c = 0; c < 3; ++c)
-      r[c] -= dm.m[c][0] * sv[0] + dm.m[c][1] * sv[1] + dm.m[c][2] * sv[2];
-    // (F Sigma)_ik
-    double fs[2][2];
+      sig[c] = tv[c] + b1 * sv[c] + a * ce[c];
+    const double st[2][2] = {{sig[0], sig[2]}, {sig[2], sig[1]}};
+    double fs[2][2]; // (F Sigma)_ik
     for (int i = 0; i < 2; ++i)
       for (int k = 0; k < 2; ++k)
-        fs[i][k] = f[i][0] * sig[0][k] + f[i][1] * sig[1][k];
-    for (int a = 0; a < n; ++a) {
+        fs[i][k] = f[i][0] * st[0][k] + f[i][1] * st[1][k];
+    for (int p = 0; p < n; ++p) {
       for (int i = 0; i < 2; ++i)
-        ge[5 * a + i] += jw * (fs[i][0] * g[a][0] + fs[i][1] * g[a][1]);
+        ge[5 * p + i] += jw * (fs[i][0] * g[p][0] + fs[i][1] * g[p][1]);
       for (int c = 0; c < 3; ++c)
-        ge[5 * a + 2 + c] += jw * sh[a] * r[c];
+        ge[5 * p + 2 + c] += jw * sh[p] * r[c];
     }
     if (!Tangent)
       continue;
-    for (int a = 0; a < n; ++a) {
-      // dE(voigt)/du_(a,i) = B_a(i, c): (F_i0 g_a0, F_i1 g_a1, F_i0 g_a1 + F_i1 g_a0).
-      double bl[2][3];
+    // dE(voigt)/du_(p,i) = bl[p][i][c]: (F_i0 g_p0, F_i1 g_p1, F_i0 g_p1 + F_i1 g_p0).
+    double bl[n][2][3];
+    for (int p = 0; p < n; ++p)
       for (int i = 0; i < 2; ++i) {
-        bl[i][0] = f[i][0] * g[a][0];
-        bl[i][1] = f[i][1] * g[a][1];
-        bl[i][2] = f[i][0] * g[a][1] + f[i][1] * g[a][0];
+        bl[p][i][0] = f[i][0] * g[p][0];
+        bl[p][i][1] = f[i][1] * g[p][1];
+        bl[p][i][2] = f[i][0] * g[p][1] + f[i][1] * g[p][0];
       }
-      const double ga0 = sig[0][0] * g[a][0] + sig[0][1] * g[a][1];
-      const double ga1 = sig[1][0] * g[a][0] + sig[1][1] * g[a][1];
+    for (int p = 0; p < n; ++p) {
+      const double gp0 = st[0][0] * g[p][0] + st[0][1] * g[p][1];
+      const double gp1 = st[1][0] * g[p][0] + st[1][1] * g[p][1];
+      double cb[2][3]; // a C bl[p][i]
+      for (int i = 0; i < 2; ++i)
+        for (int c = 0; c < 3; ++c)
+          cb[i][c] = a * (cm.m[c][0] * bl[p][i][0] + cm.m[c][1] * bl[p][i][1] +
+                          cm.m[c][2] * bl[p][i][2]);
       for (int b = 0; b < n; ++b) {
-        const double kg = jw * (ga0 * g[b][0] + ga1 * g[b][1]);
-        ke[5 * a][5 * b] += kg;
-        ke[5 * a + 1][5 * b + 1] += kg;
+        const double kg = jw * (gp0 * g[b][0] + gp1 * g[b][1]);
+        ke[5 * p][5 * b] += kg;
+        ke[5 * p + 1][5 * b + 1] += kg;
+        if (a != 0.0)
+          for (int i = 0; i < 2; ++i)
+            for (int m = 0; m < 2; ++m)
+              ke[5 * p + i][5 * b + m] +=
+                  jw * (cb[i][0] * bl[b][m][0] + cb[i][1] * bl[b][m][1] + cb[i][2] * bl[b][m][2]);
         for (int i = 0; i < 2; ++i)
           for (int c = 0; c < 3; ++c) {
-            const double v = jw * bl[i][c] * sh[b];
-            ke[5 * a + i][5 * b + 2 + c] += v;
-            ke[5 * b + 2 + c][5 * a + i] += v;
+            const double v = jw * b1 * bl[p][i][c] * sh[b];
+            ke[5 * p + i][5 * b + 2 + c] += v;
+            ke[5 * b + 2 + c][5 * p + i] += v;
           }
         for (int c = 0; c < 3; ++c)
           for (int k = 0; k < 3; ++k)
-            ke[5 * a + 2 + c][5 * b + 2 + k] -= jw * sh[a] * sh[b] * dm.m[c][k];
+            ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
       }
     }
   }
   return valid;
 }
 
+/// Mixed model in the current configuration (the default form, path independent): unknowns the
+/// total displacement u and the nodal Cauchy stress tau (5 per node in x), reference geometry
+/// d.mesh, current x = X + u. Residual ge: G_u = t int B(x)^T [(1 - a) tau + a C e(u)] da,
+/// G_S = (1 - a) t int psi (e(u) - D tau) da with e the Almansi strain of the total
+/// displacement (the displacement model's law, imposed weakly); Jacobian ke exact (not
+/// symmetric). At u = 0 it is the linear model; its Newton step from any state is Eq. (30) with
+/// the 2nd Piola-Kirchhoff increment pushed forward to first order (docs/theory.md).
+template <class Elem, bool Tangent, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+mixedCurrentElement(const MixedElementData<MemorySpace> &d,
+                    const Kokkos::View<const double *, MemorySpace> &x, double a, LocalIndex e,
+                    double (&ge)[5 * Elem::kNumNodes],
+                    double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][2], ue[n][2], te[n][3];
+  for (int p = 0; p < n; ++p) {
+    const LocalIndex k = d.mesh.connectivity(e, p);
+    for (int i = 0; i < 2; ++i) {
+      ue[p][i] = x(5 * k + i);
+      xe[p][i] = d.mesh.coordinates(k, i) + ue[p][i];
+    }
+    for (int c = 0; c < 3; ++c)
+      te[p][c] = x(5 * k + 2 + c);
+  }
+  const PlaneMatrix dm = d.compliance(d.material(e));
+  const PlaneMatrix cm = d.stiffness(d.material(e));
+  const double b1 = 1.0 - a;
+  bool valid = true;
+  for (int i = 0; i < 5 * n; ++i) {
+    ge[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < 5 * n; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], sa[2][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, sh, dn);
+    const double det = physicalGradients<Elem>(xe, dn, g);
+    if (!(det > 0.0))
+      valid = false;
+    const double jw = d.thickness * w * det;
+    detail::nodalGradient<n>(ue, g, h);
+    detail::almansiStrain(h, es);
+    detail::stressFromStrainTensor(cm, es, sa); // C e, the stabilization's stress
+    double tv[3] = {};
+    for (int p = 0; p < n; ++p)
+      for (int c = 0; c < 3; ++c)
+        tv[c] += sh[p] * te[p][c];
+    const double ev[3] = {es[0][0], es[1][1], 2.0 * es[0][1]};
+    double r[3];
+    for (int c = 0; c < 3; ++c)
+      r[c] = ev[c] - (dm.m[c][0] * tv[0] + dm.m[c][1] * tv[1] + dm.m[c][2] * tv[2]);
+    const double t[2][2] = {{tv[0], tv[2]}, {tv[2], tv[1]}};
+    double st[2][2]; // equilibrium stress (1 - a) tau + a C e
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        st[i][j] = b1 * t[i][j] + a * sa[i][j];
+    for (int p = 0; p < n; ++p) {
+      for (int i = 0; i < 2; ++i)
+        ge[5 * p + i] += jw * (st[i][0] * g[p][0] + st[i][1] * g[p][1]);
+      for (int c = 0; c < 3; ++c)
+        ge[5 * p + 2 + c] += jw * b1 * sh[p] * r[c];
+    }
+    if (!Tangent)
+      continue;
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < 2; ++m) {
+        // Perturbation delta u_b = unit vector m: dl[k][l] = delta_km g_bl, d(da) = da g_bm,
+        // d g_aj = -g_am g_bj, de = sym(dl) - (dl^T e + e dl).
+        double de[2][2], ds[2][2];
+        for (int k = 0; k < 2; ++k)
+          for (int l = 0; l < 2; ++l)
+            de[k][l] = 0.5 * ((k == m ? g[b][l] : 0.0) + (l == m ? g[b][k] : 0.0)) -
+                       g[b][k] * es[m][l] - es[k][m] * g[b][l];
+        detail::stressFromStrainTensor(cm, de, ds);
+        const double dev[3] = {de[0][0], de[1][1], 2.0 * de[0][1]};
+        for (int p = 0; p < n; ++p) {
+          for (int i = 0; i < 2; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < 2; ++j)
+              v += a * ds[i][j] * g[p][j] + st[i][j] * (g[p][j] * g[b][m] - g[p][m] * g[b][j]);
+            ke[5 * p + i][5 * b + m] += jw * v;
+          }
+          for (int c = 0; c < 3; ++c)
+            ke[5 * p + 2 + c][5 * b + m] += jw * b1 * sh[p] * (dev[c] + r[c] * g[b][m]);
+        }
+      }
+    for (int p = 0; p < n; ++p)
+      for (int b = 0; b < n; ++b) {
+        const double v = jw * b1 * sh[b];
+        // d G_u(p, i) / d tau(b, c): B^L of node p times psi_b.
+        ke[5 * p][5 * b + 2] += v * g[p][0];
+        ke[5 * p][5 * b + 4] += v * g[p][1];
+        ke[5 * p + 1][5 * b + 3] += v * g[p][1];
+        ke[5 * p + 1][5 * b + 4] += v * g[p][0];
+        for (int c = 0; c < 3; ++c)
+          for (int k = 0; k < 3; ++k)
+            ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
+      }
+  }
+  return valid;
+}
+
+/// Mixed model in the current configuration: g += residual of every element, a += Jacobian when
+/// a.numRows > 0 (5 unknowns per node). Returns the number of inverted elements.
+template <class Elem, class ExecSpace, class MemorySpace, class Map>
+LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
+                                const Kokkos::View<const double *, MemorySpace> &x,
+                                double stabilization, const Map &map,
+                                const CsrMatrix<MemorySpace> &a,
+                                const Kokkos::View<double *, MemorySpace> &g) {
+  LocalIndex inverted = 0;
+  const bool tangent = a.numRows > 0;
+  Kokkos::parallel_reduce(
+      "mixcon::kernels::assembleMixedCurrent",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+        constexpr int nd = 5 * Elem::kNumNodes;
+        double ge[nd], ke[nd][nd];
+        const bool ok = tangent
+                            ? mixedCurrentElement<Elem, true>(d, x, stabilization, e, ge, ke)
+                            : mixedCurrentElement<Elem, false>(d, x, stabilization, e, ge, ke);
+        if (!ok)
+          ++bad;
+        for (int p = 0; p < Elem::kNumNodes; ++p) {
+          const LocalIndex node = d.mesh.connectivity(e, p);
+          for (int i = 0; i < 5; ++i)
+            Kokkos::atomic_add(&g(5 * node + i), ge[5 * p + i]);
+        }
+        if (tangent)
+          scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
+      },
+      inverted);
+  return inverted;
+}
+
 /// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
-/// u, v, Sxx, Syy, Sxy) and, when `a.numRows > 0`, a += its Jacobian. Returns the number of
+/// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a += its Jacobian. Returns the number of
 /// inverted elements.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                   const Kokkos::View<const double *, MemorySpace> &tau,
                                   const Kokkos::View<const double *, MemorySpace> &x,
-                                  const Map &map, const CsrMatrix<MemorySpace> &a,
+                                  double stabilization, const Map &map,
+                                  const CsrMatrix<MemorySpace> &a,
                                   const Kokkos::View<double *, MemorySpace> &g) {
   LocalIndex inverted = 0;
   const bool tangent = a.numRows > 0;
@@ -355,8 +515,9 @@ LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<
       KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
         constexpr int nd = 5 * Elem::kNumNodes;
         double ge[nd], ke[nd][nd];
-        const bool ok = tangent ? mixedIncrementElement<Elem, true>(d, tau, x, e, ge, ke)
-                                : mixedIncrementElement<Elem, false>(d, tau, x, e, ge, ke);
+        const bool ok =
+            tangent ? mixedIncrementElement<Elem, true>(d, tau, x, stabilization, e, ge, ke)
+                    : mixedIncrementElement<Elem, false>(d, tau, x, stabilization, e, ge, ke);
         if (!ok)
           ++bad;
         for (int p = 0; p < Elem::kNumNodes; ++p) {
@@ -429,6 +590,77 @@ void assembleFollowerPressure(const ExecSpace &exec, const MeshView<MemorySpace>
             Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a]) + base + 1), kab[a][b]);
             Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a] + 1) + base), -kab[a][b]);
           }
+      });
+}
+
+/// Right-hand side of the L2 projection of the pushed-forward stress onto the nodal stress space
+/// of the new configuration c2: b(3 k + c) = t int_c2 psi_k tau2_c da = t int_c1 psi_k
+/// (F Sigma F^T)_c dA (the Jacobian J of tau2 = F Sigma F^T / J cancels against da = J dA), with
+/// Sigma = tau + S interpolated and F = I + du/dX1 at the quadrature points of c1 (d.mesh).
+template <class Elem, class ExecSpace, class MemorySpace>
+void pushForwardProjectionLoad(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+                               const Kokkos::View<const double *, MemorySpace> &tau,
+                               const Kokkos::View<const double *, MemorySpace> &x,
+                               const Kokkos::View<double *, MemorySpace> &b) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::pushForwardProjectionLoad",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes;
+        double xe[n][2], ue[n][2], be[n][3] = {};
+        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+        LocalIndex nodes[n];
+        for (int a = 0; a < n; ++a) {
+          nodes[a] = d.mesh.connectivity(e, a);
+          ue[a][0] = x(5 * nodes[a]);
+          ue[a][1] = x(5 * nodes[a] + 1);
+        }
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
+          Elem::quadraturePoint(q, xi, eta, w);
+          Elem::shape(xi, eta, sh, dn);
+          const double jw = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
+          detail::nodalGradient<n>(ue, g, h);
+          const double f[2][2] = {{1.0 + h[0][0], h[0][1]}, {h[1][0], 1.0 + h[1][1]}};
+          double sv[3] = {};
+          for (int a = 0; a < n; ++a)
+            for (int c = 0; c < 3; ++c)
+              sv[c] += sh[a] * (tau(3 * nodes[a] + c) + x(5 * nodes[a] + 2 + c));
+          const double sig[2][2] = {{sv[0], sv[2]}, {sv[2], sv[1]}};
+          double k[2][2];
+          for (int i = 0; i < 2; ++i)
+            for (int l = 0; l < 2; ++l) {
+              double v = 0.0;
+              for (int p = 0; p < 2; ++p)
+                for (int r = 0; r < 2; ++r)
+                  v += f[i][p] * sig[p][r] * f[l][r];
+              k[i][l] = v;
+            }
+          for (int a = 0; a < n; ++a) {
+            be[a][0] += jw * sh[a] * k[0][0];
+            be[a][1] += jw * sh[a] * k[1][1];
+            be[a][2] += jw * sh[a] * k[0][1];
+          }
+        }
+        for (int a = 0; a < n; ++a)
+          for (int c = 0; c < 3; ++c)
+            Kokkos::atomic_add(&b(3 * nodes[a] + c), be[a][c]);
+      });
+}
+
+/// Adds the scalar consistent mass t int psi_a psi_b da of every element into `a` (1 dof per
+/// node, pattern expandGraph(graph, 1)).
+template <class Elem, class ExecSpace, class MemorySpace, class Map>
+void assembleScalarMass(const ExecSpace &exec, const MeshView<MemorySpace> &mesh, double thickness,
+                        const Map &map, const CsrMatrix<MemorySpace> &a) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleScalarMass",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes;
+        double gx[n][n], gy[n][n], m[n][n];
+        mixedIntegrals<Elem>(mesh, e, thickness, gx, gy, m);
+        scatterBlockMatrix<1, Elem>(a, map, mesh, e, m);
       });
 }
 

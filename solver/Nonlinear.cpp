@@ -1,6 +1,7 @@
 // Nonlinear models (host orchestration of the kernels in kernels/Nonlinear.hpp) and the load
 // stepper.
 #include <solver/Dirichlet.hpp>
+#include <solver/Krylov.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
 
@@ -288,7 +289,8 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
                                          double thickness)
     : NonlinearModel(mesh, elementMaterial, stiffness, thickness) {
   checkMixedPairing(mesh.elementType, mesh.elementType);
-  current_ = withCompliance(data_, stiffness);
+  reference_ = withCompliance(data_, stiffness);
+  current_ = reference_;
   current_.mesh.coordinates = Kokkos::View<double *[2], Memory>(
       "mixcon::nonlinear::configuration", mesh.numNodes());
   Kokkos::deep_copy(current_.mesh.coordinates, data_.mesh.coordinates);
@@ -325,14 +327,19 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
       "mixcon::nonlinear::constrained5", Kokkos::RangePolicy<Exec>(0, c2.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) { c5(5 * (i / 2) + i % 2) = c2(i); });
   Kokkos::deep_copy(committed_, u_);
+  committedState_ = Vec("mixcon::nonlinear::committedState", 5 * nn);
+  Kokkos::deep_copy(committedState_, x_);
   linearOptions_ = options;
-  linearOptions_.symmetric = false; // symmetric but indefinite: LU
+  linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
   solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
   assemblySeconds_ = seconds(start);
 }
 
 std::string NonlinearMixedModel::solverName() const {
-  return "mixed saddle point, " + (solver_ ? solver_->name() : std::string("none"));
+  std::ostringstream o;
+  o << "mixed " << (form_ == MixedForm::Current ? "current-configuration" : "incremental")
+    << " form, a = " << stabilization_ << ", " << (solver_ ? solver_->name() : std::string("none"));
+  return o.str();
 }
 
 void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) {
@@ -354,7 +361,7 @@ void NonlinearMixedModel::updateTotalDisplacement() {
   auto u = u_;
   auto c = committed_;
   auto x = x_;
-  const bool haveCommitted = c.extent(0) == u.extent(0);
+  const bool haveCommitted = form_ == MixedForm::Incremental && c.extent(0) == u.extent(0);
   Kokkos::parallel_for(
       "mixcon::nonlinear::totalDisplacement", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
@@ -373,12 +380,18 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
   double fint = 0.0;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), map_,
-                                            a, g_);
+    const bool current = form_ == MixedForm::Current;
+    if (current)
+      inverted = assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_,
+                                            map_, a, g_);
+    else
+      inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
+                                              stabilization_, map_, a, g_);
     fint = strideNorm(g_, 5, 0, 2, {}, 0);
     addDisplacementVector(g_, 5, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
-      assembleFollowerPressure<5, Elem>(Exec(), current_.mesh, ConstVec(x_), follower_.edges,
+      assembleFollowerPressure<5, Elem>(Exec(), current ? reference_.mesh : current_.mesh,
+                                        ConstVec(x_), follower_.edges,
                                         ConstVec(follower_.pressure), lambda, data_.thickness, map_, a,
                                         g_);
   });
@@ -423,10 +436,23 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
 }
 
 void NonlinearMixedModel::commit() {
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
-  });
+  if (form_ == MixedForm::Current) {
+    Kokkos::deep_copy(committedState_, x_);
+    return;
+  }
+  Vec load;
+  if (stressUpdate_ == StressUpdate::Projected) {
+    load = Vec("mixcon::nonlinear::projectionLoad", tau_.extent(0));
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      pushForwardProjectionLoad<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), load);
+    });
+  } else {
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
+    });
+  }
   auto xc = current_.mesh.coordinates;
   auto x = x_;
   auto c = committed_;
@@ -440,21 +466,67 @@ void NonlinearMixedModel::commit() {
       });
   Kokkos::deep_copy(x_, 0.0);
   updateTotalDisplacement();
+  if (stressUpdate_ == StressUpdate::Projected)
+    projectStress(load);
+}
+
+void NonlinearMixedModel::projectStress(const Vec &load) {
+  // Scalar consistent mass of the new configuration; CG with Jacobi per stress component.
+  if (mass_.numRows == 0)
+    mass_ = expandGraph<Memory>(graph_, 1);
+  Kokkos::deep_copy(mass_.values, 0.0);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
+  });
+  const LocalIndex nn = mesh_.numNodes();
+  Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
+      t("mixcon::nonlinear::projected", nn);
+  auto m = mass_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::massDiagonal", Kokkos::RangePolicy<Exec>(0, nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        for (Offset k = m.rowOffsets(i); k < m.rowOffsets(i + 1); ++k)
+          if (m.columns(k) == i)
+            diag(i) = m.values(k);
+      });
+  const LinearMap apply = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    multiply(Exec(), mass_, x, y);
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::jacobi", Kokkos::RangePolicy<Exec>(0, nn),
+        KOKKOS_LAMBDA(LocalIndex i) { y(i) = x(i) / diag(i); });
+  };
+  KrylovOptions o;
+  o.tolerance = 1e-13;
+  o.maxIterations = 500;
+  auto tau = tau_;
+  for (int c = 0; c < 3; ++c) {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::component", Kokkos::RangePolicy<Exec>(0, nn),
+        KOKKOS_LAMBDA(LocalIndex i) {
+          b(i) = load(3 * i + c);
+          t(i) = tau(3 * i + c);
+        });
+    const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
+    if (!s.converged)
+      throw std::runtime_error("mixed stress update: the mass projection did not converge");
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::componentBack", Kokkos::RangePolicy<Exec>(0, nn),
+        KOKKOS_LAMBDA(LocalIndex i) { tau(3 * i + c) = t(i); });
+  }
 }
 
 void NonlinearMixedModel::rollback() {
-  Kokkos::deep_copy(x_, 0.0);
+  if (form_ == MixedForm::Current)
+    Kokkos::deep_copy(x_, committedState_);
+  else
+    Kokkos::deep_copy(x_, 0.0);
   updateTotalDisplacement();
 }
 
-std::vector<double> NonlinearMixedModel::nodalStressHost() const {
-  auto t = toHost(tau_);
-  const auto x = toHost(x_);
-  for (std::size_t k = 0; k < t.size() / 3; ++k)
-    for (int c = 0; c < 3; ++c)
-      t[3 * k + c] += x[5 * k + 2 + c];
-  return t;
-}
+std::vector<double> NonlinearMixedModel::nodalStressHost() const { return toHost(stressOnly()); }
 
 std::vector<double> NonlinearMixedModel::reactionHost(double) const {
   const auto g = toHost(g_);
@@ -465,13 +537,23 @@ std::vector<double> NonlinearMixedModel::reactionHost(double) const {
   return r;
 }
 
+Kokkos::View<double *, Memory> NonlinearMixedModel::stressOnly() const {
+  Vec t("mixcon::nonlinear::nodalStress", tau_.extent(0));
+  auto tau = tau_;
+  auto x = x_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::nodalStress", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { t(i) = tau(i) + x(5 * (i / 3) + 2 + i % 3); });
+  return t;
+}
+
 std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
   std::vector<double> out;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
     Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
-    const NodalStressField<Memory> field{current_.mesh, ConstVec(tau_)};
+    const NodalStressField<Memory> field{current_.mesh, ConstVec(stressOnly())};
     Kokkos::parallel_for(
         "mixcon::nonlinear::interpolatedStress", Kokkos::RangePolicy<Exec>(0, ne),
         KOKKOS_LAMBDA(LocalIndex e) {

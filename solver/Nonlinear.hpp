@@ -116,10 +116,31 @@ private:
   std::unique_ptr<LinearSolver> solver_;
 };
 
+/// How the mixed model turns tau + S into the Cauchy stress of the new configuration (Eq. (5b)).
+enum class StressUpdate {
+  /// L2 projection onto the nodal stress space of c2 of F (tau + S) F^T / J evaluated at the
+  /// quadrature points (default: consistent, no node-to-node error pattern accumulates).
+  Projected,
+  /// The report's literal form: F averaged over the elements at each node, tau <- F Sigma F^T / J
+  /// node by node. Its error pattern accumulates over increments (docs/theory.md).
+  NodalAverage
+};
+
+/// The two forms of the geometrically nonlinear mixed model (docs/theory.md).
+enum class MixedForm {
+  /// Default: unknowns the total displacement and the nodal Cauchy stress in the current
+  /// configuration; Almansi law imposed weakly (the displacement model's law), path independent.
+  Current,
+  /// The report's literal scheme: per increment from c1 the incremental 2nd Piola-Kirchhoff
+  /// stress with S = C E(u) (incremental St. Venant-Kirchhoff), pushed forward at convergence.
+  /// Hypoelastic: its stress is carried from increment to increment.
+  Incremental
+};
+
 /// The mixed model (Eq. (29)-(32) with (9), (5b)): per increment from the last converged
 /// configuration c1 with nodal Cauchy stress tau, unknowns the displacement increment u and the
 /// incremental 2nd Piola-Kirchhoff stress S (5 per node, interleaved u, v, Sxx, Syy, Sxy); at
-/// convergence tau <- F (tau + S) F^T / J at the nodes and c1 <- c1 + u.
+/// convergence tau <- F (tau + S) F^T / J at the nodes (see StressUpdate) and c1 <- c1 + u.
 class NonlinearMixedModel final : public NonlinearModel {
 public:
   NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
@@ -133,6 +154,12 @@ public:
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
   void rollback() override;
+  void setStressUpdate(StressUpdate u) { stressUpdate_ = u; }
+  /// Call before setup().
+  void setForm(MixedForm f) { form_ = f; }
+  MixedForm form() const { return form_; }
+  /// Stabilization a in [0, 1) (0: the report's model; see mixedIncrementElement).
+  void setStabilization(double a) { stabilization_ = a; }
 
   std::string solverName() const override;
   std::vector<double> nodalStressHost() const override; ///< tau (+ S during an increment)
@@ -141,7 +168,8 @@ public:
   /// in the mixed model), (E * nq) x 3.
   std::vector<double> interpolatedGaussStressHost() const;
 
-  /// Test access: prestress tau, increment x (5 per node), the last Jacobian and residual.
+  /// Test access: prestress tau (form Incremental), the unknowns x (5 per node: the increment
+  /// for Incremental, the total state for Current), the last Jacobian and residual.
   void setPrestress(const std::vector<double> &tau);
   void setIncrement(const std::vector<double> &x);
   const CsrMatrix<Memory> &tangent() const { return tangent_; }
@@ -150,11 +178,20 @@ public:
 
 private:
   void updateTotalDisplacement();
-  MixedElementData<Memory> current_; ///< c1: coordinates of the last converged configuration
+  /// Nodal Cauchy stress tau + S (3 per node).
+  Kokkos::View<double *, Memory> stressOnly() const;
+  /// tau <- M(c2)^-1 load, component by component (the L2 projection of the stress update).
+  void projectStress(const Kokkos::View<double *, Memory> &load);
+  MixedElementData<Memory> reference_; ///< reference geometry (form Current)
+  MixedElementData<Memory> current_;   ///< c1: last converged configuration (form Incremental)
+  MixedForm form_ = MixedForm::Current;
+  Kokkos::View<double *, Memory> committedState_; ///< x at the last commit (form Current)
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
-  CsrMatrix<Memory> tangent_, work_;
+  CsrMatrix<Memory> tangent_, work_, mass_;
   Kokkos::View<double *, Memory> tau_, x_, g_, committed_, dx_, rhs_, target_, diag_;
+  StressUpdate stressUpdate_ = StressUpdate::Projected;
+  double stabilization_ = 0.0;
   Kokkos::View<int *, Memory> constrained5_;
   FollowerLoads follower_;
   std::unique_ptr<LinearSolver> solver_;

@@ -123,6 +123,72 @@ Eigen::VectorXd referenceMixedResidual(const Fixture &f, const Eigen::VectorXd &
   return g;
 }
 
+/// Host reference of the current-configuration mixed residual (a = 0): G_u = t int B(x)^T tau da,
+/// G_S = t int psi (e - D tau) da, e = (I - b^-1) / 2 from F = dx/dX.
+Eigen::VectorXd referenceMixedCurrent(const Fixture &f, const Eigen::VectorXd &x) {
+  const int n = f.mesh.nodesPerElement;
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(5 * f.mesh.numNodes());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+    const Eigen::MatrixXd xe0 = elementCoordinates(f.mesh, e);
+    Eigen::MatrixXd xe = xe0;
+    Eigen::VectorXd te(3 * n);
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = f.mesh.node(e, a);
+      xe.row(a) += x.segment<2>(5 * k).transpose();
+      te.segment<3>(3 * a) = x.segment<3>(5 * k + 2);
+    }
+    const Eigen::Matrix3d d = toEigen(f.materials[f.elementMaterial[e]]).inverse();
+    Eigen::VectorXd gu = Eigen::VectorXd::Zero(2 * n), gs = Eigen::VectorXd::Zero(3 * n);
+    for (const auto &q : referenceGauss(n == 4 ? 2 : 3)) {
+      Eigen::VectorXd sh;
+      Eigen::MatrixXd dn;
+      referenceShape(n, q[0], q[1], sh, dn);
+      const Eigen::Matrix2d j0 = xe0.transpose() * dn, j = xe.transpose() * dn;
+      const Eigen::Matrix2d fgrad = j * j0.inverse();
+      const Eigen::Matrix2d strain =
+          0.5 * (Eigen::Matrix2d::Identity() - (fgrad * fgrad.transpose()).inverse());
+      Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
+      for (int a = 0; a < n; ++a)
+        for (int c = 0; c < 3; ++c)
+          psi(c, 3 * a + c) = sh(a);
+      const Eigen::Vector3d tau = psi * te;
+      const double da = q[2] * j.determinant() * f.data.thickness;
+      gu += referenceB(dn * j.inverse()).transpose() * tau * da;
+      gs += psi.transpose() * (Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)) -
+                               d * tau) * da;
+    }
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = f.mesh.node(e, a);
+      g.segment<2>(5 * k) += gu.segment<2>(2 * a);
+      g.segment<3>(5 * k + 2) += gs.segment<3>(3 * a);
+    }
+  }
+  return g;
+}
+
+/// max |got - ref| / max |ref| over the force rows (part 0) or the stress rows (part 1).
+double partError(const Eigen::VectorXd &got, const Eigen::VectorXd &ref, int part) {
+  double err = 0.0, scale = 0.0;
+  for (Eigen::Index k = 0; k < got.size() / 5; ++k)
+    for (int c = part ? 2 : 0; c < (part ? 5 : 2); ++c) {
+      err = std::max(err, std::abs(got(5 * k + c) - ref(5 * k + c)));
+      scale = std::max(scale, std::abs(ref(5 * k + c)));
+    }
+  return err / scale;
+}
+
+/// Random mixed unknowns: displacements of size 0.03, stresses of size 2e3 (5 per node).
+Eigen::VectorXd randomMixedState(LocalIndex nn, unsigned seed, Eigen::VectorXd *scale = nullptr) {
+  Eigen::VectorXd x = randomVector(5 * nn, seed), s(5 * nn);
+  for (LocalIndex k = 0; k < nn; ++k) {
+    s.segment<2>(5 * k).setConstant(0.03);
+    s.segment<3>(5 * k + 2).setConstant(2e3);
+  }
+  if (scale)
+    *scale = s;
+  return x.cwiseProduct(s);
+}
+
 class NonlinearModels : public ::testing::TestWithParam<ElementType> {};
 
 TEST_P(NonlinearModels, AlmansiResidualMatchesHostReference) {
@@ -177,81 +243,88 @@ TEST_P(NonlinearModels, DisplacementTangentIsFiniteDifferenceOfResidual) {
   EXPECT_GT(relativeError(k, Eigen::MatrixXd(k.transpose())), 1e-4);
 }
 
-TEST_P(NonlinearModels, MixedResidualMatchesHostReference) {
+TEST_P(NonlinearModels, MixedCurrentResidualMatchesHostReference) {
   const Fixture f = makeFixture(GetParam(), 3, 2);
   NonlinearMixedModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+  for (LocalIndex n : f.mesh.nodesOf("left"))
+    model.prescribe(n, 0, 0.0);
+  model.setup(directOptions(), MPI_COMM_WORLD);
+  const Eigen::VectorXd x = randomMixedState(f.mesh.numNodes(), 14);
+  model.setIncrement(toStd(x));
+  model.evaluate(0.0, false);
+  const Eigen::VectorXd got = hostVector(model.residual());
+  const Eigen::VectorXd ref = referenceMixedCurrent(f, x);
+  EXPECT_LT(partError(got, ref, 0), 1e-10) << "forces";
+  EXPECT_LT(partError(got, ref, 1), 1e-10) << "stress equations";
+}
+
+TEST_P(NonlinearModels, MixedIncrementalResidualMatchesHostReference) {
+  const Fixture f = makeFixture(GetParam(), 3, 2);
+  NonlinearMixedModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+  model.setForm(MixedForm::Incremental);
   for (LocalIndex n : f.mesh.nodesOf("left"))
     model.prescribe(n, 0, 0.0);
   model.setup(directOptions(), MPI_COMM_WORLD);
   const LocalIndex nn = f.mesh.numNodes();
   const Eigen::VectorXd tau = 3e3 * randomVector(3 * nn, 3);
-  Eigen::VectorXd x = randomVector(5 * nn, 4);
-  for (LocalIndex k = 0; k < nn; ++k) {
-    x.segment<2>(5 * k) *= 0.03;
-    x.segment<3>(5 * k + 2) *= 2e3;
-  }
+  const Eigen::VectorXd x = randomMixedState(nn, 4);
   model.setPrestress(toStd(tau));
   model.setIncrement(toStd(x));
   model.evaluate(0.0, false);
   const Eigen::VectorXd got = hostVector(model.residual());
   const Eigen::VectorXd ref = referenceMixedResidual(f, tau, x);
-  for (int part = 0; part < 2; ++part) { // forces and strain residuals have different units
-    double err = 0.0, scale = 0.0;
-    for (LocalIndex k = 0; k < nn; ++k)
-      for (int c = part ? 2 : 0; c < (part ? 5 : 2); ++c) {
-        err = std::max(err, std::abs(got(5 * k + c) - ref(5 * k + c)));
-        scale = std::max(scale, std::abs(ref(5 * k + c)));
-      }
-    EXPECT_LT(err, 1e-10 * scale) << (part ? "stress equations" : "forces");
-  }
+  EXPECT_LT(partError(got, ref, 0), 1e-10) << "forces";
+  EXPECT_LT(partError(got, ref, 1), 1e-10) << "stress equations";
 }
 
 TEST_P(NonlinearModels, MixedJacobianIsFiniteDifferenceOfResidual) {
   const Fixture f = makeFixture(GetParam(), 3, 2);
-  NonlinearMixedModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
-  for (LocalIndex n : f.mesh.nodesOf("left"))
-    model.prescribe(n, 0, 0.0);
-  model.addFollowerPressure(f.mesh.boundaries.at("right"), 4.0e3);
-  model.addFollowerPressure(f.mesh.boundaries.at("top"), -1.0e3);
-  model.setup(directOptions(), MPI_COMM_WORLD);
   const LocalIndex nn = f.mesh.numNodes();
-  const Eigen::VectorXd tau = 3e3 * randomVector(3 * nn, 8);
-  Eigen::VectorXd x = randomVector(5 * nn, 9);
-  Eigen::VectorXd scale(5 * nn);
-  for (LocalIndex k = 0; k < nn; ++k) {
-    scale.segment<2>(5 * k).setConstant(0.03);
-    scale.segment<3>(5 * k + 2).setConstant(2e3);
-  }
-  x = x.cwiseProduct(scale);
-  model.setPrestress(toStd(tau));
-  model.setIncrement(toStd(x));
-  model.evaluate(1.0, true);
-  const Eigen::MatrixXd k = dense(model.tangent());
-  Eigen::MatrixXd fd(k.rows(), k.cols());
-  for (int j = 0; j < x.size(); ++j) {
-    const double h = 1e-5 * scale(j);
-    Eigen::VectorXd xp = x, xm = x;
-    xp(j) += h;
-    xm(j) -= h;
-    model.setIncrement(toStd(xp));
-    model.evaluate(1.0, false);
-    const Eigen::VectorXd gp = hostVector(model.residual());
-    model.setIncrement(toStd(xm));
-    model.evaluate(1.0, false);
-    fd.col(j) = (gp - hostVector(model.residual())) / (2 * h);
-  }
-  // Block-wise: the four blocks have different units.
-  for (int rb = 0; rb < 2; ++rb)
-    for (int cb = 0; cb < 2; ++cb) {
-      std::vector<int> rows, cols;
-      for (LocalIndex q = 0; q < nn; ++q) {
-        for (int c = rb ? 2 : 0; c < (rb ? 5 : 2); ++c)
-          rows.push_back(5 * q + c);
-        for (int c = cb ? 2 : 0; c < (cb ? 5 : 2); ++c)
-          cols.push_back(5 * q + c);
+  for (MixedForm form : {MixedForm::Current, MixedForm::Incremental})
+    for (double a : {0.0, 0.05}) {
+      SCOPED_TRACE(std::string(form == MixedForm::Current ? "current" : "incremental") +
+                   " form, a = " + std::to_string(a));
+      NonlinearMixedModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+      model.setForm(form);
+      model.setStabilization(a);
+      for (LocalIndex n : f.mesh.nodesOf("left"))
+        model.prescribe(n, 0, 0.0);
+      model.addFollowerPressure(f.mesh.boundaries.at("right"), 4.0e3);
+      model.addFollowerPressure(f.mesh.boundaries.at("top"), -1.0e3);
+      model.setup(directOptions(), MPI_COMM_WORLD);
+      Eigen::VectorXd scale;
+      const Eigen::VectorXd x = randomMixedState(nn, 9, &scale);
+      if (form == MixedForm::Incremental) // prestress of the incremental form
+        model.setPrestress(toStd(3e3 * randomVector(3 * nn, 8)));
+      model.setIncrement(toStd(x));
+      model.evaluate(1.0, true);
+      const Eigen::MatrixXd k = dense(model.tangent());
+      Eigen::MatrixXd fd(k.rows(), k.cols());
+      for (int j = 0; j < x.size(); ++j) {
+        const double h = 1e-5 * scale(j);
+        Eigen::VectorXd xp = x, xm = x;
+        xp(j) += h;
+        xm(j) -= h;
+        model.setIncrement(toStd(xp));
+        model.evaluate(1.0, false);
+        const Eigen::VectorXd gp = hostVector(model.residual());
+        model.setIncrement(toStd(xm));
+        model.evaluate(1.0, false);
+        fd.col(j) = (gp - hostVector(model.residual())) / (2 * h);
       }
-      EXPECT_LT(relativeError(k(rows, cols), fd(rows, cols)), 1e-6)
-          << "block (" << rb << ", " << cb << ")";
+      // Block-wise: the four blocks have different units.
+      for (int rb = 0; rb < 2; ++rb)
+        for (int cb = 0; cb < 2; ++cb) {
+          std::vector<int> rows, cols;
+          for (LocalIndex q = 0; q < nn; ++q) {
+            for (int c = rb ? 2 : 0; c < (rb ? 5 : 2); ++c)
+              rows.push_back(5 * q + c);
+            for (int c = cb ? 2 : 0; c < (cb ? 5 : 2); ++c)
+              cols.push_back(5 * q + c);
+          }
+          EXPECT_LT(relativeError(k(rows, cols), fd(rows, cols)), 1e-6)
+              << "block (" << rb << ", " << cb << ")";
+        }
     }
 }
 
@@ -274,26 +347,30 @@ TEST_P(NonlinearModels, RigidRotationIsStressFreeAndRotatesNodalStress) {
   for (double v : sq) // round-off of the moduli (up to 1.6e6) times 1e-14
     EXPECT_NEAR(v, 0.0, 1e-14 * 1.6e6);
 
-  NonlinearMixedModel mixed(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
-  mixed.prescribe(0, 0, 0.0);
-  mixed.setup(directOptions(), MPI_COMM_WORLD);
   const Eigen::VectorXd tau = 1e3 * randomVector(3 * nn, 21);
-  mixed.setPrestress(toStd(tau));
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(5 * nn);
-  for (LocalIndex k = 0; k < nn; ++k)
-    x.segment<2>(5 * k) = u.segment<2>(2 * k);
-  mixed.setIncrement(toStd(x));
-  mixed.commit();
-  const auto got = mixed.nodalStressHost();
   Eigen::Matrix2d r;
   r << c, -s, s, c;
-  for (LocalIndex k = 0; k < nn; ++k) {
-    Eigen::Matrix2d t;
-    t << tau(3 * k), tau(3 * k + 2), tau(3 * k + 2), tau(3 * k + 1);
-    const Eigen::Matrix2d expect = r * t * r.transpose();
-    EXPECT_NEAR(got[3 * k], expect(0, 0), 1e-9 * 1e3);
-    EXPECT_NEAR(got[3 * k + 1], expect(1, 1), 1e-9 * 1e3);
-    EXPECT_NEAR(got[3 * k + 2], expect(0, 1), 1e-9 * 1e3);
+  for (StressUpdate update : {StressUpdate::Projected, StressUpdate::NodalAverage}) {
+    NonlinearMixedModel mixed(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+    mixed.setForm(MixedForm::Incremental); // the form whose stress is pushed forward
+    mixed.setStressUpdate(update);
+    mixed.prescribe(0, 0, 0.0);
+    mixed.setup(directOptions(), MPI_COMM_WORLD);
+    mixed.setPrestress(toStd(tau));
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(5 * nn);
+    for (LocalIndex k = 0; k < nn; ++k)
+      x.segment<2>(5 * k) = u.segment<2>(2 * k);
+    mixed.setIncrement(toStd(x));
+    mixed.commit();
+    const auto got = mixed.nodalStressHost();
+    for (LocalIndex k = 0; k < nn; ++k) {
+      Eigen::Matrix2d t;
+      t << tau(3 * k), tau(3 * k + 2), tau(3 * k + 2), tau(3 * k + 1);
+      const Eigen::Matrix2d expect = r * t * r.transpose();
+      EXPECT_NEAR(got[3 * k], expect(0, 0), 1e-9 * 1e3);
+      EXPECT_NEAR(got[3 * k + 1], expect(1, 1), 1e-9 * 1e3);
+      EXPECT_NEAR(got[3 * k + 2], expect(0, 1), 1e-9 * 1e3);
+    }
   }
 }
 

@@ -142,10 +142,14 @@ std::vector<BadCase> badCases() {
                        "formulation: mixed, geometric_nonlinearity: true"),
                "solver: {type: direct}", "solver: {type: amg}"),
        "solves with type: direct only", 14},
-      {"nonlinear_mixed_stabilization",
+      {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
-               "formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05"),
-       "the geometrically nonlinear mixed model is the report's", 3},
+               "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
+       "applies to the linear mixed model's Schur solver", 3},
+      {"stress_update_on_current_form",
+       replace(g, "formulation: displacement",
+               "formulation: mixed, geometric_nonlinearity: true, stress_update: projected"),
+       "stress_update applies to mixed_form: incremental only", 3},
   };
 }
 
