@@ -54,10 +54,9 @@ KOKKOS_INLINE_FUNCTION void stressFromStrainTensor(const PlaneMatrix &c, const d
 
 /// Element nodal coordinates x = X + u (current configuration) and displacements.
 template <class Elem, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void gatherCurrent(const MeshView<MemorySpace> &m,
-                                          const Kokkos::View<const double *, MemorySpace> &u,
-                                          LocalIndex e, double (&xe)[Elem::kNumNodes][2],
-                                          double (&ue)[Elem::kNumNodes][2]) {
+KOKKOS_INLINE_FUNCTION void
+gatherCurrent(const MeshView<MemorySpace> &m, const Kokkos::View<const double *, MemorySpace> &u,
+              LocalIndex e, double (&xe)[Elem::kNumNodes][2], double (&ue)[Elem::kNumNodes][2]) {
   for (int a = 0; a < Elem::kNumNodes; ++a) {
     const LocalIndex n = m.connectivity(e, a);
     for (int i = 0; i < 2; ++i) {
@@ -250,12 +249,10 @@ LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace>
 /// report's model). Returns false for an inverted element (in c1 or in the incremented
 /// configuration).
 template <class Elem, bool Tangent, class MemorySpace>
-KOKKOS_INLINE_FUNCTION bool
-mixedIncrementElement(const MixedElementData<MemorySpace> &d,
-                      const Kokkos::View<const double *, MemorySpace> &tau,
-                      const Kokkos::View<const double *, MemorySpace> &x, double a, LocalIndex e,
-                      double (&ge)[5 * Elem::kNumNodes],
-                      double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) {
+KOKKOS_INLINE_FUNCTION bool mixedIncrementElement(
+    const MixedElementData<MemorySpace> &d, const Kokkos::View<const double *, MemorySpace> &tau,
+    const Kokkos::View<const double *, MemorySpace> &x, double a, LocalIndex e,
+    double (&ge)[5 * Elem::kNumNodes], double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) {
   constexpr int n = Elem::kNumNodes;
   double xe[n][2], ue[n][2], se[n][3], te[n][3];
   detail::gatherCoordinates<Elem>(d.mesh, e, xe);
@@ -334,8 +331,8 @@ mixedIncrementElement(const MixedElementData<MemorySpace> &d,
       double cb[2][3]; // a C bl[p][i]
       for (int i = 0; i < 2; ++i)
         for (int c = 0; c < 3; ++c)
-          cb[i][c] = a * (cm.m[c][0] * bl[p][i][0] + cm.m[c][1] * bl[p][i][1] +
-                          cm.m[c][2] * bl[p][i][2]);
+          cb[i][c] =
+              a * (cm.m[c][0] * bl[p][i][0] + cm.m[c][1] * bl[p][i][1] + cm.m[c][2] * bl[p][i][2]);
       for (int b = 0; b < n; ++b) {
         const double kg = jw * (gp0 * g[b][0] + gp1 * g[b][1]);
         ke[5 * p][5 * b] += kg;
@@ -480,9 +477,8 @@ LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<Me
       KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
         constexpr int nd = 5 * Elem::kNumNodes;
         double ge[nd], ke[nd][nd];
-        const bool ok = tangent
-                            ? mixedCurrentElement<Elem, true>(d, x, stabilization, e, ge, ke)
-                            : mixedCurrentElement<Elem, false>(d, x, stabilization, e, ge, ke);
+        const bool ok = tangent ? mixedCurrentElement<Elem, true>(d, x, stabilization, e, ge, ke)
+                                : mixedCurrentElement<Elem, false>(d, x, stabilization, e, ge, ke);
         if (!ok)
           ++bad;
         for (int p = 0; p < Elem::kNumNodes; ++p) {
@@ -498,8 +494,8 @@ LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<Me
 }
 
 /// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
-/// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a += its Jacobian. Returns the number of
-/// inverted elements.
+/// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a
+/// += its Jacobian. Returns the number of inverted elements.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                   const Kokkos::View<const double *, MemorySpace> &tau,

@@ -64,10 +64,10 @@ void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVe
 /// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained
 /// and handed to the solver; a reused one (modified Newton) keeps its factorization.
 LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
-                                  CsrMatrix<Memory> &work, const Kokkos::View<const int *, Memory> &flags,
-                                  const ConstVec &g, const ConstVec &target, const Vec &rhs,
-                                  const Vec &diag, LinearSolver &solver, const Vec &dx,
-                                  double &setupSeconds) {
+                                  CsrMatrix<Memory> &work,
+                                  const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
+                                  const ConstVec &target, const Vec &rhs, const Vec &diag,
+                                  LinearSolver &solver, const Vec &dx, double &setupSeconds) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::rhs", Kokkos::RangePolicy<Exec>(0, g.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) { rhs(i) = -g(i); });
@@ -110,8 +110,7 @@ const char *iterationMethodName(IterationMethod m) {
 // ---------------------------------------------------------------------------------------------
 // NonlinearModel
 
-void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges,
-                                         double pressure) {
+void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure) {
   for (const auto &e : edges) {
     followerEdges_.push_back(e);
     followerPressure_.push_back(pressure);
@@ -237,8 +236,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
     addDisplacementVector(g_, 2, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
       assembleFollowerPressure<2, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
-                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_, a,
-                                        g_);
+                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_,
+                                        a, g_);
   });
   fresh_ = tangent;
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
@@ -291,8 +290,8 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
   checkMixedPairing(mesh.elementType, mesh.elementType);
   reference_ = withCompliance(data_, stiffness);
   current_ = reference_;
-  current_.mesh.coordinates = Kokkos::View<double *[2], Memory>(
-      "mixcon::nonlinear::configuration", mesh.numNodes());
+  current_.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::configuration", mesh.numNodes());
   Kokkos::deep_copy(current_.mesh.coordinates, data_.mesh.coordinates);
   const LocalIndex nn = mesh.numNodes();
   tau_ = Vec("mixcon::nonlinear::cauchyStress", 3 * nn);
@@ -382,8 +381,8 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
     using Elem = decltype(elem);
     const bool current = form_ == MixedForm::Current;
     if (current)
-      inverted = assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_,
-                                            map_, a, g_);
+      inverted =
+          assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_, map_, a, g_);
     else
       inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
                                               stabilization_, map_, a, g_);
@@ -391,9 +390,8 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
     addDisplacementVector(g_, 5, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
       assembleFollowerPressure<5, Elem>(Exec(), current ? reference_.mesh : current_.mesh,
-                                        ConstVec(x_), follower_.edges,
-                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_, a,
-                                        g_);
+                                        ConstVec(x_), follower_.edges, ConstVec(follower_.pressure),
+                                        lambda, data_.thickness, map_, a, g_);
   });
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
   const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0), std::max(fint, fext));
@@ -413,9 +411,8 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
         const LocalIndex j = 2 * (i / 5) + i % 5; // displacement dof when i % 5 < 2
         t(i) = flags(i) ? lambda * p(j) - u(j) : 0.0;
       });
-  const LinearSolveStats s =
-      constrainedSolve(tangent_, fresh_, work_, flags, g_, target_, rhs_, diag_, *solver_, dx_,
-                       solverSetupSeconds_);
+  const LinearSolveStats s = constrainedSolve(tangent_, fresh_, work_, flags, g_, target_, rhs_,
+                                              diag_, *solver_, dx_, solverSetupSeconds_);
   fresh_ = false;
   auto x = x_;
   auto dx = dx_;
@@ -428,7 +425,9 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   auto tau = tau_;
   Kokkos::parallel_for(
       "mixcon::nonlinear::totalStress", Kokkos::RangePolicy<Exec>(0, tau.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { total(5 * (i / 3) + 2 + i % 3) = tau(i) + x(5 * (i / 3) + 2 + i % 3); });
+      KOKKOS_LAMBDA(LocalIndex i) {
+        total(5 * (i / 3) + 2 + i % 3) = tau(i) + x(5 * (i / 3) + 2 + i % 3);
+      });
   const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
   const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(total, 5, 2, 3, {}, 0));
   increment = std::max(du, ds);
@@ -593,8 +592,10 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
     out.linearIterations += s.iterations;
     out.solveSeconds += s.solveSeconds;
     if (!s.converged) {
-      why = "the linear solver did not converge (relative residual " +
-            std::to_string(s.relativeResidual) + ")";
+      std::ostringstream m;
+      m << "the linear solver did not converge (relative residual " << s.relativeResidual
+        << " after " << s.iterations << " iterations)";
+      why = m.str();
       return false;
     }
     const bool tangent = options_.method == IterationMethod::Newton;
@@ -622,8 +623,9 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
     }
   }
   std::ostringstream m;
-  m << "no convergence in " << options_.maxIterations << " iterations (|du|/|u| = "
-    << out.history.back().increment << ", residual = " << out.history.back().residual << ")";
+  m << "no convergence in " << options_.maxIterations
+    << " iterations (|du|/|u| = " << out.history.back().increment
+    << ", residual = " << out.history.back().residual << ")";
   why = m.str();
   return false;
 }
@@ -632,8 +634,8 @@ IncrementOutcome LoadStepper::advance(double target) {
   IncrementOutcome out;
   double step = target - lambda_;
   while (std::abs(target - lambda_) > 1e-14 * std::max(1.0, std::abs(target))) {
-    const double next = std::abs(target - lambda_) <= std::abs(step) * (1 + 1e-12) ? target
-                                                                                   : lambda_ + step;
+    const double next =
+        std::abs(target - lambda_) <= std::abs(step) * (1 + 1e-12) ? target : lambda_ + step;
     std::string why;
     if (attempt(next, out, why)) {
       model_.commit();

@@ -211,7 +211,7 @@ struct IncrementOutcome {
   int linearIterations = 0;
   int cuts = 0;
   int subincrements = 0;
-  double initialResidual = 0.0; ///< of the last sub-increment, before its first correction
+  double initialResidual = 0.0;         ///< of the last sub-increment, before its first correction
   std::vector<IterationRecord> history; ///< of the last (converged) sub-increment
   std::string message;                  ///< why it failed
   double solveSeconds = 0.0;

@@ -67,8 +67,10 @@ Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::VectorXd &u
       const Eigen::Matrix2d fgrad = j * j0.inverse();
       const Eigen::Matrix2d binv = (fgrad * fgrad.transpose()).inverse();
       const Eigen::Matrix2d strain = 0.5 * (Eigen::Matrix2d::Identity() - binv);
-      const Eigen::Vector3d sigma = c * Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1));
-      fe += referenceB(dn * j.inverse()).transpose() * sigma * (g[2] * j.determinant() * f.data.thickness);
+      const Eigen::Vector3d sigma =
+          c * Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1));
+      fe += referenceB(dn * j.inverse()).transpose() * sigma *
+            (g[2] * j.determinant() * f.data.thickness);
     }
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 2; ++i)
@@ -154,8 +156,8 @@ Eigen::VectorXd referenceMixedCurrent(const Fixture &f, const Eigen::VectorXd &x
       const Eigen::Vector3d tau = psi * te;
       const double da = q[2] * j.determinant() * f.data.thickness;
       gu += referenceB(dn * j.inverse()).transpose() * tau * da;
-      gs += psi.transpose() * (Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)) -
-                               d * tau) * da;
+      gs += psi.transpose() *
+            (Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)) - d * tau) * da;
     }
     for (int a = 0; a < n; ++a) {
       const LocalIndex k = f.mesh.node(e, a);
@@ -377,8 +379,7 @@ TEST_P(NonlinearModels, RigidRotationIsStressFreeAndRotatesNodalStress) {
 INSTANTIATE_TEST_SUITE_P(Elements, NonlinearModels,
                          ::testing::Values(ElementType::Quad4, ElementType::Quad8),
                          [](const auto &info) {
-                           return std::string(info.param == ElementType::Quad4 ? "Quad4"
-                                                                               : "Quad8");
+                           return std::string(info.param == ElementType::Quad4 ? "Quad4" : "Quad8");
                          });
 
 } // namespace

@@ -217,11 +217,11 @@ TEST(Problem, ParsesNonlinearSteps) {
   EXPECT_EQ(p.loadFactors, (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
   EXPECT_FALSE(p.loads[1].follower);
   // The nonlinear mixed model defaults to the direct solver.
-  const Problem m = parseProblem(
-      replace(replace(kGood, "formulation: displacement",
-                      "formulation: mixed, geometric_nonlinearity: true"),
-              "solver: {type: direct}\n", ""),
-      "m.yaml", "");
+  const Problem m =
+      parseProblem(replace(replace(kGood, "formulation: displacement",
+                                   "formulation: mixed, geometric_nonlinearity: true"),
+                           "solver: {type: direct}\n", ""),
+                   "m.yaml", "");
   EXPECT_EQ(m.solver.type, LinearSolverType::Direct);
   EXPECT_TRUE(m.loads[1].follower);
 }
@@ -400,9 +400,9 @@ TEST(Cli, NonlinearMixedRunWritesConvergenceHistoryAndGaussFields) {
     EXPECT_NE(summary.str().find(key), std::string::npos) << key;
   const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
-  for (const char *name : {"/steps/2/gauss_points/displacement_gradient",
-                           "/steps/2/gauss_points/current_coordinates",
-                           "/steps/2/gauss_points/interpolated_stress"}) {
+  for (const char *name :
+       {"/steps/2/gauss_points/displacement_gradient", "/steps/2/gauss_points/current_coordinates",
+        "/steps/2/gauss_points/interpolated_stress"}) {
     const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
     EXPECT_GE(d, 0) << name;
     if (d >= 0)

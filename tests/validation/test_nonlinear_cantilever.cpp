@@ -1,6 +1,6 @@
-// Geometrically nonlinear cantilever under a uniformly distributed transverse dead load, the slender
-// variant of the report's example (issue 4): L = 10 in, h = 0.1 in, t = 1 in, E = 1.2e4 psi,
-// nu = 0.2, plane stress, clamped at x = 0, q on the top edge, 40 x 2 Quad8 elements.
+// Geometrically nonlinear cantilever under a uniformly distributed transverse dead load, the
+// slender variant of the report's example (issue 4): L = 10 in, h = 0.1 in, t = 1 in, E = 1.2e4
+// psi, nu = 0.2, plane stress, clamped at x = 0, q on the top edge, 40 x 2 Quad8 elements.
 // Reference (elastica of the inextensible Euler-Bernoulli cantilever under uniform dead load,
 // computed independently; values given in issue 4): at qL^3/EI = 1, 2, 5, 10 the tip deflection
 // w/L = 0.12347, 0.23851, 0.49591, 0.70020 and end shortening u/L = 0.00875, 0.03311, 0.15334,
@@ -27,8 +27,10 @@ struct Elastica {
   double load; ///< qL^3/EI
   double w, u; ///< tip deflection and end shortening over L
 };
-constexpr Elastica kReference[] = {
-    {1.0, 0.12347, 0.00875}, {2.0, 0.23851, 0.03311}, {5.0, 0.49591, 0.15334}, {10.0, 0.70020, 0.34365}};
+constexpr Elastica kReference[] = {{1.0, 0.12347, 0.00875},
+                                   {2.0, 0.23851, 0.03311},
+                                   {5.0, 0.49591, 0.15334},
+                                   {10.0, 0.70020, 0.34365}};
 
 enum class Kind { Displacement, Mixed };
 
@@ -42,7 +44,8 @@ struct Beam {
 Beam makeBeam(Kind kind) {
   Beam b;
   b.mesh = rectangleMesh(kLength, kHeight, 40, 2, ElementType::Quad8, 0.0, -0.5 * kHeight);
-  const std::vector<PlaneMatrix> c{isotropicStiffness(kYoungs, kPoisson, PlaneAnalysis::PlaneStress)};
+  const std::vector<PlaneMatrix> c{
+      isotropicStiffness(kYoungs, kPoisson, PlaneAnalysis::PlaneStress)};
   const std::vector<int> material(b.mesh.numElements(), 0);
   if (kind == Kind::Mixed)
     b.model = std::make_unique<NonlinearMixedModel>(b.mesh, material, c, 1.0);
@@ -164,8 +167,7 @@ TEST_P(SlenderCantilever, NoEquilibriumIterationsDriftsButCarriesTheImbalance) {
 
 INSTANTIATE_TEST_SUITE_P(Models, SlenderCantilever,
                          ::testing::Values(Kind::Displacement, Kind::Mixed), [](const auto &info) {
-                           return std::string(info.param == Kind::Mixed ? "Mixed"
-                                                                        : "Displacement");
+                           return std::string(info.param == Kind::Mixed ? "Mixed" : "Displacement");
                          });
 
 } // namespace
