@@ -210,25 +210,25 @@ scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshVi
 }
 
 /// Displacement model: f += internal force of every element at total displacement u, and, when
-/// `a.numRows > 0`, a += tangent (2 dofs per node, scatter map `map`). Returns the number of
-/// inverted elements.
+/// `a.numRows > 0`, a += tangent (2 dofs per node, scatter map `map`). Returns the first
+/// inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                            const Kokkos::View<const double *, MemorySpace> &u, const Map &map,
                            const CsrMatrix<MemorySpace> &a,
                            const Kokkos::View<double *, MemorySpace> &f) {
-  LocalIndex inverted = 0;
+  LocalIndex inverted = -1;
   const bool tangent = a.numRows > 0;
   Kokkos::parallel_reduce(
       "mixcon::kernels::assembleAlmansi",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
         constexpr int nd = 2 * Elem::kNumNodes;
         double fe[nd], ke[nd][nd];
         const bool ok = tangent ? almansiElement<Elem, true>(d, u, e, fe, ke)
                                 : almansiElement<Elem, false>(d, u, e, fe, ke);
-        if (!ok)
-          ++bad;
+        if (!ok && e < first)
+          first = e;
         for (int p = 0; p < Elem::kNumNodes; ++p) {
           const LocalIndex node = d.mesh.connectivity(e, p);
           Kokkos::atomic_add(&f(2 * node), fe[2 * p]);
@@ -237,8 +237,8 @@ LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace>
         if (tangent)
           scatterBlockMatrix<2, Elem>(a, map, d.mesh, e, ke);
       },
-      inverted);
-  return inverted;
+      Kokkos::Min<LocalIndex>(inverted));
+  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
 }
 
 /// Mixed model, element e: the incremental Hellinger-Reissner residual ge (5 per node: G_u x, y,
@@ -462,25 +462,25 @@ mixedCurrentElement(const MixedElementData<MemorySpace> &d,
 }
 
 /// Mixed model in the current configuration: g += residual of every element, a += Jacobian when
-/// a.numRows > 0 (5 unknowns per node). Returns the number of inverted elements.
+/// a.numRows > 0 (5 unknowns per node). Returns the first inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                 const Kokkos::View<const double *, MemorySpace> &x,
                                 double stabilization, const Map &map,
                                 const CsrMatrix<MemorySpace> &a,
                                 const Kokkos::View<double *, MemorySpace> &g) {
-  LocalIndex inverted = 0;
+  LocalIndex inverted = -1;
   const bool tangent = a.numRows > 0;
   Kokkos::parallel_reduce(
       "mixcon::kernels::assembleMixedCurrent",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
         constexpr int nd = 5 * Elem::kNumNodes;
         double ge[nd], ke[nd][nd];
         const bool ok = tangent ? mixedCurrentElement<Elem, true>(d, x, stabilization, e, ge, ke)
                                 : mixedCurrentElement<Elem, false>(d, x, stabilization, e, ge, ke);
-        if (!ok)
-          ++bad;
+        if (!ok && e < first)
+          first = e;
         for (int p = 0; p < Elem::kNumNodes; ++p) {
           const LocalIndex node = d.mesh.connectivity(e, p);
           for (int i = 0; i < 5; ++i)
@@ -489,13 +489,13 @@ LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<Me
         if (tangent)
           scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
       },
-      inverted);
-  return inverted;
+      Kokkos::Min<LocalIndex>(inverted));
+  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
 }
 
 /// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
 /// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a
-/// += its Jacobian. Returns the number of inverted elements.
+/// += its Jacobian. Returns the first inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                   const Kokkos::View<const double *, MemorySpace> &tau,
@@ -503,19 +503,19 @@ LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<
                                   double stabilization, const Map &map,
                                   const CsrMatrix<MemorySpace> &a,
                                   const Kokkos::View<double *, MemorySpace> &g) {
-  LocalIndex inverted = 0;
+  LocalIndex inverted = -1;
   const bool tangent = a.numRows > 0;
   Kokkos::parallel_reduce(
       "mixcon::kernels::assembleMixedIncrement",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & bad) {
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
         constexpr int nd = 5 * Elem::kNumNodes;
         double ge[nd], ke[nd][nd];
         const bool ok =
             tangent ? mixedIncrementElement<Elem, true>(d, tau, x, stabilization, e, ge, ke)
                     : mixedIncrementElement<Elem, false>(d, tau, x, stabilization, e, ge, ke);
-        if (!ok)
-          ++bad;
+        if (!ok && e < first)
+          first = e;
         for (int p = 0; p < Elem::kNumNodes; ++p) {
           const LocalIndex node = d.mesh.connectivity(e, p);
           for (int i = 0; i < 5; ++i)
@@ -524,8 +524,8 @@ LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<
         if (tangent)
           scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
       },
-      inverted);
-  return inverted;
+      Kokkos::Min<LocalIndex>(inverted));
+  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
 }
 
 /// Follower pressure p (positive into the body) on element edges, on the current configuration:

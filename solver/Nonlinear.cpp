@@ -134,6 +134,15 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
   return f;
 }
 
+std::string NonlinearModel::invertedElementMessage() const {
+  if (invertedElement_ < 0)
+    return "no element is inverted";
+  const auto e = static_cast<std::size_t>(invertedElement_);
+  const long id = e < mesh_.elementIds.size() ? mesh_.elementIds[e] : static_cast<long>(e) + 1;
+  return "element " + std::to_string(id) + " (index " + std::to_string(e) +
+         ") is inverted (non-positive Jacobian in the deformed configuration)";
+}
+
 LinearSolveStats NonlinearModel::solve(double loadFactor) {
   LoadStepper stepper(*this, NonlinearOptions{});
   const IncrementOutcome o = stepper.advance(loadFactor);
@@ -227,7 +236,7 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
     Kokkos::deep_copy(tangent_.values, 0.0);
   const CsrMatrix<Memory> none;
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
-  LocalIndex inverted = 0;
+  LocalIndex inverted = -1;
   double fint = 0.0;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
@@ -243,7 +252,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
   const double r = relative(strideNorm(g_, 1, 0, 1, isConstrained_, 0), std::max(fint, fext));
   assemblySeconds_ += seconds(start);
-  return inverted > 0 ? std::numeric_limits<double>::infinity() : r;
+  invertedElement_ = inverted;
+  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
 }
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
@@ -375,7 +385,7 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
     Kokkos::deep_copy(tangent_.values, 0.0);
   const CsrMatrix<Memory> none;
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
-  LocalIndex inverted = 0;
+  LocalIndex inverted = -1;
   double fint = 0.0;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
@@ -397,7 +407,8 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0), std::max(fint, fext));
   fresh_ = tangent;
   assemblySeconds_ += seconds(start);
-  return inverted > 0 ? std::numeric_limits<double>::infinity() : r;
+  invertedElement_ = inverted;
+  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
 }
 
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
@@ -582,7 +593,7 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
   const double r0 = model_.evaluate(lambda, true);
   out.initialResidual = r0;
   if (!std::isfinite(r0)) {
-    why = "an element is inverted at the start of the increment";
+    why = model_.invertedElementMessage() + " at the start of the increment";
     return false;
   }
   for (int it = 1; it <= options_.maxIterations; ++it) {
@@ -610,7 +621,8 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
       *log_ << line << std::flush;
     }
     if (!std::isfinite(r) || !std::isfinite(inc)) {
-      why = "an element inverted or the residual is not finite";
+      why = model_.invertedElement() >= 0 ? model_.invertedElementMessage()
+                                          : std::string("the residual is not finite");
       return false;
     }
     if (options_.method == IterationMethod::None)

@@ -61,6 +61,10 @@ public:
   LinearSolveStats solve(double loadFactor) override;
   double assemblySeconds() const override { return assemblySeconds_; }
   double solverSetupSeconds() const override { return solverSetupSeconds_; }
+  /// The first element found inverted by the last evaluate() (-1: none), and a message naming it
+  /// by its mesh id.
+  LocalIndex invertedElement() const { return invertedElement_; }
+  std::string invertedElementMessage() const;
 
   /// Quadrature-point output of the current state: coordinates (reference), the Cauchy stress of
   /// the Almansi law from the displacements, the spatial displacement gradient du/dx (4 per
@@ -80,6 +84,7 @@ protected:
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
+  LocalIndex invertedElement_ = -1;
 
 private:
   std::vector<BoundaryEdge> followerEdges_;

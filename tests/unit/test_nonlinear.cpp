@@ -376,6 +376,29 @@ TEST_P(NonlinearModels, RigidRotationIsStressFreeAndRotatesNodalStress) {
   }
 }
 
+TEST_P(NonlinearModels, InvertedElementIsNamed) {
+  const Fixture f = makeFixture(GetParam(), 3, 2);
+  NonlinearDisplacementModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+  model.prescribe(0, 0, 0.0);
+  model.setup(directOptions(), MPI_COMM_WORLD);
+  // Push the third corner of element 1 through its first corner.
+  const LocalIndex e = 1, a = f.mesh.node(e, 0), c = f.mesh.node(e, 2);
+  std::vector<double> u(2 * f.mesh.numNodes(), 0.0);
+  u[2 * c] = 1.5 * (f.mesh.x(a) - f.mesh.x(c));
+  u[2 * c + 1] = 1.5 * (f.mesh.y(a) - f.mesh.y(c));
+  model.setDisplacement(u);
+  EXPECT_FALSE(std::isfinite(model.evaluate(1.0, false)));
+  ASSERT_GE(model.invertedElement(), 0);
+  bool shares = false; // the element found uses the moved node
+  for (int k = 0; k < f.mesh.nodesPerElement; ++k)
+    shares = shares || f.mesh.node(model.invertedElement(), k) == c;
+  EXPECT_TRUE(shares);
+  EXPECT_NE(model.invertedElementMessage().find("is inverted"), std::string::npos);
+  model.setDisplacement(std::vector<double>(u.size(), 0.0));
+  EXPECT_TRUE(std::isfinite(model.evaluate(1.0, false)));
+  EXPECT_EQ(model.invertedElement(), -1);
+}
+
 INSTANTIATE_TEST_SUITE_P(Elements, NonlinearModels,
                          ::testing::Values(ElementType::Quad4, ElementType::Quad8),
                          [](const auto &info) {
