@@ -81,9 +81,12 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     m->setStressUpdate(p.model.stressUpdate);
     m->setStabilization(p.model.mixed.stabilization);
     owner = std::move(m);
-  } else
-    owner = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
-                                                         p.model.thickness);
+  } else {
+    auto d = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
+                                                          p.model.thickness);
+    d->setTangent(p.tangent);
+    owner = std::move(d);
+  }
   NonlinearModel &model = *owner;
   applyConditions(p, model, &model);
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);

@@ -455,9 +455,9 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   if (top.has("steps")) {
     const Item s = top["steps"];
     s.allowOnly({"increments", "load_factors", "iteration", "tolerance", "residual_tolerance",
-                 "max_iterations", "max_cuts"});
+                 "max_iterations", "max_cuts", "tangent"});
     for (const char *key :
-         {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts"})
+         {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts", "tangent"})
       if (s.has(key) && !p.model.geometricNonlinearity)
         s[key].fail(std::string(key) +
                     " applies to geometrically nonlinear analyses (model: geometric_nonlinearity: "
@@ -468,6 +468,13 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       n.method = v == "none"              ? IterationMethod::None
                  : v == "modified_newton" ? IterationMethod::ModifiedNewton
                                           : IterationMethod::Newton;
+    }
+    if (s.has("tangent")) {
+      if (p.model.formulation != Formulation::Displacement)
+        s["tangent"].fail("tangent applies to formulation: displacement (the mixed model always "
+                          "iterates with its exact Jacobian)");
+      p.tangent = s["tangent"].choice({"exact", "report"}) == "report" ? TangentKind::Report
+                                                                       : TangentKind::Exact;
     }
     if (s.has("tolerance"))
       n.tolerance = s["tolerance"].positive();

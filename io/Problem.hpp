@@ -78,6 +78,8 @@ struct Problem {
   std::vector<double> loadFactors{1.0};
   /// Equilibrium iterations of geometrically nonlinear analyses (steps: iteration, tolerance...).
   NonlinearOptions nonlinear;
+  /// Displacement model: the tangent of the iterations (steps: tangent).
+  TangentKind tangent = TangentKind::Exact;
   LinearSolverOptions solver;
   std::string outputDirectory = "out";
   bool writeHdf5 = true;

@@ -213,7 +213,9 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   diag_ = Vec("mixcon::nonlinear::diagonal", n);
   Kokkos::deep_copy(committed_, u_);
   linearOptions_ = options;
-  linearOptions_.symmetric = false; // the exact tangent of the Almansi law is not symmetric
+  // The exact tangent of the Almansi law is not symmetric; the report's K^L + K^sigma is, but a
+  // follower pressure's load stiffness is not.
+  linearOptions_.symmetric = false;
   solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
   assemblySeconds_ = seconds(start);
 }
@@ -238,9 +240,12 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
   LocalIndex inverted = -1;
   double fint = 0.0;
+  const bool report = tangent && tangentKind_ == TangentKind::Report;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, a, g_);
+    inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
+    if (report)
+      assembleReportTangent<Elem>();
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
     addDisplacementVector(g_, 2, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
@@ -254,6 +259,32 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   assemblySeconds_ += seconds(start);
   invertedElement_ = inverted;
   return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
+}
+
+template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
+  // K^L + K^sigma of Eq. (24)-(25) on the current configuration x = X + u, with tau the Cauchy
+  // stress of the Almansi law at the quadrature points.
+  ElementData<Memory> current = data_;
+  current.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
+  auto xc = current.mesh.coordinates;
+  auto x0 = data_.mesh.coordinates;
+  auto u = u_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::currentCoordinates", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          xc(k, i) = x0(k, i) + u(2 * k + i);
+      });
+  const LocalIndex ne = mesh_.numElements();
+  Kokkos::View<double **[3], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
+  Kokkos::View<double **[4], Memory> grad("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+  Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+  almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), tau, grad, xq);
+  assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
+  assembleGeometricStiffness<Elem>(
+      Exec(), current, GaussPointStressField<Memory>{Kokkos::View<const double **[3], Memory>(tau)},
+      map_, tangent_);
 }
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {

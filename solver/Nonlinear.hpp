@@ -91,8 +91,15 @@ private:
   std::vector<double> followerPressure_;
 };
 
+/// Which tangent the displacement model iterates with.
+enum class TangentKind {
+  Exact, ///< the derivative of the residual (quadratic Newton convergence; not symmetric)
+  Report ///< the report's K^L + K^sigma of Eq. (24)-(25) on the current configuration
+};
+
 /// The displacement model (Eq. (24)-(28)): Cauchy stress from the Almansi strain of the total
-/// displacement, integrals over the current configuration, exact (nonsymmetric) tangent.
+/// displacement, integrals over the current configuration, exact (nonsymmetric) tangent or the
+/// report's symmetric K^L + K^sigma.
 class NonlinearDisplacementModel final : public NonlinearModel {
 public:
   using NonlinearModel::NonlinearModel;
@@ -111,8 +118,11 @@ public:
   const CsrMatrix<Memory> &tangent() const { return tangent_; }
   Kokkos::View<const double *, Memory> residual() const { return g_; }
   void setDisplacement(const std::vector<double> &u);
+  void setTangent(TangentKind t) { tangentKind_ = t; }
 
 private:
+  template <class Elem> void assembleReportTangent();
+  TangentKind tangentKind_ = TangentKind::Exact;
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
   CsrMatrix<Memory> tangent_, constrained_;

@@ -1,0 +1,173 @@
+// Google Benchmark: the geometrically nonlinear kernels against the linear K^L assembly measured
+// in the same run (the baseline): the displacement model's fused internal force + exact tangent
+// assembly (Almansi law), the mixed model's fused residual + Jacobian assembly (current form,
+// 5 unknowns per node), and one full Newton iteration of the displacement model (assembly, AMG
+// setup, GMRES solve, residual) on a bent unit square. Counters: elements/s, DOF/s.
+#include <bench/BenchMain.hpp>
+#include <kernels/Nonlinear.hpp>
+#include <mesh/Generators.hpp>
+#include <solver/MixedModel.hpp>
+#include <solver/Nonlinear.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+
+using namespace mixcon;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Memory = Exec::memory_space;
+
+namespace {
+
+ElementType typeOf(const benchmark::State &state) {
+  return state.range(0) == 8 ? ElementType::Quad8 : ElementType::Quad4;
+}
+
+const std::vector<PlaneMatrix> kMaterial{orthotropicStiffness(
+    {1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4}, PlaneAnalysis::PlaneStress, 0.3)};
+
+/// A smooth finite deformation (bending plus stretch, strains of a few percent) of the unit square.
+std::vector<double> bentField(const Mesh &mesh, int stride) {
+  std::vector<double> x(stride * static_cast<std::size_t>(mesh.numNodes()), 0.0);
+  for (LocalIndex k = 0; k < mesh.numNodes(); ++k) {
+    const double X = mesh.x(k), Y = mesh.y(k);
+    x[stride * k] = 0.03 * X + 0.05 * X * Y;
+    x[stride * k + 1] = 0.2 * X * X - 0.01 * Y;
+  }
+  return x;
+}
+
+struct Timer {
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+};
+
+void linearBaseline(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  ElementData<Memory> d;
+  d.mesh = toDevice<Memory>(mesh);
+  d.material = Kokkos::View<int *, Memory>("material", mesh.numElements());
+  d.stiffness = Kokkos::View<PlaneMatrix *, Memory>("stiffness", 1);
+  auto h = Kokkos::create_mirror_view(d.stiffness);
+  h(0) = kMaterial[0];
+  Kokkos::deep_copy(d.stiffness, h);
+  const NodeGraph g = buildNodeGraph(mesh);
+  auto a = expandGraph<Memory>(g, 2);
+  const auto map = elementScatterMap<Memory>(mesh, g);
+  dispatchElement(mesh.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    for (auto _ : state) {
+      Timer t;
+      Kokkos::deep_copy(Exec(), a.values, 0.0);
+      assembleLinearStiffness<Elem>(Exec(), d, map, a);
+      Exec().fence();
+      state.SetIterationTime(t.seconds());
+    }
+  });
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void almansiAssembly(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
+  model.prescribe(0, 0, 0.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model.setup(o, MPI_COMM_WORLD);
+  model.setDisplacement(bentField(mesh, 2));
+  for (auto _ : state) {
+    Timer t;
+    model.evaluate(1.0, true); // zero, residual + tangent, norms
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+  }
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["DOF"] = 2.0 * mesh.numNodes();
+}
+
+void mixedAssembly(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  NonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
+  model.prescribe(0, 0, 0.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model.setup(o, MPI_COMM_WORLD);
+  auto x = bentField(mesh, 5);
+  for (std::size_t k = 0; k < x.size() / 5; ++k)
+    x[5 * k + 2] = 1e3; // a prestress
+  model.setIncrement(x);
+  for (auto _ : state) {
+    Timer t;
+    model.evaluate(1.0, true);
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+  }
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["DOF"] = 5.0 * mesh.numNodes();
+}
+
+/// One Newton iteration of the displacement model: residual + tangent assembly, BoomerAMG setup
+/// on the (nonsymmetric) tangent, GMRES to 1e-8, update, residual. Clamped left edge, a
+/// follower pressure on the top edge.
+void newtonIteration(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
+  for (LocalIndex n : mesh.nodesOf("left")) {
+    model.prescribe(n, 0, 0.0);
+    model.prescribe(n, 1, 0.0);
+  }
+  model.addFollowerPressure(mesh.boundaries.at("top"), 2e3);
+  LinearSolverOptions o; // amg
+  model.setup(o, MPI_COMM_WORLD);
+  int linear = 0;
+  for (auto _ : state) {
+    model.rollback(); // the same iteration each time: from the undeformed state
+    Timer t;
+    model.evaluate(1.0, true);
+    double inc = 0.0;
+    const LinearSolveStats s = model.correct(1.0, inc);
+    model.evaluate(1.0, false);
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+    linear = s.iterations;
+  }
+  state.counters["DOF/s"] =
+      benchmark::Counter(2.0 * mesh.numNodes(), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["DOF"] = 2.0 * mesh.numNodes();
+  state.counters["gmres_its"] = linear;
+}
+
+} // namespace
+
+BENCHMARK(linearBaseline)
+    ->Name("KL/assembleCsr/baseline")
+    ->ArgsProduct({{4, 8}, {128, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(almansiAssembly)
+    ->Name("NL/displacement/residualAndTangent")
+    ->ArgsProduct({{4, 8}, {128, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(mixedAssembly)
+    ->Name("NL/mixed/residualAndJacobian")
+    ->ArgsProduct({{4, 8}, {128, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(newtonIteration)
+    ->Name("NL/displacement/newtonIteration")
+    ->ArgsProduct({{4, 8}, {128, 256}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }
