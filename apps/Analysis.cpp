@@ -65,6 +65,27 @@ std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   return s.str();
 }
 
+/// Writes a step, keeps its fields in the result and prints its progress line (with ETA).
+void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, StepFields &f,
+                std::ostream *log, int nsteps, std::chrono::steady_clock::time_point start) {
+  writer.writeStep(r, f);
+  result.steps.push_back(r);
+  result.displacement = std::move(f.displacement);
+  result.stress = std::move(f.stress);
+  if (!log)
+    return;
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double eta = elapsed / r.step * (nsteps - r.step);
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  residual "
+                "%.2e  %s  %.3f s  ETA %.1f s\n",
+                r.step, nsteps, r.loadFactor, r.iterations, r.cuts, r.linearIterations, r.residual,
+                r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
+  *log << line << std::flush;
+}
+
 /// The geometrically nonlinear analysis: load stepping with equilibrium iterations.
 RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm comm,
                        const std::vector<int> &elementMaterial,
@@ -134,21 +155,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       f.gaussInterpolatedStress =
           static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();
     r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count();
-    writer.writeStep(r, f);
-    result.steps.push_back(r);
-    result.displacement = std::move(f.displacement);
-    result.stress = std::move(f.stress);
-    if (log) {
-      const double elapsed = std::chrono::duration<double>(clock::now() - start).count();
-      const double eta = elapsed / (k + 1) * (nsteps - k - 1);
-      char line[256];
-      std::snprintf(line, sizeof line,
-                    "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  "
-                    "residual %.2e  %s  %.3f s  ETA %.1f s\n",
-                    k + 1, nsteps, lambda, r.iterations, r.cuts, r.linearIterations, r.residual,
-                    r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
-      *log << line << std::flush;
-    }
+    recordStep(writer, result, r, f, log, nsteps, start);
     if (!o.converged) {
       result.converged = false;
       writer.finish(false, "step " + std::to_string(k + 1) + ": " + o.message +
@@ -243,21 +250,9 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =
         std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
-    writer.writeStep(r, f);
-    result.steps.push_back(r);
-    result.displacement = std::move(f.displacement);
-    result.stress = std::move(f.stress);
-
+    recordStep(writer, result, r, f, log, nsteps, start);
     if (log) {
-      const double elapsed = std::chrono::duration<double>(clock::now() - start).count();
-      const double eta = elapsed / (k + 1) * (nsteps - k - 1);
       char line[256];
-      std::snprintf(line, sizeof line,
-                    "step %d/%d  load factor %.4g  iterations %d  linear its %d  rel. residual "
-                    "%.2e  %s  %.3f s  ETA %.1f s\n",
-                    k + 1, nsteps, lambda, r.iterations, r.linearIterations, r.residual,
-                    r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
-      *log << line;
       if (mixed) {
         const auto &m = static_cast<const MixedModel &>(model);
         if (m.innerIterations() > 0 && m.operatorApplications() > 0) {

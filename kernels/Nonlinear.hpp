@@ -66,6 +66,49 @@ gatherCurrent(const MeshView<MemorySpace> &m, const Kokkos::View<const double *,
   }
 }
 
+/// Kinematics and Almansi-law stress at quadrature point q of an element with current nodal
+/// coordinates xe and displacements ue: shape functions, gradients g on the current
+/// configuration, h = du/dx, Almansi strain es and C es; returns the integration weight da
+/// (thickness times w det); `valid` is cleared for a non-positive Jacobian.
+template <class Elem>
+KOKKOS_INLINE_FUNCTION double
+almansiPoint(int q, const double (&xe)[Elem::kNumNodes][2], const double (&ue)[Elem::kNumNodes][2],
+             const PlaneMatrix &c, double thickness, double (&sh)[Elem::kNumNodes],
+             double (&g)[Elem::kNumNodes][2], double (&h)[2][2], double (&es)[2][2],
+             double (&s)[2][2], bool &valid) {
+  double xi, eta, w, dn[Elem::kNumNodes][2];
+  Elem::quadraturePoint(q, xi, eta, w);
+  Elem::shape(xi, eta, sh, dn);
+  const double det = physicalGradients<Elem>(xe, dn, g);
+  if (!(det > 0.0))
+    valid = false;
+  nodalGradient<Elem::kNumNodes>(ue, g, h);
+  almansiStrain(h, es);
+  stressFromStrainTensor(c, es, s);
+  return thickness * w * det;
+}
+
+/// Variation of the Almansi strain for the perturbation delta u_b = unit vector m
+/// (dl[k][l] = delta_km g_bl): de = sym(dl) - (dl^T e + e dl).
+KOKKOS_INLINE_FUNCTION void almansiVariation(const double (&gb)[2], int m, const double (&es)[2][2],
+                                             double (&de)[2][2]) {
+  for (int k = 0; k < 2; ++k)
+    for (int l = 0; l < 2; ++l)
+      de[k][l] = 0.5 * ((k == m ? gb[l] : 0.0) + (l == m ? gb[k] : 0.0)) - gb[k] * es[m][l] -
+                 es[k][m] * gb[l];
+}
+
+/// Zeroes an element residual and, when `Tangent`, its matrix.
+template <bool Tangent, int N>
+KOKKOS_INLINE_FUNCTION void zeroElement(double (&fe)[N], double (&ke)[N][N]) {
+  for (int i = 0; i < N; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < N; ++j)
+        ke[i][j] = 0.0;
+  }
+}
+
 } // namespace detail
 
 /// Displacement model, element e: internal force fe = t int B^T sigma da on the current
@@ -81,23 +124,10 @@ KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
   detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
   const PlaneMatrix c = d.stiffness(d.material(e));
   bool valid = true;
-  for (int i = 0; i < 2 * n; ++i) {
-    fe[i] = 0.0;
-    if (Tangent)
-      for (int j = 0; j < 2 * n; ++j)
-        ke[i][j] = 0.0;
-  }
+  detail::zeroElement<Tangent>(fe, ke);
   for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn);
-    const double det = physicalGradients<Elem>(xe, dn, g);
-    if (!(det > 0.0))
-      valid = false;
-    const double jw = d.thickness * w * det;
-    detail::nodalGradient<n>(ue, g, h);
-    detail::almansiStrain(h, es);
-    detail::stressFromStrainTensor(c, es, s);
+    double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
+    const double jw = detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 2; ++i)
         fe[2 * a + i] += jw * (s[i][0] * g[a][0] + s[i][1] * g[a][1]);
@@ -105,13 +135,9 @@ KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
       continue;
     for (int b = 0; b < n; ++b)
       for (int m = 0; m < 2; ++m) {
-        // Perturbation delta u_b = unit vector m: dl[k][l] = delta_km g_bl, and
-        // de = sym(dl) - (dl^T e + e dl), dsigma = C : de.
+        // Perturbation delta u_b = unit vector m; dsigma = C : de.
         double de[2][2], ds[2][2];
-        for (int k = 0; k < 2; ++k)
-          for (int l = 0; l < 2; ++l)
-            de[k][l] = 0.5 * ((k == m ? g[b][l] : 0.0) + (l == m ? g[b][k] : 0.0)) -
-                       g[b][k] * es[m][l] - es[k][m] * g[b][l];
+        detail::almansiVariation(g[b], m, es, de);
         detail::stressFromStrainTensor(c, de, ds);
         for (int a = 0; a < n; ++a)
           for (int i = 0; i < 2; ++i) {
@@ -163,14 +189,10 @@ void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpac
         double xe[n][2], ue[n][2];
         detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
         const PlaneMatrix c = d.stiffness(d.material(e));
+        bool valid = true;
         for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
-          Elem::quadraturePoint(q, xi, eta, w);
-          Elem::shape(xi, eta, sh, dn);
-          physicalGradients<Elem>(xe, dn, g);
-          detail::nodalGradient<n>(ue, g, h);
-          detail::almansiStrain(h, es);
-          detail::stressFromStrainTensor(c, es, s);
+          double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
+          detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
           stress(e, q, 0) = s[0][0];
           stress(e, q, 1) = s[1][1];
           stress(e, q, 2) = s[0][1];
@@ -269,12 +291,7 @@ KOKKOS_INLINE_FUNCTION bool mixedIncrementElement(
   const PlaneMatrix cm = d.stiffness(d.material(e));
   const double b1 = 1.0 - a;
   bool valid = true;
-  for (int i = 0; i < 5 * n; ++i) {
-    ge[i] = 0.0;
-    if (Tangent)
-      for (int j = 0; j < 5 * n; ++j)
-        ke[i][j] = 0.0;
-  }
+  detail::zeroElement<Tangent>(ge, ke);
   for (int q = 0; q < Elem::kNumQp; ++q) {
     double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
     Elem::quadraturePoint(q, xi, eta, w);
@@ -385,23 +402,11 @@ mixedCurrentElement(const MixedElementData<MemorySpace> &d,
   const PlaneMatrix cm = d.stiffness(d.material(e));
   const double b1 = 1.0 - a;
   bool valid = true;
-  for (int i = 0; i < 5 * n; ++i) {
-    ge[i] = 0.0;
-    if (Tangent)
-      for (int j = 0; j < 5 * n; ++j)
-        ke[i][j] = 0.0;
-  }
+  detail::zeroElement<Tangent>(ge, ke);
   for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], sa[2][2];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn);
-    const double det = physicalGradients<Elem>(xe, dn, g);
-    if (!(det > 0.0))
-      valid = false;
-    const double jw = d.thickness * w * det;
-    detail::nodalGradient<n>(ue, g, h);
-    detail::almansiStrain(h, es);
-    detail::stressFromStrainTensor(cm, es, sa); // C e, the stabilization's stress
+    double sh[n], g[n][2], h[2][2], es[2][2], sa[2][2]; // sa = C e, the stabilization's stress
+    const double jw =
+        detail::almansiPoint<Elem>(q, xe, ue, cm, d.thickness, sh, g, h, es, sa, valid);
     double tv[3] = {};
     for (int p = 0; p < n; ++p)
       for (int c = 0; c < 3; ++c)
@@ -425,13 +430,9 @@ mixedCurrentElement(const MixedElementData<MemorySpace> &d,
       continue;
     for (int b = 0; b < n; ++b)
       for (int m = 0; m < 2; ++m) {
-        // Perturbation delta u_b = unit vector m: dl[k][l] = delta_km g_bl, d(da) = da g_bm,
-        // d g_aj = -g_am g_bj, de = sym(dl) - (dl^T e + e dl).
+        // Perturbation delta u_b = unit vector m: d(da) = da g_bm, d g_aj = -g_am g_bj.
         double de[2][2], ds[2][2];
-        for (int k = 0; k < 2; ++k)
-          for (int l = 0; l < 2; ++l)
-            de[k][l] = 0.5 * ((k == m ? g[b][l] : 0.0) + (l == m ? g[b][k] : 0.0)) -
-                       g[b][k] * es[m][l] - es[k][m] * g[b][l];
+        detail::almansiVariation(g[b], m, es, de);
         detail::stressFromStrainTensor(cm, de, ds);
         const double dev[3] = {de[0][0], de[1][1], 2.0 * de[0][1]};
         for (int p = 0; p < n; ++p) {

@@ -68,6 +68,18 @@ inline Eigen::VectorXd toEigen(const Kokkos::View<double *, Memory> &d) {
   return Eigen::Map<const Eigen::VectorXd>(h.data(), h.extent(0));
 }
 
+/// Dense host copy of a CSR matrix.
+inline Eigen::MatrixXd toDense(const CsrMatrix<Memory> &a) {
+  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(a.numRows, a.numColumns);
+  for (LocalIndex i = 0; i < a.numRows; ++i)
+    for (Offset k = ro(i); k < ro(i + 1); ++k)
+      d(i, co(k)) += va(k);
+  return d;
+}
+
 inline double relativeError(const Eigen::MatrixXd &a, const Eigen::MatrixXd &b) {
   return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }

@@ -170,13 +170,7 @@ TEST_P(MixedKernelTest, AssembledStabilizedLumpedSchurMatchesDenseProduct) {
   });
   const Eigen::MatrixXd expected =
       (1.0 - a) * ref.k12 * ref.ml.inverse() * ref.k12.transpose() + a * ref.kd;
-  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.rowOffsets);
-  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.columns);
-  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.values);
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(s.numRows, s.numRows);
-  for (LocalIndex i = 0; i < s.numRows; ++i)
-    for (Offset k = ro(i); k < ro(i + 1); ++k)
-      dense(i, co(k)) += va(k);
+  const Eigen::MatrixXd dense = toDense(s);
   EXPECT_LT(relativeError(dense, expected), 1e-11);
   // The pattern holds every nonzero of the product (nothing was dropped).
   EXPECT_LT((expected - dense).cwiseAbs().maxCoeff(), 1e-11 * expected.cwiseAbs().maxCoeff());

@@ -20,17 +20,6 @@ using namespace mixcon::test;
 
 namespace {
 
-Eigen::MatrixXd dense(const CsrMatrix<Memory> &a) {
-  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
-  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
-  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
-  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(a.numRows, a.numColumns);
-  for (LocalIndex i = 0; i < a.numRows; ++i)
-    for (Offset k = ro(i); k < ro(i + 1); ++k)
-      d(i, co(k)) += va(k);
-  return d;
-}
-
 Eigen::VectorXd hostVector(const Kokkos::View<const double *, Memory> &v) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
   return Eigen::Map<const Eigen::VectorXd>(h.data(), h.extent(0));
@@ -225,7 +214,7 @@ TEST_P(NonlinearModels, DisplacementTangentIsFiniteDifferenceOfResidual) {
   }
   model.setDisplacement(toStd(u));
   model.evaluate(1.0, true);
-  const Eigen::MatrixXd k = dense(model.tangent());
+  const Eigen::MatrixXd k = toDense(model.tangent());
   Eigen::MatrixXd fd(k.rows(), k.cols());
   const double h = 1e-6;
   for (int j = 0; j < u.size(); ++j) {
@@ -300,7 +289,7 @@ TEST_P(NonlinearModels, MixedJacobianIsFiniteDifferenceOfResidual) {
         model.setPrestress(toStd(3e3 * randomVector(3 * nn, 8)));
       model.setIncrement(toStd(x));
       model.evaluate(1.0, true);
-      const Eigen::MatrixXd k = dense(model.tangent());
+      const Eigen::MatrixXd k = toDense(model.tangent());
       Eigen::MatrixXd fd(k.rows(), k.cols());
       for (int j = 0; j < x.size(); ++j) {
         const double h = 1e-5 * scale(j);
