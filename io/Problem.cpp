@@ -539,10 +539,6 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     if (s.has("type")) {
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
                                                                       : LinearSolverType::Amg;
-      if (p.solver.type == LinearSolverType::Amg && nonlinearMixed)
-        s["type"].fail("the geometrically nonlinear mixed model solves with type: direct only "
-                       "(its displacement-dependent coupling K12(u) is not yet in the Schur/AMG "
-                       "path)");
     }
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();

@@ -7,6 +7,7 @@
 
 #include <kernels/Nonlinear.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -342,10 +343,6 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
 NonlinearMixedModel::~NonlinearMixedModel() = default;
 
 void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
-  if (options.type != LinearSolverType::Direct)
-    throw InputError("the geometrically nonlinear mixed model solves its increments with "
-                     "solver: direct only (the Schur/AMG path does not yet take the "
-                     "displacement-dependent coupling K12(u)); set solver: {type: direct}");
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 5);
@@ -370,15 +367,29 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   committedState_ = Vec("mixcon::nonlinear::committedState", 5 * nn);
   Kokkos::deep_copy(committedState_, x_);
   linearOptions_ = options;
-  linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
-  solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
+  if (options.type == LinearSolverType::Direct) {
+    linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
+    solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
+  } else {
+    // Schur complement on the displacements, BoomerAMG on K^L of the current configuration.
+    precMatrix_ = expandGraph<Memory>(graph_, 2);
+    precDiag_ = Vec("mixcon::nonlinear::precDiagonal", 2 * nn);
+    LinearSolverOptions amg = options;
+    amg.symmetric = true;
+    solver_ = makeLinearSolver(amg, dofs_, comm);
+  }
   assemblySeconds_ = seconds(start);
 }
 
 std::string NonlinearMixedModel::solverName() const {
   std::ostringstream o;
   o << "mixed " << (form_ == MixedForm::Current ? "current-configuration" : "incremental")
-    << " form, a = " << stabilization_ << ", " << (solver_ ? solver_->name() : std::string("none"));
+    << " form, a = " << stabilization_ << ", ";
+  if (linearOptions_.type == LinearSolverType::Direct)
+    o << (solver_ ? solver_->name() : std::string("none"));
+  else
+    o << "flexible GMRES on the Schur complement (inner Jacobi-CG on the stress block), one "
+         "BoomerAMG V-cycle on K^L of the current configuration";
   return o.str();
 }
 
@@ -453,8 +464,10 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
         const LocalIndex j = 2 * (i / 5) + i % 5; // displacement dof when i % 5 < 2
         t(i) = flags(i) ? lambda * p(j) - u(j) : 0.0;
       });
-  const LinearSolveStats s = constrainedSolve(tangent_, fresh_, work_, flags, g_, target_, rhs_,
-                                              diag_, *solver_, dx_, solverSetupSeconds_);
+  const LinearSolveStats s = linearOptions_.type == LinearSolverType::Direct
+                                 ? constrainedSolve(tangent_, fresh_, work_, flags, g_, target_,
+                                                    rhs_, diag_, *solver_, dx_, solverSetupSeconds_)
+                                 : solveSchur();
   fresh_ = false;
   auto x = x_;
   auto dx = dx_;
@@ -473,6 +486,178 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
   const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(total, 5, 2, 3, {}, 0));
   increment = std::max(du, ds);
+  return s;
+}
+
+void NonlinearMixedModel::setupSchurPreconditioner() {
+  // K^L on the current configuration (c1 + increment, or X + total displacement), constrained;
+  // one BoomerAMG V-cycle on it preconditions the Schur complement.
+  const auto start = std::chrono::steady_clock::now();
+  const bool current = form_ == MixedForm::Current;
+  ElementData<Memory> d = current ? static_cast<ElementData<Memory>>(reference_)
+                                  : static_cast<ElementData<Memory>>(current_);
+  const auto base = d.mesh.coordinates;
+  d.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
+  auto xc = d.mesh.coordinates;
+  auto x = x_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::precCoordinates", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          xc(k, i) = base(k, i) + x(5 * k + i);
+      });
+  Kokkos::deep_copy(precMatrix_.values, 0.0);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);
+  });
+  Vec zero("mixcon::nonlinear::zero", precDiag_.extent(0)),
+      scratch("mixcon::nonlinear::scratch", precDiag_.extent(0));
+  applyDirichlet(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                 ConstVec(zero), scratch);
+  constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                      precDiag_);
+  Exec().fence();
+  solver_->setup(precMatrix_);
+  solverSetupSeconds_ += seconds(start);
+}
+
+long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, double tolerance) {
+  // M z = w with M = -J_tau,tau (the tau rows of J applied to [0; z]), Jacobi-CG.
+  const LocalIndex nn = mesh_.numNodes();
+  Vec in5("mixcon::nonlinear::in5", 5 * nn), out5("mixcon::nonlinear::out5", 5 * nn),
+      diag("mixcon::nonlinear::massDiagonal", 3 * nn);
+  auto j = tangent_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::stressDiagonal", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex row = 5 * (i / 3) + 2 + i % 3;
+        for (Offset k = j.rowOffsets(row); k < j.rowOffsets(row + 1); ++k)
+          if (j.columns(k) == row)
+            diag(i) = -j.values(k);
+      });
+  const LinearMap apply = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::embedStress", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? 0.0 : a(3 * (i / 5) + i % 5 - 2); });
+    multiply(Exec(), tangent_, ConstVec(in5), out5);
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::extractStress", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { y(i) = -out5(5 * (i / 3) + 2 + i % 3); });
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::stressJacobi", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { y(i) = a(i) / diag(i); });
+  };
+  KrylovOptions o;
+  o.tolerance = tolerance;
+  o.maxIterations = 2000;
+  Kokkos::deep_copy(z, 0.0);
+  const KrylovStats st = krylovSolve(o, apply, jacobi, w, z);
+  if (!st.converged)
+    throw std::runtime_error("nonlinear mixed model: the CG on the stress block did not converge "
+                             "(relative residual " +
+                             std::to_string(st.relativeResidual) + ")");
+  return st.iterations;
+}
+
+LinearSolveStats NonlinearMixedModel::solveSchur() {
+  // J [du; dtau] = -G with J = [A B; C -M]: dtau = M^-1 (C du + G_S) and
+  // (A + B M^-1 C) du = -G_u - B M^-1 G_S, prescribed du applied as P S P + D_c.
+  const auto start = std::chrono::steady_clock::now();
+  if (fresh_)
+    setupSchurPreconditioner();
+  const LocalIndex nn = mesh_.numNodes();
+  Vec in5("mixcon::nonlinear::in5", 5 * nn), out5("mixcon::nonlinear::out5", 5 * nn),
+      w("mixcon::nonlinear::w", 3 * nn), z("mixcon::nonlinear::z", 3 * nn),
+      masked("mixcon::nonlinear::masked", 2 * nn);
+  const auto flags = Kokkos::View<const int *, Memory>(isConstrained_);
+  // Inner solves two orders tighter than the outer tolerance, so the outer Krylov sees a fixed
+  // operator to its own accuracy.
+  const double innerTol = std::clamp(1e-2 * linearOptions_.tolerance, 1e-14, 1e-10);
+  long inner = 0;
+  // y = (A + B M^-1 C) v for a displacement vector v (2 per node).
+  const auto schur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::embedU", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? v(2 * (i / 5) + i % 5) : 0.0; });
+    multiply(Exec(), tangent_, ConstVec(in5), out5); // tau rows: C v
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::takeTau", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { w(i) = out5(5 * (i / 3) + 2 + i % 3); });
+    inner += solveStressBlock(w, z, innerTol);
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::embedUZ", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) {
+          in5(i) = i % 5 < 2 ? v(2 * (i / 5) + i % 5) : z(3 * (i / 5) + i % 5 - 2);
+        });
+    multiply(Exec(), tangent_, ConstVec(in5), out5); // u rows: A v + B z
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::takeU", Kokkos::RangePolicy<Exec>(0, 2 * nn),
+        KOKKOS_LAMBDA(LocalIndex i) { y(i) = out5(5 * (i / 2) + i % 2); });
+  };
+  const LinearMap constrainedSchur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    maskConstrained(Exec(), flags, v, masked);
+    schur(ConstVec(masked), y);
+    finishConstrained(Exec(), flags, ConstVec(precDiag_), v, y);
+  };
+  const LinearMap amg = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    solver_->precondition(r, y);
+  };
+  // Right-hand side: f = -G_u - B M^-1 G_S, then b = P (f - S g) + D_c g.
+  auto g5 = g_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::gs", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) { w(i) = g5(5 * (i / 3) + 2 + i % 3); });
+  Vec mgs("mixcon::nonlinear::mgs", 3 * nn);
+  inner += solveStressBlock(w, mgs, innerTol);
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::embedMgs", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? 0.0 : mgs(3 * (i / 5) + i % 5 - 2); });
+  multiply(Exec(), tangent_, ConstVec(in5), out5);
+  Vec f("mixcon::nonlinear::schurRhs", 2 * nn), gc("mixcon::nonlinear::prescribedStep", 2 * nn),
+      sg("mixcon::nonlinear::schurG", 2 * nn), b("mixcon::nonlinear::schurB", 2 * nn),
+      du("mixcon::nonlinear::du", 2 * nn);
+  auto t5 = target_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::schurRhs", Kokkos::RangePolicy<Exec>(0, 2 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = 5 * (i / 2) + i % 2;
+        f(i) = -g5(r) - out5(r);
+        gc(i) = t5(r);
+      });
+  schur(ConstVec(gc), sg);
+  constrainedRhs(Exec(), flags, ConstVec(precDiag_), ConstVec(f), ConstVec(gc), ConstVec(sg), b);
+  KrylovOptions ko;
+  ko.method = KrylovMethod::Gmres;
+  ko.tolerance = linearOptions_.tolerance;
+  ko.maxIterations = linearOptions_.maxIterations;
+  const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
+  // dtau = M^-1 (C du + G_S).
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::embedDu", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? du(2 * (i / 5) + i % 5) : 0.0; });
+  multiply(Exec(), tangent_, ConstVec(in5), out5);
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::cduPlusGs", Kokkos::RangePolicy<Exec>(0, 3 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = 5 * (i / 3) + 2 + i % 3;
+        w(i) = out5(r) + g5(r);
+      });
+  inner += solveStressBlock(w, z, innerTol);
+  auto dx = dx_;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::assembleCorrection", Kokkos::RangePolicy<Exec>(0, 5 * nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        dx(i) = i % 5 < 2 ? du(2 * (i / 5) + i % 5) : z(3 * (i / 5) + i % 5 - 2);
+      });
+  innerIterations_ = inner;
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.solveSeconds = seconds(start);
   return s;
 }
 

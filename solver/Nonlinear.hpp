@@ -162,9 +162,13 @@ public:
                       const std::vector<PlaneMatrix> &stiffness, double thickness);
   ~NonlinearMixedModel() override;
 
-  /// Only solver: direct is available (the saddle point with K12(u) is not yet in the Schur/AMG
-  /// path); throws InputError otherwise.
+  /// solver: direct — sparse LU of the 5-per-node Jacobian; amg — flexible GMRES on the Schur
+  /// complement A + B M^-1 C on the displacements (matrix-free through the assembled Jacobian,
+  /// inner Jacobi-CG on the stress block M), preconditioned by one BoomerAMG V-cycle on K^L of
+  /// the current configuration.
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  /// Inner CG iterations on the stress block in the last correction (solver: amg).
+  long innerIterations() const { return innerIterations_; }
   double evaluate(double lambda, bool tangent) override;
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
@@ -197,6 +201,14 @@ private:
   Kokkos::View<double *, Memory> stressOnly() const;
   /// tau <- M(c2)^-1 load, component by component (the L2 projection of the stress update).
   void projectStress(const Kokkos::View<double *, Memory> &load);
+  void setupSchurPreconditioner();
+  LinearSolveStats solveSchur();
+  /// z = M^-1 w on the stress block of the Jacobian; returns the CG iterations.
+  long solveStressBlock(const Kokkos::View<const double *, Memory> &w,
+                        const Kokkos::View<double *, Memory> &z, double tolerance);
+  CsrMatrix<Memory> precMatrix_;
+  Kokkos::View<double *, Memory> precDiag_;
+  long innerIterations_ = 0;
   MixedElementData<Memory> reference_; ///< reference geometry (form Current)
   MixedElementData<Memory> current_;   ///< c1: last converged configuration (form Incremental)
   MixedForm form_ = MixedForm::Current;
