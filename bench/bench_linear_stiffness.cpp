@@ -14,7 +14,8 @@
 using namespace mixcon;
 using Memory = Kokkos::DefaultExecutionSpace::memory_space;
 
-namespace {
+// Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
+namespace linear_stiffness_bench {
 
 struct Setup {
   Mesh mesh;
@@ -113,7 +114,8 @@ void streamTriad(benchmark::State &state) {
       benchmark::Counter(24.0 * n / 1e9, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-} // namespace
+} // namespace linear_stiffness_bench
+using namespace linear_stiffness_bench;
 
 BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace>)
     ->Name("KL/elementMatrices/threads")

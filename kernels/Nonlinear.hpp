@@ -211,6 +211,28 @@ void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpac
       });
 }
 
+/// Nodal stresses s (3 per node) interpolated with the shape functions at every quadrature point:
+/// out(e, q, 0..2).
+template <class Elem, class ExecSpace, class MemorySpace>
+void interpolateNodalStress(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                            const Kokkos::View<const double *, MemorySpace> &s,
+                            const Kokkos::View<double **[3], MemorySpace> &out) {
+  const NodalStressField<MemorySpace> field{mesh, s};
+  Kokkos::parallel_for(
+      "mixcon::kernels::interpolateNodalStress",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double xi, eta, w, sh[Elem::kNumNodes], dn[Elem::kNumNodes][2], t[3];
+          Elem::quadraturePoint(q, xi, eta, w);
+          Elem::shape(xi, eta, sh, dn);
+          field(e, q, sh, t);
+          for (int c = 0; c < 3; ++c)
+            out(e, q, c) = t[c];
+        }
+      });
+}
+
 /// Adds an element matrix with `Ndof` interleaved unknowns per node into `a` (pattern from
 /// expandGraph(graph, Ndof)) through the scatter map of the graph.
 template <int Ndof, class Elem, class MemorySpace, class Map>

@@ -56,7 +56,8 @@ void Mesh::finalizeIds() {
   }
 }
 
-namespace {
+// Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
+namespace mesh_detail {
 template <class Elem> Kokkos::MinLoc<double, LocalIndex>::value_type minJacobian(const Mesh &mesh) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const auto dev = toDevice<Exec::memory_space>(mesh);
@@ -90,7 +91,8 @@ template <class Elem> Kokkos::MinLoc<double, LocalIndex>::value_type minJacobian
       Reducer(result));
   return result;
 }
-} // namespace
+} // namespace mesh_detail
+using namespace mesh_detail;
 
 void validateMesh(const Mesh &mesh) {
   if (mesh.numElements() == 0)

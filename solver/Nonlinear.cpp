@@ -17,7 +17,8 @@
 
 namespace mixcon {
 
-namespace {
+// Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
+namespace nonlinear_detail {
 
 using Exec = Kokkos::DefaultExecutionSpace;
 using Memory = DeviceSpace;
@@ -61,6 +62,77 @@ void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVe
       KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / 2) + i % 2) += alpha * x(i); });
 }
 
+/// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
+/// field out of an interleaved vector, e.g. the stresses out of 5 unknowns per node).
+void gather(const ConstVec &src, int stride, int offset, int width, const Vec &dst,
+            double scale = 1.0) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::gather", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        dst(i) = scale * src(stride * (i / width) + offset + i % width);
+      });
+}
+
+/// dst(stride k + offset + c) = src(width k + c); other entries of dst set to zero when
+/// `zeroRest` (the inverse of gather).
+template <class T>
+void scatter(const Kokkos::View<const T *, Memory> &src, int stride, int offset, int width,
+             const Kokkos::View<T *, Memory> &dst, bool zeroRest) {
+  if (zeroRest)
+    Kokkos::deep_copy(dst, T(0));
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::scatter", Kokkos::RangePolicy<Exec>(0, src.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { dst(stride * (i / width) + offset + i % width) = src(i); });
+}
+
+/// dst(i) = sign a(r, r), r = stride (i / width) + offset + i % width: diagonal entries of the
+/// rows of one field of an interleaved CSR matrix.
+void fieldDiagonal(const CsrMatrix<Memory> &a, int stride, int offset, int width, const Vec &dst,
+                   double sign) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::fieldDiagonal", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = stride * (i / width) + offset + i % width;
+        for (Offset k = ro(r); k < ro(r + 1); ++k)
+          if (co(k) == r)
+            dst(i) = sign * va(k);
+      });
+}
+
+/// y = x / d, entry by entry (Jacobi).
+void divide(const ConstVec &x, const ConstVec &d, const Vec &y) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::divide", Kokkos::RangePolicy<Exec>(0, y.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { y(i) = x(i) / d(i); });
+}
+
+/// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
+/// unknowns of x (out may be base).
+void movedCoordinates(const Kokkos::View<double *[2], Memory> &base, const ConstVec &x, int stride,
+                      const Kokkos::View<double *[2], Memory> &out) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::movedCoordinates", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          out(k, i) = base(k, i) + x(stride * k + i);
+      });
+}
+
+/// The remaining prescribed change of every constrained unknown: t(stride k + c) =
+/// lambda g(2 k + c) - u(2 k + c) where flags(stride k + c) != 0 (c < 2), 0 elsewhere.
+void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
+                    const ConstVec &u, double lambda, int stride, const Vec &t) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::prescribedStep", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex j = 2 * (i / stride) + i % stride; // displacement dof when i % stride < 2
+        t(i) = flags(i) ? lambda * g(j) - u(j) : 0.0;
+      });
+}
+
 /// Solves the constrained tangent for the correction: rhs = -g on free rows; prescribed rows
 /// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained
 /// and handed to the solver; a reused one (modified Newton) keeps its factorization.
@@ -69,9 +141,7 @@ LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
                                   const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
                                   const ConstVec &target, const Vec &rhs, const Vec &diag,
                                   LinearSolver &solver, const Vec &dx, double &setupSeconds) {
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::rhs", Kokkos::RangePolicy<Exec>(0, g.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { rhs(i) = -g(i); });
+  axpby(-1.0, g, 0.0, rhs);
   if (fresh) {
     const auto start = std::chrono::steady_clock::now();
     if (work.numRows == 0)
@@ -94,7 +164,8 @@ LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
   return solver.solve(rhs, dx);
 }
 
-} // namespace
+} // namespace nonlinear_detail
+using namespace nonlinear_detail;
 
 const char *iterationMethodName(IterationMethod m) {
   switch (m) {
@@ -268,15 +339,7 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
   ElementData<Memory> current = data_;
   current.mesh.coordinates =
       Kokkos::View<double *[2], Memory>("mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
-  auto xc = current.mesh.coordinates;
-  auto x0 = data_.mesh.coordinates;
-  auto u = u_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::currentCoordinates", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex k) {
-        for (int i = 0; i < 2; ++i)
-          xc(k, i) = x0(k, i) + u(2 * k + i);
-      });
+  movedCoordinates(data_.mesh.coordinates, u_, 2, current.mesh.coordinates);
   const LocalIndex ne = mesh_.numElements();
   Kokkos::View<double **[3], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
   Kokkos::View<double **[4], Memory> grad("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
@@ -289,20 +352,12 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
 }
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
-  auto u = u_;
-  auto flags = isConstrained_;
-  auto p = prescribed_;
-  auto t = target_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::target", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { t(i) = flags(i) ? lambda * p(i) - u(i) : 0.0; });
-  const LinearSolveStats s = constrainedSolve(tangent_, fresh_, constrained_, flags, g_, target_,
-                                              rhs_, diag_, *solver_, du_, solverSetupSeconds_);
+  prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_);
+  const LinearSolveStats s =
+      constrainedSolve(tangent_, fresh_, constrained_, isConstrained_, g_, target_, rhs_, diag_,
+                       *solver_, du_, solverSetupSeconds_);
   fresh_ = false;
-  auto du = du_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::update", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { u(i) += du(i); });
+  axpby(1.0, du_, 1.0, u_);
   increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
   return s;
 }
@@ -358,11 +413,7 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   diag_ = Vec("mixcon::nonlinear::diagonal", 5 * nn);
   work_ = CsrMatrix<Memory>{};
   constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", 5 * nn);
-  auto c2 = isConstrained_;
-  auto c5 = constrained5_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::constrained5", Kokkos::RangePolicy<Exec>(0, c2.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { c5(5 * (i / 2) + i % 2) = c2(i); });
+  scatter<int>(isConstrained_, 5, 0, 2, constrained5_, true);
   Kokkos::deep_copy(committed_, u_);
   committedState_ = Vec("mixcon::nonlinear::committedState", 5 * nn);
   Kokkos::deep_copy(committedState_, x_);
@@ -409,15 +460,9 @@ void NonlinearMixedModel::setIncrement(const std::vector<double> &x) {
 }
 
 void NonlinearMixedModel::updateTotalDisplacement() {
-  auto u = u_;
-  auto c = committed_;
-  auto x = x_;
-  const bool haveCommitted = form_ == MixedForm::Incremental && c.extent(0) == u.extent(0);
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::totalDisplacement", Kokkos::RangePolicy<Exec>(0, u.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        u(i) = (haveCommitted ? c(i) : 0.0) + x(5 * (i / 2) + i % 2);
-      });
+  gather(x_, 5, 0, 2, u_);
+  if (form_ == MixedForm::Incremental && committed_.extent(0) == u_.extent(0))
+    axpby(1.0, committed_, 1.0, u_);
 }
 
 double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
@@ -454,37 +499,18 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
 }
 
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
-  auto u = u_;
-  auto flags = constrained5_;
-  auto p = prescribed_;
-  auto t = target_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::target", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex j = 2 * (i / 5) + i % 5; // displacement dof when i % 5 < 2
-        t(i) = flags(i) ? lambda * p(j) - u(j) : 0.0;
-      });
-  const LinearSolveStats s = linearOptions_.type == LinearSolverType::Direct
-                                 ? constrainedSolve(tangent_, fresh_, work_, flags, g_, target_,
-                                                    rhs_, diag_, *solver_, dx_, solverSetupSeconds_)
-                                 : solveSchur();
+  prescribedStep(constrained5_, prescribed_, u_, lambda, 5, target_);
+  const LinearSolveStats s =
+      linearOptions_.type == LinearSolverType::Direct
+          ? constrainedSolve(tangent_, fresh_, work_, constrained5_, g_, target_, rhs_, diag_,
+                             *solver_, dx_, solverSetupSeconds_)
+          : solveSchur();
   fresh_ = false;
-  auto x = x_;
-  auto dx = dx_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::update", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { x(i) += dx(i); });
+  axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();
-  // Total stress tau + S for the stress part of the increment norm.
-  Vec total("mixcon::nonlinear::totalStress", x_.extent(0));
-  auto tau = tau_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::totalStress", Kokkos::RangePolicy<Exec>(0, tau.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        total(5 * (i / 3) + 2 + i % 3) = tau(i) + x(5 * (i / 3) + 2 + i % 3);
-      });
   const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
-  const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(total, 5, 2, 3, {}, 0));
+  const double ds =
+      relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(stressOnly(), 1, 0, 1, {}, 0));
   increment = std::max(du, ds);
   return s;
 }
@@ -499,14 +525,7 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   const auto base = d.mesh.coordinates;
   d.mesh.coordinates =
       Kokkos::View<double *[2], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
-  auto xc = d.mesh.coordinates;
-  auto x = x_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::precCoordinates", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex k) {
-        for (int i = 0; i < 2; ++i)
-          xc(k, i) = base(k, i) + x(5 * k + i);
-      });
+  movedCoordinates(base, x_, 5, d.mesh.coordinates);
   Kokkos::deep_copy(precMatrix_.values, 0.0);
   dispatchElement(mesh_.elementType, [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);
@@ -527,28 +546,14 @@ long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, doub
   const LocalIndex nn = mesh_.numNodes();
   Vec in5("mixcon::nonlinear::in5", 5 * nn), out5("mixcon::nonlinear::out5", 5 * nn),
       diag("mixcon::nonlinear::massDiagonal", 3 * nn);
-  auto j = tangent_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::stressDiagonal", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex row = 5 * (i / 3) + 2 + i % 3;
-        for (Offset k = j.rowOffsets(row); k < j.rowOffsets(row + 1); ++k)
-          if (j.columns(k) == row)
-            diag(i) = -j.values(k);
-      });
+  fieldDiagonal(tangent_, 5, 2, 3, diag, -1.0);
   const LinearMap apply = [&](const ConstDeviceVector &a, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::embedStress", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? 0.0 : a(3 * (i / 5) + i % 5 - 2); });
+    scatter<double>(a, 5, 2, 3, in5, true);
     multiply(Exec(), tangent_, ConstVec(in5), out5);
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::extractStress", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { y(i) = -out5(5 * (i / 3) + 2 + i % 3); });
+    gather(out5, 5, 2, 3, y, -1.0);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::stressJacobi", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { y(i) = a(i) / diag(i); });
+    divide(a, diag, y);
   };
   KrylovOptions o;
   o.tolerance = tolerance;
@@ -579,23 +584,13 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   long inner = 0;
   // y = (A + B M^-1 C) v for a displacement vector v (2 per node).
   const auto schur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::embedU", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? v(2 * (i / 5) + i % 5) : 0.0; });
+    scatter<double>(v, 5, 0, 2, in5, true);
     multiply(Exec(), tangent_, ConstVec(in5), out5); // tau rows: C v
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::takeTau", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { w(i) = out5(5 * (i / 3) + 2 + i % 3); });
+    gather(out5, 5, 2, 3, w);
     inner += solveStressBlock(w, z, innerTol);
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::embedUZ", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) {
-          in5(i) = i % 5 < 2 ? v(2 * (i / 5) + i % 5) : z(3 * (i / 5) + i % 5 - 2);
-        });
+    scatter<double>(z, 5, 2, 3, in5, false);
     multiply(Exec(), tangent_, ConstVec(in5), out5); // u rows: A v + B z
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::takeU", Kokkos::RangePolicy<Exec>(0, 2 * nn),
-        KOKKOS_LAMBDA(LocalIndex i) { y(i) = out5(5 * (i / 2) + i % 2); });
+    gather(out5, 5, 0, 2, y);
   };
   const LinearMap constrainedSchur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
     maskConstrained(Exec(), flags, v, masked);
@@ -606,27 +601,17 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
     solver_->precondition(r, y);
   };
   // Right-hand side: f = -G_u - B M^-1 G_S, then b = P (f - S g) + D_c g.
-  auto g5 = g_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::gs", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) { w(i) = g5(5 * (i / 3) + 2 + i % 3); });
-  Vec mgs("mixcon::nonlinear::mgs", 3 * nn);
+  Vec mgs("mixcon::nonlinear::mgs", 3 * nn), f("mixcon::nonlinear::schurRhs", 2 * nn),
+      gc("mixcon::nonlinear::prescribedStep", 2 * nn), sg("mixcon::nonlinear::schurG", 2 * nn),
+      b("mixcon::nonlinear::schurB", 2 * nn), du("mixcon::nonlinear::du", 2 * nn);
+  gather(g_, 5, 2, 3, w);
   inner += solveStressBlock(w, mgs, innerTol);
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::embedMgs", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? 0.0 : mgs(3 * (i / 5) + i % 5 - 2); });
-  multiply(Exec(), tangent_, ConstVec(in5), out5);
-  Vec f("mixcon::nonlinear::schurRhs", 2 * nn), gc("mixcon::nonlinear::prescribedStep", 2 * nn),
-      sg("mixcon::nonlinear::schurG", 2 * nn), b("mixcon::nonlinear::schurB", 2 * nn),
-      du("mixcon::nonlinear::du", 2 * nn);
-  auto t5 = target_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::schurRhs", Kokkos::RangePolicy<Exec>(0, 2 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex r = 5 * (i / 2) + i % 2;
-        f(i) = -g5(r) - out5(r);
-        gc(i) = t5(r);
-      });
+  scatter<double>(mgs, 5, 2, 3, in5, true);
+  multiply(Exec(), tangent_, ConstVec(in5), out5); // u rows: B M^-1 G_S
+  gather(out5, 5, 0, 2, f, -1.0);
+  gather(g_, 5, 0, 2, sg);
+  axpby(-1.0, sg, 1.0, f);
+  gather(target_, 5, 0, 2, gc);
   schur(ConstVec(gc), sg);
   constrainedRhs(Exec(), flags, ConstVec(precDiag_), ConstVec(f), ConstVec(gc), ConstVec(sg), b);
   KrylovOptions ko;
@@ -635,23 +620,14 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   ko.maxIterations = linearOptions_.maxIterations;
   const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
   // dtau = M^-1 (C du + G_S).
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::embedDu", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) { in5(i) = i % 5 < 2 ? du(2 * (i / 5) + i % 5) : 0.0; });
+  scatter<double>(du, 5, 0, 2, in5, true);
   multiply(Exec(), tangent_, ConstVec(in5), out5);
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::cduPlusGs", Kokkos::RangePolicy<Exec>(0, 3 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex r = 5 * (i / 3) + 2 + i % 3;
-        w(i) = out5(r) + g5(r);
-      });
+  gather(out5, 5, 2, 3, w);
+  gather(g_, 5, 2, 3, mgs);
+  axpby(1.0, mgs, 1.0, w);
   inner += solveStressBlock(w, z, innerTol);
-  auto dx = dx_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::assembleCorrection", Kokkos::RangePolicy<Exec>(0, 5 * nn),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        dx(i) = i % 5 < 2 ? du(2 * (i / 5) + i % 5) : z(3 * (i / 5) + i % 5 - 2);
-      });
+  scatter<double>(du, 5, 0, 2, dx_, true);
+  scatter<double>(z, 5, 2, 3, dx_, false);
   innerIterations_ = inner;
   LinearSolveStats s;
   s.iterations = ks.iterations;
@@ -679,17 +655,10 @@ void NonlinearMixedModel::commit() {
       pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
     });
   }
-  auto xc = current_.mesh.coordinates;
-  auto x = x_;
-  auto c = committed_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::updateConfiguration", Kokkos::RangePolicy<Exec>(0, xc.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex k) {
-        for (int i = 0; i < 2; ++i) {
-          xc(k, i) += x(5 * k + i);
-          c(2 * k + i) += x(5 * k + i);
-        }
-      });
+  movedCoordinates(current_.mesh.coordinates, x_, 5, current_.mesh.coordinates);
+  Vec increment("mixcon::nonlinear::increment", committed_.extent(0));
+  gather(x_, 5, 0, 2, increment);
+  axpby(1.0, increment, 1.0, committed_);
   Kokkos::deep_copy(x_, 0.0);
   updateTotalDisplacement();
   if (stressUpdate_ == StressUpdate::Projected)
@@ -708,39 +677,23 @@ void NonlinearMixedModel::projectStress(const Vec &load) {
   const LocalIndex nn = mesh_.numNodes();
   Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
       t("mixcon::nonlinear::projected", nn);
-  auto m = mass_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::massDiagonal", Kokkos::RangePolicy<Exec>(0, nn),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        for (Offset k = m.rowOffsets(i); k < m.rowOffsets(i + 1); ++k)
-          if (m.columns(k) == i)
-            diag(i) = m.values(k);
-      });
+  fieldDiagonal(mass_, 1, 0, 1, diag, 1.0);
   const LinearMap apply = [&](const ConstDeviceVector &x, const DeviceVector &y) {
     multiply(Exec(), mass_, x, y);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &x, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::jacobi", Kokkos::RangePolicy<Exec>(0, nn),
-        KOKKOS_LAMBDA(LocalIndex i) { y(i) = x(i) / diag(i); });
+    divide(x, diag, y);
   };
   KrylovOptions o;
   o.tolerance = 1e-13;
   o.maxIterations = 500;
-  auto tau = tau_;
   for (int c = 0; c < 3; ++c) {
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::component", Kokkos::RangePolicy<Exec>(0, nn),
-        KOKKOS_LAMBDA(LocalIndex i) {
-          b(i) = load(3 * i + c);
-          t(i) = tau(3 * i + c);
-        });
+    gather(load, 3, c, 1, b);
+    gather(tau_, 3, c, 1, t); // the previous stress as the initial guess
     const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
     if (!s.converged)
       throw std::runtime_error("mixed stress update: the mass projection did not converge");
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::componentBack", Kokkos::RangePolicy<Exec>(0, nn),
-        KOKKOS_LAMBDA(LocalIndex i) { tau(3 * i + c) = t(i); });
+    scatter<double>(t, 3, c, 1, tau_, false);
   }
 }
 
@@ -765,11 +718,8 @@ std::vector<double> NonlinearMixedModel::reactionHost(double) const {
 
 Kokkos::View<double *, Memory> NonlinearMixedModel::stressOnly() const {
   Vec t("mixcon::nonlinear::nodalStress", tau_.extent(0));
-  auto tau = tau_;
-  auto x = x_;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::nodalStress", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { t(i) = tau(i) + x(5 * (i / 3) + 2 + i % 3); });
+  gather(x_, 5, 2, 3, t);
+  axpby(1.0, tau_, 1.0, t);
   return t;
 }
 
@@ -779,19 +729,7 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
     Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
-    const NodalStressField<Memory> field{current_.mesh, ConstVec(stressOnly())};
-    Kokkos::parallel_for(
-        "mixcon::nonlinear::interpolatedStress", Kokkos::RangePolicy<Exec>(0, ne),
-        KOKKOS_LAMBDA(LocalIndex e) {
-          for (int q = 0; q < Elem::kNumQp; ++q) {
-            double xi, eta, w, sh[Elem::kNumNodes], dn[Elem::kNumNodes][2], t[3];
-            Elem::quadraturePoint(q, xi, eta, w);
-            Elem::shape(xi, eta, sh, dn);
-            field(e, q, sh, t);
-            for (int c = 0; c < 3; ++c)
-              sq(e, q, c) = t[c];
-          }
-        });
+    interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
     auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
     out.assign(h.data(), h.data() + h.size());
   });

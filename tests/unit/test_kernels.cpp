@@ -13,7 +13,8 @@ using namespace mixcon;
 using namespace mixcon::test;
 using Exec = Kokkos::DefaultExecutionSpace;
 
-namespace {
+// Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
+namespace kernel_tests {
 
 /// Body force f = (x + 2y, 3 - x) at the quadrature points xq, on the device. A named function
 /// template, so that the device lambda is not defined inside a generic lambda (nvcc rejects that).
@@ -44,7 +45,8 @@ template <class Elem> auto kernelElementMatrices(const Fixture &f) {
   return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
 }
 
-} // namespace
+} // namespace kernel_tests
+using namespace kernel_tests;
 
 class KernelTest : public ::testing::TestWithParam<ElementType> {};
 INSTANTIATE_TEST_SUITE_P(Elements, KernelTest, test::bothElements(), test::elementName);
