@@ -13,11 +13,13 @@ using LocalIndex = int;
 
 namespace detail {
 #if KOKKOS_VERSION >= 30700
+using Kokkos::atan2;
 using Kokkos::cos;
 using Kokkos::fabs;
 using Kokkos::sin;
 using Kokkos::sqrt;
 #else
+using Kokkos::Experimental::atan2;
 using Kokkos::Experimental::cos;
 using Kokkos::Experimental::fabs;
 using Kokkos::Experimental::sin;

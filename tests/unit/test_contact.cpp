@@ -1,0 +1,171 @@
+// Rigid-obstacle geometry and detection (contact/RigidObstacle.hpp) against plain host formulas,
+// and the nodal local frames (solver/LocalFrames.hpp) against dense R^T A R, for 2 and 5 unknowns
+// per node.
+#include <contact/RigidObstacle.hpp>
+#include <solver/LocalFrames.hpp>
+#include <support/KernelFixture.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace mixcon;
+using namespace mixcon::test;
+using Exec = Kokkos::DefaultExecutionSpace;
+
+namespace contact_tests {
+
+RigidObstacle circle(double cx, double cy, double r) {
+  RigidObstacle o;
+  o.kind = ObstacleKind::Circle;
+  o.point[0] = cx;
+  o.point[1] = cy;
+  o.radius = r;
+  return o;
+}
+
+RigidObstacle halfPlane(double px, double py, double angle) {
+  RigidObstacle o;
+  o.kind = ObstacleKind::HalfPlane;
+  o.point[0] = px;
+  o.point[1] = py;
+  o.normal[0] = std::cos(angle);
+  o.normal[1] = std::sin(angle);
+  return o;
+}
+
+} // namespace contact_tests
+using namespace contact_tests;
+
+TEST(RigidObstacle, CircleProjection) {
+  const RigidObstacle pin = circle(0.3, -0.2, 0.49);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> d(-1.5, 1.5);
+  for (int k = 0; k < 200; ++k) {
+    const double x = d(rng), y = d(rng);
+    const ObstacleProjection p = projectOntoObstacle(pin, x, y);
+    const double r = std::hypot(x - 0.3, y + 0.2);
+    EXPECT_NEAR(p.gap, r - 0.49, 1e-14);
+    EXPECT_NEAR(std::hypot(p.closest[0] - 0.3, p.closest[1] + 0.2), 0.49, 1e-14);
+    // x = closest + gap n, n unit, t unit and orthogonal, counter-clockwise.
+    EXPECT_NEAR(p.closest[0] + p.gap * p.normal[0], x, 1e-13);
+    EXPECT_NEAR(p.closest[1] + p.gap * p.normal[1], y, 1e-13);
+    EXPECT_NEAR(std::hypot(p.normal[0], p.normal[1]), 1.0, 1e-14);
+    EXPECT_NEAR(p.normal[0] * p.tangent[0] + p.normal[1] * p.tangent[1], 0.0, 1e-14);
+    EXPECT_NEAR(p.normal[0] * p.tangent[1] - p.normal[1] * p.tangent[0], 1.0, 1e-14);
+    EXPECT_NEAR(p.angle, std::atan2(y + 0.2, x - 0.3), 1e-14);
+  }
+  const ObstacleProjection c = projectOntoObstacle(pin, 0.3, -0.2); // the centre itself
+  EXPECT_DOUBLE_EQ(c.gap, -0.49);
+  EXPECT_DOUBLE_EQ(c.normal[0], 1.0);
+}
+
+TEST(RigidObstacle, HalfPlaneProjection) {
+  const RigidObstacle plane = halfPlane(1.0, 2.0, 0.4);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> d(-3.0, 3.0);
+  for (int k = 0; k < 200; ++k) {
+    const double x = d(rng), y = d(rng);
+    const ObstacleProjection p = projectOntoObstacle(plane, x, y);
+    EXPECT_NEAR(p.gap, (x - 1.0) * std::cos(0.4) + (y - 2.0) * std::sin(0.4), 1e-14);
+    // The closest point lies on the boundary line.
+    EXPECT_NEAR((p.closest[0] - 1.0) * std::cos(0.4) + (p.closest[1] - 2.0) * std::sin(0.4), 0.0,
+                1e-13);
+    EXPECT_NEAR(p.arcCoordinate, -(x - 1.0) * std::sin(0.4) + (y - 2.0) * std::cos(0.4), 1e-13);
+  }
+}
+
+TEST(RigidObstacle, BatchedDetectionMatchesHostProjection) {
+  const Fixture f = makeFixture(ElementType::Quad8, 4, 3);
+  const LocalIndex nn = f.mesh.numNodes();
+  const std::vector<RigidObstacle> obstacles{circle(1.5, -0.3, 0.5), halfPlane(0.0, 0.1, 1.7)};
+  Kokkos::View<RigidObstacle *, Memory> obs("obstacles", obstacles.size());
+  auto ho = Kokkos::create_mirror_view(obs);
+  for (std::size_t i = 0; i < obstacles.size(); ++i)
+    ho(i) = obstacles[i];
+  Kokkos::deep_copy(obs, ho);
+  for (int stride : {2, 5}) {
+    const Eigen::VectorXd u = 0.2 * randomVector(stride * nn, 7 + stride);
+    std::vector<LocalIndex> nodes;
+    std::vector<int> which;
+    for (LocalIndex n = 0; n < nn; ++n) {
+      nodes.push_back(n);
+      which.push_back(n % 2);
+    }
+    Kokkos::View<LocalIndex *, Memory> dn("nodes", nodes.size());
+    Kokkos::View<int *, Memory> dw("which", which.size());
+    auto hn = Kokkos::create_mirror_view(dn);
+    auto hw = Kokkos::create_mirror_view(dw);
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      hn(k) = nodes[k];
+      hw(k) = which[k];
+    }
+    Kokkos::deep_copy(dn, hn);
+    Kokkos::deep_copy(dw, hw);
+    ContactDetection<Memory> out(static_cast<LocalIndex>(nodes.size()));
+    const LocalIndex count = detectContact(
+        Exec(), Kokkos::View<const RigidObstacle *, Memory>(obs),
+        Kokkos::View<const LocalIndex *, Memory>(dn), Kokkos::View<const int *, Memory>(dw),
+        Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates),
+        Kokkos::View<const double *, Memory>(toView(u)), stride, out);
+    auto gap = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.gap);
+    auto nor = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), out.normal);
+    LocalIndex expected = 0;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const LocalIndex n = nodes[k];
+      const ObstacleProjection p = projectOntoObstacle(
+          obstacles[which[k]], f.mesh.x(n) + u(stride * n), f.mesh.y(n) + u(stride * n + 1));
+      EXPECT_DOUBLE_EQ(gap(k), p.gap);
+      EXPECT_DOUBLE_EQ(nor(k, 0), p.normal[0]);
+      EXPECT_DOUBLE_EQ(nor(k, 1), p.normal[1]);
+      expected += p.gap < 0.0;
+    }
+    EXPECT_EQ(count, expected);
+    EXPECT_GT(expected, 0); // the case has penetrating and clear nodes
+    EXPECT_LT(expected, static_cast<LocalIndex>(nodes.size()));
+  }
+}
+
+TEST(LocalFrames, RotationEqualsDenseProductForTwoAndFiveUnknownsPerNode) {
+  const Fixture f = makeFixture(ElementType::Quad8, 3, 2);
+  const LocalIndex nn = f.mesh.numNodes();
+  const NodeGraph g = buildNodeGraph(f.mesh);
+  for (int ndof : {2, 5}) {
+    auto a = expandGraph<Memory>(g, ndof);
+    Kokkos::deep_copy(a.values, toView(randomVector(a.numNonzeros(), 11 + ndof)));
+    const Eigen::MatrixXd before = toDense(a);
+    Kokkos::View<int *, Memory> framed("framed", nn);
+    Kokkos::View<double *[2], Memory> normal("normal", nn);
+    auto hf = Kokkos::create_mirror_view(framed);
+    auto hn = Kokkos::create_mirror_view(normal);
+    Eigen::MatrixXd t = Eigen::MatrixXd::Identity(ndof * nn, ndof * nn);
+    for (LocalIndex p = 0; p < nn; ++p) {
+      hf(p) = p % 3 == 0;
+      const double th = 0.37 * p;
+      hn(p, 0) = std::cos(th);
+      hn(p, 1) = std::sin(th);
+      if (hf(p)) {
+        t(ndof * p, ndof * p) = hn(p, 0);
+        t(ndof * p + 1, ndof * p) = hn(p, 1);
+        t(ndof * p, ndof * p + 1) = -hn(p, 1);
+        t(ndof * p + 1, ndof * p + 1) = hn(p, 0);
+      }
+    }
+    Kokkos::deep_copy(framed, hf);
+    Kokkos::deep_copy(normal, hn);
+    const Eigen::VectorXd b = randomVector(ndof * nn, 13);
+    auto db = toView(b);
+    const auto cf = Kokkos::View<const int *, Memory>(framed);
+    const auto cn = Kokkos::View<const double *[2], Memory>(normal);
+    rotateToLocalFrames(Exec(), a, ndof, cf, cn, db);
+    EXPECT_LT(relativeError(toDense(a), t.transpose() * before * t), 1e-14);
+    EXPECT_LT((toEigen(db) - t.transpose() * b).cwiseAbs().maxCoeff(), 1e-14);
+    // Vectors: local -> global is the inverse of global -> local.
+    auto v = toView(b);
+    toLocalFrames(Exec(), ndof, cf, cn, v);
+    EXPECT_LT((toEigen(v) - t.transpose() * b).cwiseAbs().maxCoeff(), 1e-14);
+    fromLocalFrames(Exec(), ndof, cf, cn, v);
+    EXPECT_LT((toEigen(v) - b).cwiseAbs().maxCoeff(), 1e-14);
+  }
+}
