@@ -1,7 +1,9 @@
 // Nonlinear models (host orchestration of the kernels in kernels/Nonlinear.hpp) and the load
 // stepper.
+#include <contact/RigidContact.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/Krylov.hpp>
+#include <solver/LocalFrames.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
 
@@ -13,6 +15,7 @@
 #include <cstdio>
 #include <limits>
 #include <ostream>
+#include <set>
 #include <sstream>
 
 namespace mixcon {
@@ -206,6 +209,32 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
   return f;
 }
 
+void NonlinearModel::setContact(RigidContact *contact) { contact_ = contact; }
+
+double NonlinearModel::forceFloor(double displacementNorm) {
+  // Largest diagonal of K^L on the reference configuration, once: the force a unit displacement
+  // of one node produces. 1e-8 of that times ||u|| is round-off level for internal forces, the
+  // reference left when a motion is (nearly) rigid and no force acts.
+  if (stiffnessScale_ < 0.0) {
+    const NodeGraph graph = buildNodeGraph(mesh_);
+    auto k = expandGraph<Memory>(graph, 2);
+    const auto map = elementScatterMap<Memory>(mesh_, graph);
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
+    });
+    Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
+    fieldDiagonal(k, 1, 0, 1, d, 1.0);
+    stiffnessScale_ = strideNorm(d, 1, 0, 1, {}, 0) / std::sqrt(std::max<double>(1.0, k.numRows));
+  }
+  return 1e-8 * stiffnessScale_ * displacementNorm;
+}
+
+void NonlinearMixedModel::setContact(RigidContact *contact) {
+  if (contact)
+    throw InputError("contact with rigid obstacles is available for the displacement model only "
+                     "in this version");
+}
+
 std::string NonlinearModel::invertedElementMessage() const {
   if (invertedElement_ < 0)
     return "no element is inverted";
@@ -315,8 +344,19 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const bool report = tangent && tangentKind_ == TangentKind::Report;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
-    if (report)
+    if (small_) {
+      if (linearStiffness_.numRows == 0) {
+        linearStiffness_ = cloneValues(tangent_);
+        Kokkos::deep_copy(linearStiffness_.values, 0.0);
+        assembleLinearStiffness<Elem>(Exec(), data_, map_, linearStiffness_);
+      }
+      multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
+      if (tangent)
+        Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
+    } else {
+      inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
+    }
+    if (report && !small_)
       assembleReportTangent<Elem>();
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
     addDisplacementVector(g_, 2, -lambda, load_);
@@ -327,7 +367,23 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   });
   fresh_ = tangent;
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
-  const double r = relative(strideNorm(g_, 1, 0, 1, isConstrained_, 0), std::max(fint, fext));
+  double free = 0.0;
+  if (contact_) {
+    contact_->detect(Kokkos::View<const double *[2], Memory>(data_.mesh.coordinates), u_, 2);
+    // Friction forces of slip nodes are external forces on the body.
+    const auto &f = contact_->constraints().force;
+    Vec fd("mixcon::nonlinear::friction", f.size());
+    auto h = Kokkos::create_mirror_view(fd);
+    for (std::size_t i = 0; i < f.size(); ++i)
+      h(i) = f[i];
+    Kokkos::deep_copy(fd, h);
+    axpby(-1.0, fd, 1.0, g_);
+    free = freeResidualNorm();
+  } else {
+    free = strideNorm(g_, 1, 0, 1, isConstrained_, 0);
+  }
+  const double r =
+      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
   assemblySeconds_ += seconds(start);
   invertedElement_ = inverted;
   return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
@@ -351,11 +407,117 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
       map_, tangent_);
 }
 
+double NonlinearDisplacementModel::freeResidualNorm() const {
+  const auto g = toHost(g_);
+  const auto flags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
+  const auto &c = contact_->constraints();
+  double s = 0.0;
+  for (LocalIndex p = 0; p < mesh_.numNodes(); ++p) {
+    if (c.framed[p] && !flags[2 * p] && !flags[2 * p + 1]) {
+      const double n0 = c.normal[2 * p], n1 = c.normal[2 * p + 1];
+      const double gt = -n1 * g[2 * p] + n0 * g[2 * p + 1];
+      if (!c.tangentFixed[p])
+        s += gt * gt;
+      continue;
+    }
+    for (int i = 0; i < 2; ++i)
+      if (!flags[2 * p + i] && !(c.framed[p] && c.normalFixed[p]))
+        s += g[2 * p + i] * g[2 * p + i];
+  }
+  return std::sqrt(s);
+}
+
+LinearSolveStats NonlinearDisplacementModel::correctWithContact(double lambda) {
+  // The system in local (n, t) frames at closed contact nodes: R^T K R du~ = -R^T G, the normal
+  // (and in stick the tangential) components prescribed, then du = R du~. A contact node that
+  // also carries a Dirichlet condition keeps its global frame: its free component then takes the
+  // normal condition when the normal is along that axis (symmetry lines).
+  const auto &c = contact_->constraints();
+  const LocalIndex nn = mesh_.numNodes();
+  const auto dflags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
+  std::vector<int> flags(dflags.data(), dflags.data() + dflags.extent(0));
+  const auto presc = toHost(prescribed_);
+  const auto u = toHost(u_);
+  std::vector<double> target(2 * nn, 0.0);
+  std::vector<int> framed(nn, 0);
+  for (LocalIndex i = 0; i < 2 * nn; ++i)
+    if (flags[i])
+      target[i] = lambda * presc[i] - u[i];
+  for (LocalIndex p = 0; p < nn; ++p) {
+    if (!c.framed[p])
+      continue;
+    const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
+    const bool fx = flags[2 * p] != 0, fy = flags[2 * p + 1] != 0;
+    if (fx && fy)
+      continue; // fully prescribed: the contact condition cannot act
+    if (fx || fy) {
+      const int fixed = fx ? 0 : 1, other = 1 - fixed;
+      if (std::abs(n[other]) < 0.999)
+        throw InputError("node " +
+                         std::to_string(mesh_.nodeIds.empty() ? p + 1 : mesh_.nodeIds[p]) +
+                         ": contact on a surface not normal to its free direction while the "
+                         "other direction is prescribed is not supported");
+      flags[2 * p + other] = 1;
+      target[2 * p + other] = (c.normalStep[p] - n[fixed] * target[2 * p + fixed]) / n[other];
+      continue;
+    }
+    framed[p] = 1;
+    flags[2 * p] = c.normalFixed[p];
+    flags[2 * p + 1] = c.tangentFixed[p];
+    target[2 * p] = c.normalStep[p];
+    target[2 * p + 1] = c.tangentStep[p];
+  }
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", 2 * nn),
+      dfr("mixcon::nonlinear::framed", nn);
+  Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
+  auto hf = Kokkos::create_mirror_view(df);
+  auto hfr = Kokkos::create_mirror_view(dfr);
+  auto hn = Kokkos::create_mirror_view(dn);
+  auto ht = Kokkos::create_mirror_view(target_);
+  for (LocalIndex i = 0; i < 2 * nn; ++i) {
+    hf(i) = flags[i];
+    ht(i) = target[i];
+  }
+  for (LocalIndex p = 0; p < nn; ++p) {
+    hfr(p) = framed[p];
+    hn(p, 0) = c.normal[2 * p];
+    hn(p, 1) = c.normal[2 * p + 1];
+  }
+  Kokkos::deep_copy(df, hf);
+  Kokkos::deep_copy(dfr, hfr);
+  Kokkos::deep_copy(dn, hn);
+  Kokkos::deep_copy(target_, ht);
+  if (constrained_.numRows == 0)
+    constrained_ = cloneValues(tangent_);
+  else
+    Kokkos::deep_copy(constrained_.values, tangent_.values);
+  axpby(-1.0, g_, 0.0, rhs_);
+  const auto cfr = Kokkos::View<const int *, Memory>(dfr);
+  const auto cn = Kokkos::View<const double *[2], Memory>(dn);
+  rotateToLocalFrames(Exec(), constrained_, 2, cfr, cn, rhs_);
+  applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(df), ConstVec(target_),
+                 rhs_);
+  Exec().fence();
+  solver_->setup(constrained_);
+  solverSetupSeconds_ += seconds(start);
+  const LinearSolveStats s = solver_->solve(rhs_, du_);
+  fromLocalFrames(Exec(), 2, cfr, cn, du_);
+  fresh_ = false; // the factorization belongs to this active set: rebuilt every correction
+  return s;
+}
+
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
-  prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_);
+  bool framed = false;
+  if (contact_)
+    for (int f : contact_->constraints().framed)
+      framed = framed || f;
   const LinearSolveStats s =
-      constrainedSolve(tangent_, fresh_, constrained_, isConstrained_, g_, target_, rhs_, diag_,
-                       *solver_, du_, solverSetupSeconds_);
+      framed
+          ? correctWithContact(lambda)
+          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
+             constrainedSolve(tangent_, fresh_ || contact_ != nullptr, constrained_, isConstrained_,
+                              g_, target_, rhs_, diag_, *solver_, du_, solverSetupSeconds_));
   fresh_ = false;
   axpby(1.0, du_, 1.0, u_);
   increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
@@ -491,7 +653,8 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
                                         lambda, data_.thickness, map_, a, g_);
   });
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
-  const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0), std::max(fint, fext));
+  const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0),
+                            std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
   fresh_ = tangent;
   assemblySeconds_ += seconds(start);
   invertedElement_ = inverted;
@@ -796,6 +959,39 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
   return false;
 }
 
+bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::string &why) {
+  // The report's nested iterations: after equilibrium, update the contact statuses from the
+  // positions and contact forces; while any changed, iterate equilibrium again at this load.
+  RigidContact *contact = model_.contact();
+  if (!contact)
+    return true;
+  std::set<std::string> seen{contact->signature()};
+  for (int it = 0; it < options_.maxContactIterations; ++it) {
+    std::string changesLog;
+    const int changes =
+        contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(), changesLog);
+    ++out.contactIterations;
+    if (log_ && !changesLog.empty())
+      *log_ << changesLog;
+    if (changes == 0)
+      return true;
+    if (!seen.insert(contact->signature()).second) {
+      // A status pattern came back: the active set cycles. Resolve it by accepting the
+      // equilibrium of the current pattern without further updates, and report it.
+      out.contactCycled = true;
+      if (log_)
+        *log_ << "    contact: the active set cycles at load factor " << lambda
+              << "; keeping the current pattern\n";
+      return attempt(lambda, out, why);
+    }
+    if (!attempt(lambda, out, why))
+      return false;
+  }
+  why = "the contact statuses did not settle in " + std::to_string(options_.maxContactIterations) +
+        " contact iterations";
+  return false;
+}
+
 IncrementOutcome LoadStepper::advance(double target) {
   IncrementOutcome out;
   double step = target - lambda_;
@@ -803,13 +999,17 @@ IncrementOutcome LoadStepper::advance(double target) {
     const double next =
         std::abs(target - lambda_) <= std::abs(step) * (1 + 1e-12) ? target : lambda_ + step;
     std::string why;
-    if (attempt(next, out, why)) {
+    if (attempt(next, out, why) && settleContact(next, out, why)) {
       model_.commit();
+      if (model_.contact())
+        model_.contact()->commit();
       lambda_ = next;
       ++out.subincrements;
       continue;
     }
     model_.rollback();
+    if (model_.contact())
+      model_.contact()->rollback();
     if (++out.cuts > options_.maxCuts) {
       std::ostringstream m;
       m << "load factor " << next << ": " << why << "; gave up after " << options_.maxCuts

@@ -17,6 +17,8 @@
 
 namespace mixcon {
 
+class RigidContact;
+
 enum class IterationMethod { Newton, ModifiedNewton, None };
 
 /// "newton" | "modified_newton" | "none".
@@ -31,6 +33,8 @@ struct NonlinearOptions {
   int maxIterations = 30;
   /// Halvings of a failed increment before the analysis stops.
   int maxCuts = 8;
+  /// Contact status updates (each followed by equilibrium iterations) per increment.
+  int maxContactIterations = 30;
 };
 
 /// A geometrically nonlinear model: iterate (evaluate, correct), then commit or roll back.
@@ -56,6 +60,15 @@ public:
   virtual void commit() = 0;
   /// Returns to the last committed state.
   virtual void rollback() = 0;
+
+  /// Contact with rigid obstacles enforced in the corrections (not owned; nullptr: none).
+  /// Displacement model only in this version.
+  virtual void setContact(RigidContact *contact);
+  RigidContact *contact() const { return contact_; }
+  /// Host copy of the last residual G = f_int - f_ext (unknowns per node as the model's, the
+  /// displacements first) and that count per node.
+  virtual std::vector<double> residualVectorHost() const = 0;
+  virtual int unknownsPerNode() const = 0;
 
   /// One increment from the committed state straight to lambda with default NonlinearOptions.
   LinearSolveStats solve(double loadFactor) override;
@@ -83,8 +96,13 @@ protected:
   FollowerLoads followerLoads() const;
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
+  /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
+  /// rigid motions under no load).
+  double forceFloor(double displacementNorm);
+  double stiffnessScale_ = -1.0;
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
+  RigidContact *contact_ = nullptr;
 
 private:
   std::vector<BoundaryEdge> followerEdges_;
@@ -119,10 +137,21 @@ public:
   Kokkos::View<const double *, Memory> residual() const { return g_; }
   void setDisplacement(const std::vector<double> &u);
   void setTangent(TangentKind t) { tangentKind_ = t; }
+  /// Small-displacement kinematics (linear elasticity on the reference configuration, residual
+  /// K u - f): the nonlinear machinery then serves contact on a linear body. Call before setup().
+  void setSmallDisplacements(bool on) { small_ = on; }
+  std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  int unknownsPerNode() const override { return 2; }
+  /// Contact constraints in local frames (public for nvcc's extended-lambda rules).
+  LinearSolveStats correctWithContact(double lambda);
+  /// ||G|| over the unknowns not held by Dirichlet or contact conditions (contact: local frames).
+  double freeResidualNorm() const;
 
 private:
   template <class Elem> void assembleReportTangent();
   TangentKind tangentKind_ = TangentKind::Exact;
+  bool small_ = false;
+  CsrMatrix<Memory> linearStiffness_; ///< K^L on the reference configuration (small_)
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
   CsrMatrix<Memory> tangent_, constrained_;
@@ -183,6 +212,9 @@ public:
   std::string solverName() const override;
   std::vector<double> nodalStressHost() const override; ///< tau (+ S during an increment)
   std::vector<double> reactionHost(double loadFactor) const override;
+  std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  int unknownsPerNode() const override { return 5; }
+  void setContact(RigidContact *contact) override;
   /// Nodal stresses interpolated at the quadrature points (the report's way to get Cauchy stress
   /// in the mixed model), (E * nq) x 3.
   std::vector<double> interpolatedGaussStressHost() const;
@@ -238,6 +270,8 @@ struct IncrementOutcome {
   int linearIterations = 0;
   int cuts = 0;
   int subincrements = 0;
+  int contactIterations = 0;            ///< status updates over all sub-increments
+  bool contactCycled = false;           ///< a repeated status pattern was detected (and frozen)
   double initialResidual = 0.0;         ///< of the last sub-increment, before its first correction
   std::vector<IterationRecord> history; ///< of the last (converged) sub-increment
   std::string message;                  ///< why it failed
@@ -254,6 +288,7 @@ public:
 
 private:
   bool attempt(double lambda, IncrementOutcome &out, std::string &why);
+  bool settleContact(double lambda, IncrementOutcome &out, std::string &why);
   NonlinearModel &model_;
   NonlinearOptions options_;
   std::ostream *log_;

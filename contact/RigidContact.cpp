@@ -1,0 +1,211 @@
+// RigidContact: candidates, detection, statuses and the constraints of one Newton correction.
+#include <contact/RigidContact.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace mixcon {
+
+const char *contactStatusName(ContactStatus s) {
+  switch (s) {
+  case ContactStatus::Stick:
+    return "stick";
+  case ContactStatus::Slip:
+    return "slip";
+  case ContactStatus::Open:
+  default:
+    return "open";
+  }
+}
+
+RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs)
+    : specs_(std::move(specs)), numNodes_(numNodes) {
+  for (std::size_t s = 0; s < specs_.size(); ++s) {
+    std::set<LocalIndex> unique(specs_[s].nodes.begin(), specs_[s].nodes.end());
+    for (LocalIndex n : unique) {
+      node_.push_back(n);
+      obstacle_.push_back(static_cast<int>(s));
+    }
+  }
+  const std::size_t m = node_.size();
+  status_.assign(m, ContactStatus::Open);
+  gap_.assign(m, 0.0);
+  angle_.assign(m, 0.0);
+  arc_.assign(m, 0.0);
+  normal_.assign(2 * m, 0.0);
+  normalForce_.assign(m, 0.0);
+  tangentForce_.assign(m, 0.0);
+  anchorArc_.assign(m, 0.0);
+  committedArc_.assign(m, 0.0);
+  obstacles_ =
+      Kokkos::View<RigidObstacle *, DeviceSpace>("mixcon::contact::obstacles", specs_.size());
+  auto ho = Kokkos::create_mirror_view(obstacles_);
+  for (std::size_t s = 0; s < specs_.size(); ++s)
+    ho(s) = specs_[s].obstacle;
+  Kokkos::deep_copy(obstacles_, ho);
+  nodesDevice_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::contact::nodes", m);
+  obstacleDevice_ = Kokkos::View<int *, DeviceSpace>("mixcon::contact::obstacleOf", m);
+  auto hn = Kokkos::create_mirror_view(nodesDevice_);
+  auto hw = Kokkos::create_mirror_view(obstacleDevice_);
+  for (std::size_t k = 0; k < m; ++k) {
+    hn(k) = node_[k];
+    hw(k) = obstacle_[k];
+  }
+  Kokkos::deep_copy(nodesDevice_, hn);
+  Kokkos::deep_copy(obstacleDevice_, hw);
+  detection_ = ContactDetection<DeviceSpace>(static_cast<LocalIndex>(m));
+  buildConstraints();
+}
+
+LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+                                const Kokkos::View<const double *, DeviceSpace> &u, int stride) {
+  const LocalIndex penetrating = detectContact(
+      Kokkos::DefaultExecutionSpace(), Kokkos::View<const RigidObstacle *, DeviceSpace>(obstacles_),
+      Kokkos::View<const LocalIndex *, DeviceSpace>(nodesDevice_),
+      Kokkos::View<const int *, DeviceSpace>(obstacleDevice_), coordinates, u, stride, detection_);
+  auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.gap);
+  auto n = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.normal);
+  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.angle);
+  auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.arcCoordinate);
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    gap_[k] = g(k);
+    angle_[k] = a(k);
+    arc_[k] = s(k);
+    normal_[2 * k] = n(k, 0);
+    normal_[2 * k + 1] = n(k, 1);
+  }
+  buildConstraints();
+  return penetrating;
+}
+
+void RigidContact::buildConstraints() {
+  auto &c = constraints_;
+  c.framed.assign(numNodes_, 0);
+  c.normal.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
+  c.normalFixed.assign(numNodes_, 0);
+  c.tangentFixed.assign(numNodes_, 0);
+  c.normalStep.assign(numNodes_, 0.0);
+  c.tangentStep.assign(numNodes_, 0.0);
+  c.force.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    if (status_[k] == ContactStatus::Open)
+      continue;
+    const LocalIndex p = node_[k];
+    const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+    c.framed[p] = 1;
+    c.normal[2 * p] = n0;
+    c.normal[2 * p + 1] = n1;
+    c.normalFixed[p] = 1;
+    c.normalStep[p] = -gap_[k];
+    if (status_[k] == ContactStatus::Stick) {
+      c.tangentFixed[p] = 1;
+      c.tangentStep[p] = anchorArc_[k] - arc_[k];
+    } else {
+      // Slip: the friction force mu N opposes the tangential motion since the last commit; its
+      // sign is kept from the stick reaction that started the slip (tangentForce_).
+      const double mu = specs_[obstacle_[k]].friction;
+      const double f = mu * std::max(normalForce_[k], 0.0) *
+                       (tangentForce_[k] > 0 ? 1.0 : (tangentForce_[k] < 0 ? -1.0 : 0.0));
+      c.force[2 * p] += -n1 * f; // along t = (-n_y, n_x)
+      c.force[2 * p + 1] += n0 * f;
+    }
+  }
+}
+
+int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::string &log) {
+  std::ostringstream out;
+  int changes = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    const LocalIndex p = node_[k];
+    const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+    // Contact force on the body: the residual without the friction force already applied.
+    const double gx = g[stride * p] + constraints_.force[2 * p];
+    const double gy = g[stride * p + 1] + constraints_.force[2 * p + 1];
+    const double nForce = gx * n0 + gy * n1, tForce = -gx * n1 + gy * n0;
+    const double mu = specs_[obstacle_[k]].friction;
+    const ContactStatus before = status_[k];
+    switch (status_[k]) {
+    case ContactStatus::Open:
+      if (gap_[k] < 0.0) {
+        status_[k] = mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
+        anchorArc_[k] = arc_[k];
+        normalForce_[k] = tangentForce_[k] = 0.0;
+      }
+      break;
+    case ContactStatus::Stick:
+    case ContactStatus::Slip:
+      if (nForce < 0.0) {
+        status_[k] = ContactStatus::Open;
+        break;
+      }
+      if (status_[k] == ContactStatus::Stick && std::abs(tForce) > mu * nForce * (1 + 1e-9)) {
+        status_[k] = ContactStatus::Slip;
+      } else if (status_[k] == ContactStatus::Slip && mu > 0.0) {
+        // Stick again when the node moves along its friction force (the slip reversed).
+        const double moved = arc_[k] - committedArc_[k];
+        if (moved * tangentForce_[k] > 0.0) {
+          status_[k] = ContactStatus::Stick;
+          anchorArc_[k] = arc_[k];
+        } else if (std::abs(mu * nForce - std::abs(tangentForce_[k])) >
+                   1e-3 * mu * std::max(nForce, 1e-300)) {
+          ++changes; // friction force not yet consistent with the normal force: iterate
+          out << "    contact: node " << p << " friction " << tangentForce_[k] << " -> "
+              << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
+        }
+      }
+      normalForce_[k] = nForce;
+      if (status_[k] == ContactStatus::Stick || before == ContactStatus::Stick)
+        tangentForce_[k] = tForce;
+      else if (status_[k] == ContactStatus::Slip)
+        tangentForce_[k] = (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce;
+      break;
+    }
+    if (status_[k] != before) {
+      ++changes;
+      out << "    contact: node " << p << " " << contactStatusName(before) << " -> "
+          << contactStatusName(status_[k]) << " (gap " << gap_[k] << ", N " << nForce << ", T "
+          << tForce << ")\n";
+    }
+  }
+  buildConstraints();
+  log = out.str();
+  return changes;
+}
+
+void RigidContact::commit() {
+  committedArc_ = arc_;
+  saved_ = {status_, anchorArc_, normalForce_, tangentForce_};
+}
+
+void RigidContact::rollback() {
+  if (saved_.status.empty()) {
+    std::fill(status_.begin(), status_.end(), ContactStatus::Open);
+    std::fill(normalForce_.begin(), normalForce_.end(), 0.0);
+    std::fill(tangentForce_.begin(), tangentForce_.end(), 0.0);
+  } else {
+    status_ = saved_.status;
+    anchorArc_ = saved_.anchorArc;
+    normalForce_ = saved_.normalForce;
+    tangentForce_ = saved_.tangentForce;
+  }
+  buildConstraints();
+}
+
+std::string RigidContact::signature() const {
+  std::string s(status_.size(), 'o');
+  for (std::size_t k = 0; k < status_.size(); ++k)
+    s[k] =
+        status_[k] == ContactStatus::Open ? 'o' : (status_[k] == ContactStatus::Stick ? 's' : 'l');
+  return s;
+}
+
+LocalIndex RigidContact::numClosed() const {
+  LocalIndex n = 0;
+  for (auto s : status_)
+    n += s != ContactStatus::Open;
+  return n;
+}
+
+} // namespace mixcon

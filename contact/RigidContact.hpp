@@ -1,0 +1,99 @@
+// Enforcement of contact with rigid obstacles in the report's way (Wilkenson-Rahman): boundary
+// nodes of named boundaries are checked against their obstacle; nodes in contact are held on the
+// obstacle surface in local normal/tangential coordinates (the normal component prescribed so
+// the gap closes; in stick the tangential one too, at the point where the node stuck); in slip
+// the tangential component is free and the Coulomb friction force mu N opposes the slip. Statuses
+// are updated between equilibrium iterations (the report's nested contact and friction
+// iterations): open nodes that penetrate close, closed nodes whose contact force turns tensile
+// open, stick nodes whose tangential force exceeds mu N slip, slip nodes that reverse stick.
+// Contact forces are the nodal reactions of the displacement model (N = G . n, T = G . t).
+// Host orchestration; detection runs as a batched device kernel. Data flow: solver -> contact.
+#pragma once
+
+#include <contact/RigidObstacle.hpp>
+#include <solver/LinearSolver.hpp>
+
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+enum class ContactStatus : int { Open = 0, Stick = 1, Slip = 2 };
+
+/// "open" | "stick" | "slip".
+const char *contactStatusName(ContactStatus s);
+
+/// One obstacle and the boundary nodes checked against it.
+struct RigidContactSpec {
+  RigidObstacle obstacle;
+  std::vector<LocalIndex> nodes;
+  double friction = 0.0; ///< Coulomb coefficient mu (0: frictionless)
+  std::string name;      ///< for messages (e.g. the boundary)
+};
+
+/// Per-node constraint data for one Newton correction (host arrays, N nodes).
+struct ContactConstraints {
+  std::vector<int> framed;         ///< node uses its local (n, t) frame
+  std::vector<double> normal;      ///< 2 per node
+  std::vector<int> normalFixed;    ///< local normal component prescribed
+  std::vector<int> tangentFixed;   ///< local tangential component prescribed (stick)
+  std::vector<double> normalStep;  ///< prescribed change of the normal component (-gap)
+  std::vector<double> tangentStep; ///< prescribed change of the tangential component (stick)
+  std::vector<double> force;       ///< 2 per node: friction forces on the body (slip), global
+};
+
+class RigidContact {
+public:
+  RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs);
+
+  /// Projects every candidate at the current position (coordinates + u, `stride` unknowns per
+  /// node, displacements first) onto its obstacle; returns the number penetrating.
+  LocalIndex detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+                    const Kokkos::View<const double *, DeviceSpace> &u, int stride);
+
+  /// Constraints of the current statuses at the last detected positions (call detect first).
+  /// A closed node is moved onto the surface by -gap along n; a stick node is held at its
+  /// anchor along t.
+  const ContactConstraints &constraints() const { return constraints_; }
+
+  /// Updates statuses from the last detection and the contact forces: `g` the residual
+  /// f_int - f_ext (without contact forces) with `stride` unknowns per node. Returns the number of
+  /// status changes; `log` lists them (empty when none).
+  int updateStatus(const std::vector<double> &g, int stride, std::string &log);
+
+  /// Accept the current state as converged; rollback() returns to the last commit.
+  void commit();
+  void rollback();
+  /// A string of the statuses (cycle detection).
+  std::string signature() const;
+
+  LocalIndex numCandidates() const { return static_cast<LocalIndex>(node_.size()); }
+  LocalIndex candidateNode(LocalIndex k) const { return node_[k]; }
+  ContactStatus status(LocalIndex k) const { return status_[k]; }
+  double gap(LocalIndex k) const { return gap_[k]; }
+  double angle(LocalIndex k) const { return angle_[k]; }
+  double normalForce(LocalIndex k) const { return normalForce_[k]; }
+  double tangentForce(LocalIndex k) const { return tangentForce_[k]; }
+  LocalIndex numClosed() const;
+
+private:
+  void buildConstraints();
+  std::vector<RigidContactSpec> specs_;
+  LocalIndex numNodes_;
+  std::vector<LocalIndex> node_; ///< candidate k -> node
+  std::vector<int> obstacle_;    ///< candidate k -> spec index
+  std::vector<ContactStatus> status_;
+  std::vector<double> gap_, angle_, arc_, normal_, normalForce_, tangentForce_;
+  std::vector<double> anchorArc_, committedArc_; ///< stick anchors; arc at the last commit
+  struct Saved {
+    std::vector<ContactStatus> status;
+    std::vector<double> anchorArc, normalForce, tangentForce;
+  } saved_;
+  ContactConstraints constraints_;
+  Kokkos::View<RigidObstacle *, DeviceSpace> obstacles_;
+  Kokkos::View<LocalIndex *, DeviceSpace> nodesDevice_;
+  Kokkos::View<int *, DeviceSpace> obstacleDevice_;
+  ContactDetection<DeviceSpace> detection_;
+};
+
+} // namespace mixcon

@@ -1,0 +1,117 @@
+// Contact with a rigid half-plane through the nested equilibrium / contact iterations
+// (contact/RigidContact.hpp, LoadStepper): an elastic block (W = 2, H = 1, plane strain,
+// E = 21000, nu = 0.3, small-displacement kinematics) pushed onto a rigid plane by a prescribed
+// top displacement delta, symmetric about x = 0.
+// Reference (uniaxial plane-strain compression with free lateral expansion, frictionless base):
+// sigma_yy = -E delta / (H (1 - nu^2)) uniformly, so the total contact force is that times W and
+// every base node closes; with a large friction coefficient the base sticks (no lateral motion
+// there) and |T| <= mu N; pulling the block back up opens every node.
+#include <contact/RigidContact.hpp>
+#include <mesh/Generators.hpp>
+#include <solver/Nonlinear.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+using namespace mixcon;
+
+namespace rigid_contact_tests {
+
+constexpr double kE = 21000.0, kNu = 0.3, kW = 2.0, kH = 1.0, kDelta = 0.01;
+
+struct Block {
+  Mesh mesh;
+  std::unique_ptr<NonlinearDisplacementModel> model;
+  std::unique_ptr<RigidContact> contact;
+};
+
+Block makeBlock(double friction) {
+  Block b;
+  b.mesh = rectangleMesh(kW, kH, 8, 4, ElementType::Quad8);
+  const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStrain)};
+  b.model = std::make_unique<NonlinearDisplacementModel>(
+      b.mesh, std::vector<int>(b.mesh.numElements(), 0), c, 1.0);
+  b.model->setSmallDisplacements(true);
+  for (LocalIndex n : b.mesh.nodesOf("left"))
+    b.model->prescribe(n, 0, 0.0);
+  for (LocalIndex n : b.mesh.nodesOf("top"))
+    b.model->prescribe(n, 1, -kDelta);
+  RigidContactSpec spec;
+  spec.obstacle.kind = ObstacleKind::HalfPlane;
+  spec.obstacle.point[0] = spec.obstacle.point[1] = 0.0;
+  spec.obstacle.normal[0] = 0.0;
+  spec.obstacle.normal[1] = 1.0;
+  spec.nodes = b.mesh.nodesOf("bottom");
+  spec.friction = friction;
+  spec.name = "bottom";
+  b.contact =
+      std::make_unique<RigidContact>(b.mesh.numNodes(), std::vector<RigidContactSpec>{spec});
+  b.model->setContact(b.contact.get());
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  b.model->setup(o, MPI_COMM_WORLD);
+  return b;
+}
+
+/// Total vertical reaction at the top (compression positive).
+double topForce(const Block &b) {
+  const auto g = b.model->residualVectorHost();
+  double f = 0.0;
+  for (LocalIndex n : b.mesh.nodesOf("top"))
+    f -= g[2 * n + 1];
+  return f;
+}
+
+} // namespace rigid_contact_tests
+using namespace rigid_contact_tests;
+
+TEST(RigidContact, FrictionlessBlockTransmitsUniformCompression) {
+  Block b = makeBlock(0.0);
+  LoadStepper stepper(*b.model, NonlinearOptions{});
+  const IncrementOutcome o = stepper.advance(1.0);
+  ASSERT_TRUE(o.converged) << o.message;
+  EXPECT_GT(o.contactIterations, 0);
+  const double expected = kE * kDelta / (kH * (1 - kNu * kNu)) * kW;
+  EXPECT_NEAR(topForce(b), expected, 1e-8 * expected);
+  double sumN = 0.0;
+  for (LocalIndex k = 0; k < b.contact->numCandidates(); ++k) {
+    EXPECT_EQ(b.contact->status(k), ContactStatus::Slip) << "node " << b.contact->candidateNode(k);
+    EXPECT_GT(b.contact->gap(k), -1e-12); // no penetration left
+    sumN += b.contact->normalForce(k);
+  }
+  EXPECT_NEAR(sumN, expected, 1e-8 * expected);
+  // Free lateral expansion: the base moves outward like the top, u_x(W) = nu delta W / ((1-nu) H)
+  // for plane strain.
+  const auto u = b.model->displacementHost();
+  for (LocalIndex n : b.mesh.nodesOf("right"))
+    EXPECT_NEAR(u[2 * n], kNu / (1 - kNu) * kDelta * kW / kH, 1e-9);
+}
+
+TEST(RigidContact, LargeFrictionSticksTheBaseAndOpensOnUnloading) {
+  Block b = makeBlock(1.0);
+  LoadStepper stepper(*b.model, NonlinearOptions{});
+  for (double lambda : {0.5, 1.0}) {
+    const IncrementOutcome o = stepper.advance(lambda);
+    ASSERT_TRUE(o.converged) << o.message;
+  }
+  const auto u = b.model->displacementHost();
+  for (LocalIndex k = 0; k < b.contact->numCandidates(); ++k) {
+    const LocalIndex n = b.contact->candidateNode(k);
+    EXPECT_EQ(b.contact->status(k), ContactStatus::Stick) << "node " << n;
+    EXPECT_NEAR(u[2 * n], 0.0, 1e-12) << "node " << n; // held where it touched
+    EXPECT_LE(std::abs(b.contact->tangentForce(k)), 1.0 * b.contact->normalForce(k) + 1e-9);
+  }
+  // The stuck base restrains the lateral expansion: stiffer than the frictionless block.
+  const double frictionless = kE * kDelta / (kH * (1 - kNu * kNu)) * kW;
+  EXPECT_GT(topForce(b), 1.01 * frictionless);
+  // Lift the block off: every base node opens, the contact forces vanish.
+  const IncrementOutcome up = stepper.advance(-0.5);
+  ASSERT_TRUE(up.converged) << up.message;
+  for (LocalIndex k = 0; k < b.contact->numCandidates(); ++k) {
+    EXPECT_EQ(b.contact->status(k), ContactStatus::Open);
+    EXPECT_GT(b.contact->gap(k), 0.0);
+  }
+  EXPECT_NEAR(topForce(b), 0.0, 1e-8 * frictionless);
+}
