@@ -1,6 +1,7 @@
 // runAnalysis: builds the displacement or the mixed model from a Problem, steps through the load
 // factors, prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
+#include <contact/RigidContact.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>
@@ -83,7 +84,15 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
                 "%.2e  %s  %.3f s  ETA %.1f s\n",
                 r.step, nsteps, r.loadFactor, r.iterations, r.cuts, r.linearIterations, r.residual,
                 r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
-  *log << line << std::flush;
+  *log << line;
+  if (r.contactClosed >= 0) {
+    std::snprintf(line, sizeof line,
+                  "        contact: %d nodes closed (%d stick, %d slip), %d contact iterations%s\n",
+                  r.contactClosed, r.contactStick, r.contactSlip, r.contactIterations,
+                  r.contactCycled ? ", active set CYCLED (last pattern kept)" : "");
+    *log << line;
+  }
+  *log << std::flush;
 }
 
 /// The geometrically nonlinear analysis: load stepping with equilibrium iterations.
@@ -106,10 +115,32 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     auto d = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
                                                           p.model.thickness);
     d->setTangent(p.tangent);
+    d->setSmallDisplacements(!p.model.geometricNonlinearity); // a linear body in contact
     owner = std::move(d);
   }
   NonlinearModel &model = *owner;
-  applyConditions(p, model, &model);
+  applyConditions(p, model, p.model.geometricNonlinearity ? &model : nullptr);
+  std::unique_ptr<RigidContact> contact;
+  if (!p.contact.empty()) {
+    std::vector<RigidContactSpec> specs;
+    for (const auto &c : p.contact) {
+      RigidContactSpec s;
+      s.obstacle.kind = c.type == "rigid_circle" ? ObstacleKind::Circle : ObstacleKind::HalfPlane;
+      s.obstacle.point[0] = c.point[0];
+      s.obstacle.point[1] = c.point[1];
+      s.obstacle.radius = c.radius;
+      s.obstacle.normal[0] = c.normal[0];
+      s.obstacle.normal[1] = c.normal[1];
+      s.friction = c.friction;
+      s.drive[0] = c.driveDisplacement[0];
+      s.drive[1] = c.driveDisplacement[1];
+      s.nodes = p.mesh.nodesOf(c.boundary);
+      s.name = c.boundary;
+      specs.push_back(s);
+    }
+    contact = std::make_unique<RigidContact>(p.mesh.numNodes(), specs);
+    model.setContact(contact.get());
+  }
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
   if (log)
     *log << modelLine(p, model, mixed);
@@ -154,6 +185,36 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     if (mixed)
       f.gaussInterpolatedStress =
           static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();
+    if (contact) {
+      r.contactClosed = contact->numClosed();
+      r.contactIterations = o.contactIterations;
+      r.contactCycled = o.contactCycled;
+      bool first = true;
+      const auto u = model.displacementHost();
+      auto &c = f.contact;
+      for (LocalIndex k = 0; k < contact->numCandidates(); ++k) {
+        const LocalIndex n = contact->candidateNode(k);
+        const ContactStatus st = contact->status(k);
+        c.obstacle.push_back(contact->obstacleOf(k));
+        c.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
+        c.status.push_back(static_cast<int>(st));
+        c.gap.push_back(contact->gap(k));
+        c.normalForce.push_back(st == ContactStatus::Open ? 0.0 : contact->normalForce(k));
+        c.tangentForce.push_back(st == ContactStatus::Open ? 0.0 : contact->tangentForce(k));
+        c.angle.push_back(contact->angle(k));
+        c.arc.push_back(contact->arcCoordinate(k));
+        c.x.push_back(p.mesh.x(n) + u[2 * n]);
+        c.y.push_back(p.mesh.y(n) + u[2 * n + 1]);
+        r.contactStick += st == ContactStatus::Stick;
+        r.contactSlip += st == ContactStatus::Slip;
+        if (st != ContactStatus::Open) {
+          const double a = contact->arcCoordinate(k);
+          r.contactArcMin = first ? a : std::min(r.contactArcMin, a);
+          r.contactArcMax = first ? a : std::max(r.contactArcMax, a);
+          first = false;
+        }
+      }
+    }
     r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count();
     recordStep(writer, result, r, f, log, nsteps, start);
     if (!o.converged) {
@@ -193,7 +254,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
-  if (p.model.geometricNonlinearity)
+  if (p.model.geometricNonlinearity || !p.contact.empty())
     return runNonlinear(p, options, comm, elementMaterial, stiffness, std::move(result));
 
   const bool mixed = p.model.formulation == Formulation::Mixed;

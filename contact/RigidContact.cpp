@@ -59,6 +59,16 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   buildConstraints();
 }
 
+void RigidContact::setLoadFactor(double lambda) {
+  auto ho = Kokkos::create_mirror_view(obstacles_);
+  for (std::size_t s = 0; s < specs_.size(); ++s) {
+    ho(s) = specs_[s].obstacle;
+    for (int i = 0; i < 2; ++i)
+      ho(s).point[i] += lambda * specs_[s].drive[i];
+  }
+  Kokkos::deep_copy(obstacles_, ho);
+}
+
 LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
                                 const Kokkos::View<const double *, DeviceSpace> &u, int stride) {
   const LocalIndex penetrating = detectContact(

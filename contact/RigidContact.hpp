@@ -27,8 +27,9 @@ const char *contactStatusName(ContactStatus s);
 struct RigidContactSpec {
   RigidObstacle obstacle;
   std::vector<LocalIndex> nodes;
-  double friction = 0.0; ///< Coulomb coefficient mu (0: frictionless)
-  std::string name;      ///< for messages (e.g. the boundary)
+  double friction = 0.0;        ///< Coulomb coefficient mu (0: frictionless)
+  double drive[2] = {0.0, 0.0}; ///< rigid motion of the obstacle at load factor 1
+  std::string name;             ///< for messages (e.g. the boundary)
 };
 
 /// Per-node constraint data for one Newton correction (host arrays, N nodes).
@@ -45,6 +46,9 @@ struct ContactConstraints {
 class RigidContact {
 public:
   RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs);
+
+  /// Moves every obstacle to its position at load factor lambda (point + lambda drive).
+  void setLoadFactor(double lambda);
 
   /// Projects every candidate at the current position (coordinates + u, `stride` unknowns per
   /// node, displacements first) onto its obstacle; returns the number penetrating.
@@ -75,6 +79,9 @@ public:
   double normalForce(LocalIndex k) const { return normalForce_[k]; }
   double tangentForce(LocalIndex k) const { return tangentForce_[k]; }
   LocalIndex numClosed() const;
+  const std::vector<RigidContactSpec> &specs() const { return specs_; }
+  int obstacleOf(LocalIndex k) const { return obstacle_[k]; }
+  double arcCoordinate(LocalIndex k) const { return arc_[k]; }
 
 private:
   void buildConstraints();

@@ -323,8 +323,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   const Item top{root, "", &p.file};
   if (!root.IsMap())
     top.fail("a problem file is a YAML map with keys mesh, model, materials, ...");
-  top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "steps", "solver",
-                 "output", "verification", "title"});
+  top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "contact", "steps",
+                 "solver", "output", "verification", "title"});
 
   p.mesh = readMesh(top.required("mesh"), baseDirectory);
   if (top.has("model")) {
@@ -452,16 +452,63 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
   }
 
+  if (top.has("contact")) {
+    const Item list = top["contact"];
+    list.requireSequence();
+    if (p.model.formulation != Formulation::Displacement)
+      list.fail("contact is available for formulation: displacement only in this version");
+    for (std::size_t i = 0; i < list.node.size(); ++i) {
+      const Item c = list.at(i);
+      ContactSpec s;
+      s.line = c.line();
+      s.type = c.required("type").choice({"rigid_circle", "rigid_half_plane"});
+      if (s.type == "rigid_circle")
+        c.allowOnly({"type", "boundary", "center", "radius", "friction", "drive"});
+      else
+        c.allowOnly({"type", "boundary", "point", "normal", "friction", "drive"});
+      const Item b = c.required("boundary");
+      s.boundary = b.string();
+      if (!p.mesh.hasBoundary(s.boundary))
+        b.fail("unknown boundary '" + s.boundary + "' (mesh has: " + p.mesh.namedSets() + ")");
+      if (s.type == "rigid_circle") {
+        s.point = c.required("center").pair();
+        s.radius = c.required("radius").positive();
+      } else {
+        s.point = c.required("point").pair();
+        s.normal = c.required("normal").pair();
+        const double len = std::hypot(s.normal[0], s.normal[1]);
+        if (!(len > 0.0))
+          c["normal"].fail("the normal must not be zero");
+        s.normal = {s.normal[0] / len, s.normal[1] / len};
+      }
+      if (c.has("friction")) {
+        s.friction = c["friction"].number();
+        if (!(s.friction >= 0.0))
+          c["friction"].fail("the friction coefficient must be 0 or positive");
+      }
+      if (c.has("drive")) {
+        const Item d = c["drive"];
+        d.allowOnly({"displacement", "force"});
+        if (d.has("force"))
+          d["force"].fail("a force-driven obstacle is not available in this version; drive it by "
+                          "a displacement (scaled by the load factor)");
+        s.driveDisplacement = d.required("displacement").pair();
+      }
+      p.contact.push_back(s);
+    }
+  }
+
   if (top.has("steps")) {
     const Item s = top["steps"];
     s.allowOnly({"increments", "load_factors", "iteration", "tolerance", "residual_tolerance",
                  "max_iterations", "max_cuts", "tangent"});
     for (const char *key :
          {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts", "tangent"})
-      if (s.has(key) && !p.model.geometricNonlinearity)
+      if (s.has(key) && !p.model.geometricNonlinearity && p.contact.empty())
         s[key].fail(std::string(key) +
-                    " applies to geometrically nonlinear analyses (model: geometric_nonlinearity: "
-                    "true); linear steps are single solves");
+                    " applies to geometrically nonlinear or contact analyses (model: "
+                    "geometric_nonlinearity: true, or a contact: section); linear steps are single "
+                    "solves");
     auto &n = p.nonlinear;
     if (s.has("iteration")) {
       const std::string v = s["iteration"].choice({"newton", "modified_newton", "none"});

@@ -60,6 +60,18 @@ struct LoadSpec {
   int line = 0;
 };
 
+/// A rigid obstacle in contact with the nodes of a boundary (`contact:` list).
+struct ContactSpec {
+  std::string type;                       ///< rigid_circle | rigid_half_plane
+  std::string boundary;                   ///< the contacting boundary of the body
+  std::array<double, 2> point{0.0, 0.0};  ///< circle centre / a point on the plane
+  double radius = 0.0;                    ///< circle
+  std::array<double, 2> normal{0.0, 1.0}; ///< half-plane: unit normal into the body
+  double friction = 0.0;
+  std::array<double, 2> driveDisplacement{0.0, 0.0}; ///< obstacle motion at load factor 1
+  int line = 0;
+};
+
 struct VerificationSpec {
   std::string type; ///< empty: none; lame_cylinder | cantilever
   double innerRadius = 0, outerRadius = 0, innerPressure = 0, outerPressure = 0;
@@ -75,6 +87,7 @@ struct Problem {
   std::vector<MaterialSpec> materials;
   std::vector<DirichletSpec> dirichlet;
   std::vector<LoadSpec> loads;
+  std::vector<ContactSpec> contact;
   std::vector<double> loadFactors{1.0};
   /// Equilibrium iterations of geometrically nonlinear analyses (steps: iteration, tolerance...).
   NonlinearOptions nonlinear;

@@ -162,6 +162,8 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
                    nq, 3);
     H5Gclose(gp);
     writeStringAttribute(g, "stress_source", f.stressSource);
+    if (!f.contact.node.empty())
+      writeContact(g, r, f.contact);
     writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
     writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
     writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
@@ -170,8 +172,42 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     H5Gclose(g);
     H5Fflush(file, H5F_SCOPE_GLOBAL);
     writeXdmf();
+  } else if (!f.contact.node.empty()) {
+    writeContact(-1, r, f.contact);
   }
   writeSummary();
+}
+
+void ResultsWriter::writeContact(long long group, const StepRecord &r, const ContactFields &c) {
+  const hsize_t n = c.node.size();
+  if (group >= 0) {
+    const hid_t g = static_cast<hid_t>(group);
+    const hid_t cg = H5Gcreate2(g, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    writeDataset(cg, "obstacle", c.obstacle.data(), H5T_NATIVE_INT, n, 0);
+    writeDataset(cg, "node_id", c.node.data(), H5T_NATIVE_LONG, n, 0);
+    writeDataset(cg, "status", c.status.data(), H5T_NATIVE_INT, n, 0);
+    writeDataset(cg, "gap", c.gap.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "normal_force", c.normalForce.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "tangential_force", c.tangentForce.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "angle", c.angle.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "arc", c.arc.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeStringAttribute(cg, "status_codes", "0 open, 1 stick, 2 slip");
+    H5Gclose(cg);
+  }
+  // contact.csv: one row per candidate and step, appended (the file stays valid after each step).
+  std::ofstream csv(directory_ + "/contact.csv",
+                    contactCsvStarted_ ? std::ios::app : std::ios::trunc);
+  if (!contactCsvStarted_)
+    csv << "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
+           "angle_deg,arc,x,y\n";
+  contactCsvStarted_ = true;
+  static const char *names[] = {"open", "stick", "slip"};
+  csv << std::setprecision(10);
+  for (hsize_t k = 0; k < n; ++k)
+    csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] << "," << c.node[k] << ","
+        << names[c.status[k]] << "," << c.gap[k] << "," << c.normalForce[k] << ","
+        << c.tangentForce[k] << "," << c.angle[k] * 180.0 / M_PI << "," << c.arc[k] << "," << c.x[k]
+        << "," << c.y[k] << "\n";
 }
 
 void ResultsWriter::setSummaryExtra(const std::string &key, const std::string &jsonValue) {
@@ -254,6 +290,12 @@ void ResultsWriter::writeSummary() const {
       list("convergence_orders", convergenceOrders(s.residualHistory));
       j << ", \"cuts\": " << s.cuts;
     }
+    if (s.contactClosed >= 0)
+      j << ", \"contact\": {\"closed\": " << s.contactClosed << ", \"stick\": " << s.contactStick
+        << ", \"slip\": " << s.contactSlip << ", \"status_updates\": " << s.contactIterations
+        << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
+        << ", \"arc_min\": " << number(s.contactArcMin)
+        << ", \"arc_max\": " << number(s.contactArcMax) << "}";
     j << "}";
   }
   j << "\n  ]";

@@ -27,6 +27,19 @@ struct StepRecord {
   /// correction, relative increment norms, and the increment cuts needed.
   std::vector<double> residualHistory, incrementHistory;
   int cuts = 0;
+  /// Contact runs: closed / stick / slip node counts, status updates, cycling, and the extent of
+  /// the closed region (arc coordinate on the obstacle, min and max).
+  int contactClosed = -1, contactStick = 0, contactSlip = 0, contactIterations = 0;
+  bool contactCycled = false;
+  double contactArcMin = 0.0, contactArcMax = 0.0;
+};
+
+/// Per contact candidate (boundary node against an obstacle) of one step.
+struct ContactFields {
+  std::vector<int> obstacle;
+  std::vector<long> node;  ///< mesh node id
+  std::vector<int> status; ///< 0 open, 1 stick, 2 slip
+  std::vector<double> gap, normalForce, tangentForce, angle, arc, x, y;
 };
 
 /// Host arrays of one step's fields (row-major).
@@ -41,6 +54,7 @@ struct StepFields {
   /// dv/dy), current point coordinates, and (mixed model) the nodal stresses interpolated there.
   std::vector<double> gaussGradient, gaussCurrentCoordinates, gaussInterpolatedStress;
   std::string stressSource; ///< how the nodal stresses were obtained (an HDF5 attribute)
+  ContactFields contact;    ///< empty without contact
 };
 
 class ResultsWriter {
@@ -64,6 +78,7 @@ public:
 private:
   void writeXdmf() const;
   void writeSummary() const;
+  void writeContact(long long group, const StepRecord &record, const ContactFields &c);
 
   std::string directory_;
   std::string problemFile_;
@@ -72,6 +87,7 @@ private:
   long long file_ = -1; ///< hid_t of results.h5
   std::vector<StepRecord> steps_;
   std::vector<std::pair<std::string, std::string>> extra_;
+  bool contactCsvStarted_ = false;
   std::string status_ = "running";
   std::string message_;
 };

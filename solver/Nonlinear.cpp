@@ -907,6 +907,8 @@ LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options,
 
 bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why) {
   out.history.clear();
+  if (model_.contact())
+    model_.contact()->setLoadFactor(lambda);
   const double r0 = model_.evaluate(lambda, true);
   out.initialResidual = r0;
   if (!std::isfinite(r0)) {

@@ -125,7 +125,7 @@ std::vector<BadCase> badCases() {
       {"nonlinear_key_on_linear",
        replace(g, "steps: {load_factors: [0.5, 1.0]}",
                "steps: {load_factors: [0.5, 1.0], iteration: newton}"),
-       "applies to geometrically nonlinear analyses", 13},
+       "applies to geometrically nonlinear or contact analyses", 13},
       {"unknown_iteration",
        replace(replace(g, "thickness: 0.5", "thickness: 0.5, geometric_nonlinearity: true"),
                "steps: {load_factors: [0.5, 1.0]}",
@@ -137,6 +137,27 @@ std::vector<BadCase> badCases() {
        "follower applies to pressures only", 9},
       {"follower_on_linear", replace(g, "pressure: 2.0}", "pressure: 2.0, follower: true}"),
        "follower pressure needs model: geometric_nonlinearity: true", 10},
+      {"contact_unknown_boundary",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_circle, boundary: hole, center: [0, 0], radius: 1}\n"
+               "output: {directory: somewhere}"),
+       "unknown boundary 'hole'", 16},
+      {"contact_force_drive",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
+               "drive: {force: [0, 1]}}\noutput: {directory: somewhere}"),
+       "a force-driven obstacle is not available", 16},
+      {"contact_negative_friction",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
+               "[0, 1], friction: -0.1}\noutput: {directory: somewhere}"),
+       "friction coefficient must be 0 or positive", 16},
+      {"contact_mixed",
+       replace(replace(g, "formulation: displacement", "formulation: mixed"),
+               "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
+               "[0, 1]}\noutput: {directory: somewhere}"),
+       "contact is available for formulation: displacement only", 16},
       {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
@@ -407,4 +428,37 @@ TEST(Cli, NonlinearMixedRunWritesConvergenceHistoryAndGaussFields) {
   EXPECT_NE(readStringAttribute(g, "stress_source").find("pushed forward"), std::string::npos);
   H5Gclose(g);
   H5Fclose(f);
+}
+
+TEST(Cli, ContactRunWritesContactFieldsAndCsv) {
+  TempDir dir;
+  std::string out;
+  const fs::path outDir = dir.path() / "hertz";
+  ASSERT_EQ(runMixcon("run " + std::string(MIXCON_SOURCE_DIR) +
+                          "/examples/hertz/hertz_report.yaml --output " + outDir.string(),
+                      out, dir.path()),
+            0)
+      << out;
+  EXPECT_NE(out.find("nodes closed"), std::string::npos) << out;
+  std::ifstream csv(outDir / "contact.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
+                    "angle_deg,arc,x,y");
+  int rows = 0, closed = 0;
+  for (std::string line; std::getline(csv, line); ++rows)
+    closed += line.find(",slip,") != std::string::npos;
+  EXPECT_GT(rows, 12);
+  EXPECT_GT(closed, 0);
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "/steps/12/contact/normal_force", H5P_DEFAULT);
+  EXPECT_GE(d, 0);
+  if (d >= 0)
+    H5Dclose(d);
+  H5Fclose(f);
+  std::ifstream in(outDir / "summary.json");
+  std::stringstream summary;
+  summary << in.rdbuf();
+  EXPECT_NE(summary.str().find("\"contact\": {\"closed\""), std::string::npos);
 }
