@@ -189,9 +189,12 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
       } else {
-        g.allowOnly({"type", "element", "radius", "divisions"});
+        g.allowOnly({"type", "element", "radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
-        mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et);
+        const auto grading =
+            g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
+        mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et, grading[0],
+                               grading[1]);
       }
     } catch (const InputError &e) {
       g.fail(e.what());

@@ -208,13 +208,22 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
   return buildPatches({right, top}, type, "generator plate_with_hole");
 }
 
-Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
+Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGrading,
+                     double radialGrading) {
   requirePositive("radius", r, "quarter_disk");
   requirePositive("divisions[0]", n, "quarter_disk");
   requirePositive("divisions[1]", m, "quarter_disk");
+  requirePositive("grading[0]", angularGrading, "quarter_disk");
+  requirePositive("grading[1]", radialGrading, "quarter_disk");
   const double c = 0.5 * r; // core square side
+  // Grading: g clusters the core's x and the upper block's arc parameter toward x = 0 (the arc
+  // point (0, r)); h clusters both curved blocks' radial parameter toward the arc. Shared edges
+  // use the same functions, so the blocks stay conforming.
+  const double p = angularGrading, q = radialGrading;
+  const auto g = [p](double u) { return std::pow(u, p); };
+  const auto h = [q](double s) { return 1.0 - std::pow(1.0 - s, q); };
   Patch core{[=](double u, double v) {
-               return std::array<double, 2>{u * c, v * c};
+               return std::array<double, 2>{g(u) * c, v * c};
              },
              n,
              n,
@@ -222,7 +231,7 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
   // Lower block: u from the core edge x = c (u = 0) to the arc (u = 1), v along it.
   Patch lower{[=](double u, double v) {
                 const double t = v * M_PI / 4;
-                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, u);
+                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, h(u));
               },
               m,
               n,
@@ -230,8 +239,8 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type) {
   // Upper block: u along the core's top edge from x = 0 to the diagonal, v from the core
   // (v = 0) to the arc, so that (u, v) is counter-clockwise.
   Patch upper{[=](double u, double v) {
-                const double t = M_PI / 2 - u * M_PI / 4;
-                return lerp({u * c, c}, {r * std::cos(t), r * std::sin(t)}, v);
+                const double t = M_PI / 2 - g(u) * M_PI / 4;
+                return lerp({g(u) * c, c}, {r * std::cos(t), r * std::sin(t)}, h(v));
               },
               n,
               m,

@@ -29,7 +29,10 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
 /// Quarter disk of radius r centred at the origin (x, y >= 0) as an O-grid: a square core of
 /// n x n elements and two curved blocks of n x m elements out to the arc.
 /// Region "body"; boundaries "arc", "bottom" (y = 0), "left" (x = 0); node sets "center",
-/// "arc_bottom" (r, 0), "arc_left" (0, r).
-Mesh quarterDiskMesh(double r, int n, int m, ElementType type);
+/// "arc_bottom" (r, 0), "arc_left" (0, r). Grading exponents >= 1 cluster elements toward the arc
+/// point (0, r) along the arc (angularGrading: parameter u -> u^p) and toward the arc radially
+/// (radialGrading: s -> 1 - (1 - s)^q), for contact at (0, r); 1, 1 is uniform.
+Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGrading = 1.0,
+                     double radialGrading = 1.0);
 
 } // namespace mixcon
