@@ -2,7 +2,7 @@
 # One entry point for the README's quick start and for CI, on a fresh Debian 12 machine:
 # installs missing Debian packages, builds Kokkos (OpenMP + Serial) into a cache if no
 # Kokkos_ROOT is given, configures and builds mixcon, then:
-#   example   runs the main example and prints its comparison with the closed form
+#   example   runs the main example (Hertz contact) and prints its comparison with the closed form
 #   test      runs the whole test suite (ctest: unit, validation, install test)
 #   sanitize  Debug build with AddressSanitizer + UndefinedBehaviorSanitizer, runs the unit tests
 #   bench     runs the Google Benchmark programs (results in build/bench/*.json)
@@ -31,7 +31,10 @@ example)
   build=${MIXCON_BUILD_DIR:-$root/build}
   mkdir -p "$build"
   configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release
-  "$build/apps/mixcon" run "$root/examples/lame_cylinder.yaml" --output "$root/out/lame_cylinder"
+  # The main example: Hertz contact of a cylinder on a rigid plane (docs/contact.md), run on the
+  # report's 84-element mesh and a graded Quad8 mesh, compared with the closed form.
+  "$build/apps/mixcon" run "$root/examples/hertz/hertz_refined.yaml" --output "$root/out/hertz/refined"
+  /usr/bin/python3 "$root/examples/hertz_study.py" --mixcon "$build/apps/mixcon" --out "$root/out/hertz/study"
   ;;
 test)
   build=${MIXCON_BUILD_DIR:-$root/build}
