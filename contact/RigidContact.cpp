@@ -124,7 +124,8 @@ void RigidContact::buildConstraints() {
   }
 }
 
-int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::string &log) {
+int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::string &log,
+                               const std::vector<double> *stress) {
   std::ostringstream out;
   int changes = 0;
   for (std::size_t k = 0; k < node_.size(); ++k) {
@@ -135,6 +136,14 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     const double gy = g[stride * p + 1] + constraints_.force[2 * p + 1];
     const double nForce = gx * n0 + gy * n1, tForce = -gx * n1 + gy * n0;
     const double mu = specs_[obstacle_[k]].friction;
+    // Release and slip measures: contact forces, or the nodal stresses rotated to the surface.
+    double compression = nForce, shear = tForce;
+    if (stress) {
+      const double sxx = (*stress)[3 * p], syy = (*stress)[3 * p + 1], sxy = (*stress)[3 * p + 2];
+      const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1; // s . n
+      compression = -(n0 * tn0 + n1 * tn1);                              // -sigma_nn
+      shear = -n1 * tn0 + n0 * tn1;                                      // tau_nt
+    }
     const ContactStatus before = status_[k];
     switch (status_[k]) {
     case ContactStatus::Open:
@@ -146,11 +155,11 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
       break;
     case ContactStatus::Stick:
     case ContactStatus::Slip:
-      if (nForce < 0.0) {
+      if (compression < 0.0) {
         status_[k] = ContactStatus::Open;
         break;
       }
-      if (status_[k] == ContactStatus::Stick && std::abs(tForce) > mu * nForce * (1 + 1e-9)) {
+      if (status_[k] == ContactStatus::Stick && std::abs(shear) > mu * compression * (1 + 1e-9)) {
         status_[k] = ContactStatus::Slip;
       } else if (status_[k] == ContactStatus::Slip && mu > 0.0) {
         // Stick again when the node moves along its friction force (the slip reversed).

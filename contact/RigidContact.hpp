@@ -61,9 +61,13 @@ public:
   const ContactConstraints &constraints() const { return constraints_; }
 
   /// Updates statuses from the last detection and the contact forces: `g` the residual
-  /// f_int - f_ext (without contact forces) with `stride` unknowns per node. Returns the number of
-  /// status changes; `log` lists them (empty when none).
-  int updateStatus(const std::vector<double> &g, int stride, std::string &log);
+  /// f_int - f_ext (without contact forces) with `stride` unknowns per node. With `stress`
+  /// (nodal Cauchy stress, 3 per node: the mixed model) release and slip are decided from the
+  /// stresses rotated to the surface, sigma_nn = n.s.n (tensile: release) and tau_nt = t.s.n
+  /// (slip when |tau_nt| > mu |sigma_nn|), as the report does; otherwise from the forces N, T.
+  /// Returns the number of status changes; `log` lists them (empty when none).
+  int updateStatus(const std::vector<double> &g, int stride, std::string &log,
+                   const std::vector<double> *stress = nullptr);
 
   /// Accept the current state as converged; rollback() returns to the last commit.
   void commit();

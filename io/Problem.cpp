@@ -458,8 +458,9 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   if (top.has("contact")) {
     const Item list = top["contact"];
     list.requireSequence();
-    if (p.model.formulation != Formulation::Displacement)
-      list.fail("contact is available for formulation: displacement only in this version");
+    if (p.model.formulation != Formulation::Displacement && !p.model.geometricNonlinearity)
+      list.fail("contact with formulation: mixed needs geometric_nonlinearity: true (the "
+                "iterating driver has the mixed model's finite kinematics only)");
     for (std::size_t i = 0; i < list.node.size(); ++i) {
       const Item c = list.at(i);
       ContactSpec s;
@@ -605,6 +606,10 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     if (s.has("nodal_coarsening"))
       p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
   }
+
+  if (!p.contact.empty() && p.model.formulation == Formulation::Mixed &&
+      p.solver.type != LinearSolverType::Direct)
+    top["solver"]["type"].fail("contact with the mixed model needs type: direct in this version");
 
   if (top.has("output")) {
     const Item o = top["output"];

@@ -229,11 +229,9 @@ double NonlinearModel::forceFloor(double displacementNorm) {
   return 1e-8 * stiffnessScale_ * displacementNorm;
 }
 
-void NonlinearMixedModel::setContact(RigidContact *contact) {
-  if (contact)
-    throw InputError("contact with rigid obstacles is available for the displacement model only "
-                     "in this version");
-}
+void NonlinearMixedModel::setContact(RigidContact *contact) { contact_ = contact; }
+
+std::vector<double> NonlinearMixedModel::contactStressHost() const { return toHost(stressOnly()); }
 
 std::string NonlinearModel::invertedElementMessage() const {
   if (invertedElement_ < 0)
@@ -370,15 +368,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   double free = 0.0;
   if (contact_) {
     contact_->detect(Kokkos::View<const double *[2], Memory>(data_.mesh.coordinates), u_, 2);
-    // Friction forces of slip nodes are external forces on the body.
-    const auto &f = contact_->constraints().force;
-    Vec fd("mixcon::nonlinear::friction", f.size());
-    auto h = Kokkos::create_mirror_view(fd);
-    for (std::size_t i = 0; i < f.size(); ++i)
-      h(i) = f[i];
-    Kokkos::deep_copy(fd, h);
-    axpby(-1.0, fd, 1.0, g_);
-    free = freeResidualNorm();
+    subtractFrictionForces(g_, 2); // friction forces of slip nodes act on the body
+    free = contactFreeResidualNorm(g_, isConstrained_, 2);
   } else {
     free = strideNorm(g_, 1, 0, 1, isConstrained_, 0);
   }
@@ -407,47 +398,59 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
       map_, tangent_);
 }
 
-double NonlinearDisplacementModel::freeResidualNorm() const {
-  const auto g = toHost(g_);
-  const auto flags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
+double NonlinearModel::contactFreeResidualNorm(const Kokkos::View<const double *, Memory> &gv,
+                                               const Kokkos::View<const int *, Memory> &fv,
+                                               int stride) const {
+  // ||G|| over the displacement unknowns held neither by Dirichlet nor by contact conditions;
+  // at a node held normally on an obstacle only the tangential component counts (slip).
+  const auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gv);
+  const auto flags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
   const auto &c = contact_->constraints();
   double s = 0.0;
   for (LocalIndex p = 0; p < mesh_.numNodes(); ++p) {
-    if (c.framed[p] && !flags[2 * p] && !flags[2 * p + 1]) {
+    const LocalIndex i0 = stride * p;
+    if (c.framed[p] && !flags(i0) && !flags(i0 + 1)) {
       const double n0 = c.normal[2 * p], n1 = c.normal[2 * p + 1];
-      const double gt = -n1 * g[2 * p] + n0 * g[2 * p + 1];
+      const double gt = -n1 * g(i0) + n0 * g(i0 + 1);
       if (!c.tangentFixed[p])
         s += gt * gt;
       continue;
     }
     for (int i = 0; i < 2; ++i)
-      if (!flags[2 * p + i] && !(c.framed[p] && c.normalFixed[p]))
-        s += g[2 * p + i] * g[2 * p + i];
+      if (!flags(i0 + i) && !(c.framed[p] && c.normalFixed[p]))
+        s += g(i0 + i) * g(i0 + i);
   }
   return std::sqrt(s);
 }
 
-LinearSolveStats NonlinearDisplacementModel::correctWithContact(double lambda) {
-  // The system in local (n, t) frames at closed contact nodes: R^T K R du~ = -R^T G, the normal
-  // (and in stick the tangential) components prescribed, then du = R du~. A contact node that
-  // also carries a Dirichlet condition keeps its global frame: its free component then takes the
-  // normal condition when the normal is along that axis (symmetry lines).
+LinearSolveStats NonlinearModel::correctWithContact(
+    double lambda, int stride, const CsrMatrix<Memory> &tangent, CsrMatrix<Memory> &work,
+    const Kokkos::View<const int *, Memory> &fv, const Kokkos::View<const double *, Memory> &g,
+    const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+    LinearSolver &solver, const Kokkos::View<double *, Memory> &dx) {
+  // The system in local (n, t) frames at closed contact nodes: R^T K R dx~ = -R^T G, the normal
+  // (and in stick the tangential) components prescribed, then dx = R dx~ (only the displacement
+  // pair of a node rotates; `stride` unknowns per node). A contact node that also carries a
+  // Dirichlet condition keeps its global frame: its free component then takes the normal
+  // condition when the normal is along that axis (symmetry lines).
   const auto &c = contact_->constraints();
   const LocalIndex nn = mesh_.numNodes();
-  const auto dflags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
+  const auto dflags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
   std::vector<int> flags(dflags.data(), dflags.data() + dflags.extent(0));
   const auto presc = toHost(prescribed_);
   const auto u = toHost(u_);
-  std::vector<double> target(2 * nn, 0.0);
+  std::vector<double> step(stride * static_cast<std::size_t>(nn), 0.0);
   std::vector<int> framed(nn, 0);
-  for (LocalIndex i = 0; i < 2 * nn; ++i)
-    if (flags[i])
-      target[i] = lambda * presc[i] - u[i];
+  for (LocalIndex p = 0; p < nn; ++p)
+    for (int i = 0; i < 2; ++i)
+      if (flags[stride * p + i])
+        step[stride * p + i] = lambda * presc[2 * p + i] - u[2 * p + i];
   for (LocalIndex p = 0; p < nn; ++p) {
     if (!c.framed[p])
       continue;
+    const LocalIndex i0 = stride * p;
     const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
-    const bool fx = flags[2 * p] != 0, fy = flags[2 * p + 1] != 0;
+    const bool fx = flags[i0] != 0, fy = flags[i0 + 1] != 0;
     if (fx && fy)
       continue; // fully prescribed: the contact condition cannot act
     if (fx || fy) {
@@ -457,27 +460,27 @@ LinearSolveStats NonlinearDisplacementModel::correctWithContact(double lambda) {
                          std::to_string(mesh_.nodeIds.empty() ? p + 1 : mesh_.nodeIds[p]) +
                          ": contact on a surface not normal to its free direction while the "
                          "other direction is prescribed is not supported");
-      flags[2 * p + other] = 1;
-      target[2 * p + other] = (c.normalStep[p] - n[fixed] * target[2 * p + fixed]) / n[other];
+      flags[i0 + other] = 1;
+      step[i0 + other] = (c.normalStep[p] - n[fixed] * step[i0 + fixed]) / n[other];
       continue;
     }
     framed[p] = 1;
-    flags[2 * p] = c.normalFixed[p];
-    flags[2 * p + 1] = c.tangentFixed[p];
-    target[2 * p] = c.normalStep[p];
-    target[2 * p + 1] = c.tangentStep[p];
+    flags[i0] = c.normalFixed[p];
+    flags[i0 + 1] = c.tangentFixed[p];
+    step[i0] = c.normalStep[p];
+    step[i0 + 1] = c.tangentStep[p];
   }
   const auto start = std::chrono::steady_clock::now();
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", 2 * nn),
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", flags.size()),
       dfr("mixcon::nonlinear::framed", nn);
   Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
   auto hf = Kokkos::create_mirror_view(df);
   auto hfr = Kokkos::create_mirror_view(dfr);
   auto hn = Kokkos::create_mirror_view(dn);
-  auto ht = Kokkos::create_mirror_view(target_);
-  for (LocalIndex i = 0; i < 2 * nn; ++i) {
+  auto ht = Kokkos::create_mirror_view(target);
+  for (std::size_t i = 0; i < flags.size(); ++i) {
     hf(i) = flags[i];
-    ht(i) = target[i];
+    ht(i) = step[i];
   }
   for (LocalIndex p = 0; p < nn; ++p) {
     hfr(p) = framed[p];
@@ -487,34 +490,50 @@ LinearSolveStats NonlinearDisplacementModel::correctWithContact(double lambda) {
   Kokkos::deep_copy(df, hf);
   Kokkos::deep_copy(dfr, hfr);
   Kokkos::deep_copy(dn, hn);
-  Kokkos::deep_copy(target_, ht);
-  if (constrained_.numRows == 0)
-    constrained_ = cloneValues(tangent_);
+  Kokkos::deep_copy(target, ht);
+  if (work.numRows == 0)
+    work = cloneValues(tangent);
   else
-    Kokkos::deep_copy(constrained_.values, tangent_.values);
-  axpby(-1.0, g_, 0.0, rhs_);
+    Kokkos::deep_copy(work.values, tangent.values);
+  axpby(-1.0, g, 0.0, rhs);
   const auto cfr = Kokkos::View<const int *, Memory>(dfr);
   const auto cn = Kokkos::View<const double *[2], Memory>(dn);
-  rotateToLocalFrames(Exec(), constrained_, 2, cfr, cn, rhs_);
-  applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(df), ConstVec(target_),
-                 rhs_);
+  rotateToLocalFrames(Exec(), work, stride, cfr, cn, rhs);
+  applyDirichlet(Exec(), work, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
   Exec().fence();
-  solver_->setup(constrained_);
+  solver.setup(work);
   solverSetupSeconds_ += seconds(start);
-  const LinearSolveStats s = solver_->solve(rhs_, du_);
-  fromLocalFrames(Exec(), 2, cfr, cn, du_);
-  fresh_ = false; // the factorization belongs to this active set: rebuilt every correction
+  const LinearSolveStats s = solver.solve(rhs, dx);
+  fromLocalFrames(Exec(), stride, cfr, cn, dx);
   return s;
 }
 
+bool NonlinearModel::contactFramed() const {
+  if (!contact_)
+    return false;
+  for (int f : contact_->constraints().framed)
+    if (f)
+      return true;
+  return false;
+}
+
+void NonlinearModel::subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride) {
+  const auto &f = contact_->constraints().force;
+  Vec fd("mixcon::nonlinear::friction", f.size());
+  auto h = Kokkos::create_mirror_view(fd);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    h(i) = f[i];
+  Kokkos::deep_copy(fd, h);
+  Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
+  scatter<double>(fd, stride, 0, 2, spread, true);
+  axpby(-1.0, spread, 1.0, g);
+}
+
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
-  bool framed = false;
-  if (contact_)
-    for (int f : contact_->constraints().framed)
-      framed = framed || f;
   const LinearSolveStats s =
-      framed
-          ? correctWithContact(lambda)
+      contactFramed()
+          ? correctWithContact(lambda, 2, tangent_, constrained_, isConstrained_, g_, rhs_, target_,
+                               *solver_, du_)
           : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
              constrainedSolve(tangent_, fresh_ || contact_ != nullptr, constrained_, isConstrained_,
                               g_, target_, rhs_, diag_, *solver_, du_, solverSetupSeconds_));
@@ -548,6 +567,9 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
     : NonlinearModel(mesh, elementMaterial, stiffness, thickness) {
   checkMixedPairing(mesh.elementType, mesh.elementType);
   reference_ = withCompliance(data_, stiffness);
+  for (const auto &c : stiffness)
+    for (int i = 0; i < 3; ++i)
+      maxModulus_ = std::max(maxModulus_, std::abs(c.m[i][i]));
   current_ = reference_;
   current_.mesh.coordinates =
       Kokkos::View<double *[2], Memory>("mixcon::nonlinear::configuration", mesh.numNodes());
@@ -560,6 +582,8 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
 NonlinearMixedModel::~NonlinearMixedModel() = default;
 
 void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (contact_ && options.type != LinearSolverType::Direct)
+    throw InputError("contact with the mixed model needs solver: {type: direct} in this version");
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 5);
@@ -653,8 +677,18 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
                                         lambda, data_.thickness, map_, a, g_);
   });
   const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
-  const double r = relative(strideNorm(g_, 5, 0, 2, constrained5_, 0),
-                            std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
+  double free = 0.0;
+  if (contact_) {
+    const auto coordinates =
+        form_ == MixedForm::Current ? reference_.mesh.coordinates : current_.mesh.coordinates;
+    contact_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x_, 5);
+    subtractFrictionForces(g_, 5);
+    free = contactFreeResidualNorm(g_, constrained5_, 5);
+  } else {
+    free = strideNorm(g_, 5, 0, 2, constrained5_, 0);
+  }
+  const double r =
+      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
   fresh_ = tangent;
   assemblySeconds_ += seconds(start);
   invertedElement_ = inverted;
@@ -664,16 +698,20 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
   prescribedStep(constrained5_, prescribed_, u_, lambda, 5, target_);
   const LinearSolveStats s =
-      linearOptions_.type == LinearSolverType::Direct
-          ? constrainedSolve(tangent_, fresh_, work_, constrained5_, g_, target_, rhs_, diag_,
-                             *solver_, dx_, solverSetupSeconds_)
+      contactFramed() ? correctWithContact(lambda, 5, tangent_, work_, constrained5_, g_, rhs_,
+                                           target_, *solver_, dx_)
+      : linearOptions_.type == LinearSolverType::Direct
+          ? constrainedSolve(tangent_, fresh_ || contact_ != nullptr, work_, constrained5_, g_,
+                             target_, rhs_, diag_, *solver_, dx_, solverSetupSeconds_)
           : solveSchur();
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();
   const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
-  const double ds =
-      relative(strideNorm(dx_, 5, 2, 3, {}, 0), strideNorm(stressOnly(), 1, 0, 1, {}, 0));
+  // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
+  const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
+  const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0),
+                             std::max(strideNorm(stressOnly(), 1, 0, 1, {}, 0), stressFloor));
   increment = std::max(du, ds);
   return s;
 }
@@ -970,8 +1008,9 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
   std::set<std::string> seen{contact->signature()};
   for (int it = 0; it < options_.maxContactIterations; ++it) {
     std::string changesLog;
-    const int changes =
-        contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(), changesLog);
+    const auto stress = model_.contactStressHost();
+    const int changes = contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(),
+                                              changesLog, stress.empty() ? nullptr : &stress);
     ++out.contactIterations;
     if (log_ && !changesLog.empty())
       *log_ << changesLog;

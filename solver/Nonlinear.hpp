@@ -69,6 +69,9 @@ public:
   /// displacements first) and that count per node.
   virtual std::vector<double> residualVectorHost() const = 0;
   virtual int unknownsPerNode() const = 0;
+  /// Nodal Cauchy stresses (3 per node) that decide stick, slip and release, or empty when the
+  /// contact forces decide (displacement model).
+  virtual std::vector<double> contactStressHost() const { return {}; }
 
   /// One increment from the committed state straight to lambda with default NonlinearOptions.
   LinearSolveStats solve(double loadFactor) override;
@@ -96,6 +99,19 @@ protected:
   FollowerLoads followerLoads() const;
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
+  /// Contact helpers shared by both models (`stride` unknowns per node, displacements first):
+  /// whether any node is held in its local frame, the friction forces subtracted from G, the
+  /// residual norm over the unknowns held by neither Dirichlet nor contact conditions, and the
+  /// correction solved in local frames with the contact conditions prescribed.
+  bool contactFramed() const;
+  void subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride);
+  double contactFreeResidualNorm(const Kokkos::View<const double *, Memory> &g,
+                                 const Kokkos::View<const int *, Memory> &flags, int stride) const;
+  LinearSolveStats correctWithContact(
+      double lambda, int stride, const CsrMatrix<Memory> &tangent, CsrMatrix<Memory> &work,
+      const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
+      const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+      LinearSolver &solver, const Kokkos::View<double *, Memory> &dx);
   /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
   /// rigid motions under no load).
   double forceFloor(double displacementNorm);
@@ -142,10 +158,6 @@ public:
   void setSmallDisplacements(bool on) { small_ = on; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
   int unknownsPerNode() const override { return 2; }
-  /// Contact constraints in local frames (public for nvcc's extended-lambda rules).
-  LinearSolveStats correctWithContact(double lambda);
-  /// ||G|| over the unknowns not held by Dirichlet or contact conditions (contact: local frames).
-  double freeResidualNorm() const;
 
 private:
   template <class Elem> void assembleReportTangent();
@@ -214,7 +226,10 @@ public:
   std::vector<double> reactionHost(double loadFactor) const override;
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
   int unknownsPerNode() const override { return 5; }
+  /// Contact with rigid obstacles (solver: direct): stick, slip and release decided from the
+  /// nodal stresses rotated to the obstacle surface, as in the report.
   void setContact(RigidContact *contact) override;
+  std::vector<double> contactStressHost() const override;
   /// Nodal stresses interpolated at the quadrature points (the report's way to get Cauchy stress
   /// in the mixed model), (E * nq) x 3.
   std::vector<double> interpolatedGaussStressHost() const;
@@ -251,6 +266,7 @@ private:
   Kokkos::View<double *, Memory> tau_, x_, g_, committed_, dx_, rhs_, target_, diag_;
   StressUpdate stressUpdate_ = StressUpdate::Projected;
   double stabilization_ = 0.0;
+  double maxModulus_ = 0.0; ///< largest diagonal entry of the materials' [C]
   Kokkos::View<int *, Memory> constrained5_;
   FollowerLoads follower_;
   std::unique_ptr<LinearSolver> solver_;

@@ -157,7 +157,7 @@ std::vector<BadCase> badCases() {
                "output: {directory: somewhere}",
                "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
                "[0, 1]}\noutput: {directory: somewhere}"),
-       "contact is available for formulation: displacement only", 16},
+       "contact with formulation: mixed needs geometric_nonlinearity: true", 16},
       {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),

@@ -23,17 +23,24 @@ constexpr double kE = 21000.0, kNu = 0.3, kW = 2.0, kH = 1.0, kDelta = 0.01;
 
 struct Block {
   Mesh mesh;
-  std::unique_ptr<NonlinearDisplacementModel> model;
+  std::unique_ptr<NonlinearModel> model;
   std::unique_ptr<RigidContact> contact;
 };
 
-Block makeBlock(double friction) {
+enum class Kinematics { SmallDisplacement, FiniteDisplacement, FiniteMixed };
+
+Block makeBlock(double friction, Kinematics kind = Kinematics::SmallDisplacement) {
   Block b;
   b.mesh = rectangleMesh(kW, kH, 8, 4, ElementType::Quad8);
   const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStrain)};
-  b.model = std::make_unique<NonlinearDisplacementModel>(
-      b.mesh, std::vector<int>(b.mesh.numElements(), 0), c, 1.0);
-  b.model->setSmallDisplacements(true);
+  const std::vector<int> material(b.mesh.numElements(), 0);
+  if (kind == Kinematics::FiniteMixed) {
+    b.model = std::make_unique<NonlinearMixedModel>(b.mesh, material, c, 1.0);
+  } else {
+    auto d = std::make_unique<NonlinearDisplacementModel>(b.mesh, material, c, 1.0);
+    d->setSmallDisplacements(kind == Kinematics::SmallDisplacement);
+    b.model = std::move(d);
+  }
   for (LocalIndex n : b.mesh.nodesOf("left"))
     b.model->prescribe(n, 0, 0.0);
   for (LocalIndex n : b.mesh.nodesOf("top"))
@@ -114,4 +121,43 @@ TEST(RigidContact, LargeFrictionSticksTheBaseAndOpensOnUnloading) {
     EXPECT_GT(b.contact->gap(k), 0.0);
   }
   EXPECT_NEAR(topForce(b), 0.0, 1e-8 * frictionless);
+}
+
+// Finite kinematics, both models: the block's deformation is homogeneous, so the displacement
+// model (Almansi law) and the mixed model (the same law imposed weakly, stick/slip/release from
+// its nodal stresses) must transmit the same force; frictionless, every base node closes.
+TEST(RigidContact, MixedModelMatchesDisplacementModelOnTheBlock) {
+  double force[2] = {};
+  for (int k = 0; k < 2; ++k) {
+    Block b = makeBlock(0.0, k == 0 ? Kinematics::FiniteDisplacement : Kinematics::FiniteMixed);
+    LoadStepper stepper(*b.model, NonlinearOptions{});
+    for (double lambda : {0.5, 1.0}) {
+      const IncrementOutcome o = stepper.advance(lambda);
+      ASSERT_TRUE(o.converged) << o.message;
+    }
+    for (LocalIndex c = 0; c < b.contact->numCandidates(); ++c) {
+      EXPECT_EQ(b.contact->status(c), ContactStatus::Slip);
+      EXPECT_GT(b.contact->gap(c), -1e-12);
+    }
+    const auto g = b.model->residualVectorHost();
+    const int stride = b.model->unknownsPerNode();
+    for (LocalIndex n : b.mesh.nodesOf("top"))
+      force[k] -= g[stride * n + 1];
+  }
+  const double small = kE * kDelta / (kH * (1 - kNu * kNu)) * kW;
+  EXPECT_NEAR(force[1], force[0], 1e-6 * force[0]);
+  EXPECT_NEAR(force[0], small, 0.02 * small);          // 1 % strain: close to the linear value
+  EXPECT_GT(std::abs(force[0] - small), 1e-6 * small); // but finite kinematics differ
+}
+
+// The mixed model with friction: the base sticks (decided from its nodal stresses).
+TEST(RigidContact, MixedModelSticksWithLargeFriction) {
+  Block b = makeBlock(1.0, Kinematics::FiniteMixed);
+  LoadStepper stepper(*b.model, NonlinearOptions{});
+  ASSERT_TRUE(stepper.advance(1.0).converged);
+  const auto u = b.model->displacementHost();
+  for (LocalIndex c = 0; c < b.contact->numCandidates(); ++c) {
+    EXPECT_EQ(b.contact->status(c), ContactStatus::Stick);
+    EXPECT_NEAR(u[2 * b.contact->candidateNode(c)], 0.0, 1e-12);
+  }
 }
