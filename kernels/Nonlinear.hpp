@@ -253,6 +253,50 @@ scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshVi
   }
 }
 
+/// Fused residual + tangent assembly shared by the nonlinear models: `kernel.template
+/// compute<Tangent>(e, ge, ke)` gives element e's residual and (when Tangent) matrix with `Ndof`
+/// interleaved unknowns per node; g += residuals (atomics), a += matrices when a.numRows > 0
+/// (scatter map `map`). Returns the first element the kernel reports inverted, or -1.
+template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
+LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                             const Kernel &kernel, const Map &map, const CsrMatrix<MemorySpace> &a,
+                             const Kokkos::View<double *, MemorySpace> &g) {
+  LocalIndex inverted = -1;
+  const bool tangent = a.numRows > 0;
+  Kokkos::parallel_reduce(
+      "mixcon::kernels::assembleNonlinear",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
+        constexpr int nd = Ndof * Elem::kNumNodes;
+        double ge[nd], ke[nd][nd];
+        const bool ok = tangent ? kernel.template compute<true>(e, ge, ke)
+                                : kernel.template compute<false>(e, ge, ke);
+        if (!ok && e < first)
+          first = e;
+        for (int p = 0; p < Elem::kNumNodes; ++p) {
+          const LocalIndex node = mesh.connectivity(e, p);
+          for (int i = 0; i < Ndof; ++i)
+            Kokkos::atomic_add(&g(Ndof * node + i), ge[Ndof * p + i]);
+        }
+        if (tangent)
+          scatterBlockMatrix<Ndof, Elem>(a, map, mesh, e, ke);
+      },
+      Kokkos::Min<LocalIndex>(inverted));
+  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
+}
+
+/// Element kernel of the displacement model for assembleNonlinear (almansiElement).
+template <class Elem, class MemorySpace> struct AlmansiKernel {
+  ElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> u;
+  template <bool Tangent>
+  KOKKOS_INLINE_FUNCTION bool
+  compute(LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
+          double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) const {
+    return almansiElement<Elem, Tangent>(d, u, e, fe, ke);
+  }
+};
+
 /// Displacement model: f += internal force of every element at total displacement u, and, when
 /// `a.numRows > 0`, a += tangent (2 dofs per node, scatter map `map`). Returns the first
 /// inverted element, or -1.
@@ -261,28 +305,8 @@ LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace>
                            const Kokkos::View<const double *, MemorySpace> &u, const Map &map,
                            const CsrMatrix<MemorySpace> &a,
                            const Kokkos::View<double *, MemorySpace> &f) {
-  LocalIndex inverted = -1;
-  const bool tangent = a.numRows > 0;
-  Kokkos::parallel_reduce(
-      "mixcon::kernels::assembleAlmansi",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
-        constexpr int nd = 2 * Elem::kNumNodes;
-        double fe[nd], ke[nd][nd];
-        const bool ok = tangent ? almansiElement<Elem, true>(d, u, e, fe, ke)
-                                : almansiElement<Elem, false>(d, u, e, fe, ke);
-        if (!ok && e < first)
-          first = e;
-        for (int p = 0; p < Elem::kNumNodes; ++p) {
-          const LocalIndex node = d.mesh.connectivity(e, p);
-          Kokkos::atomic_add(&f(2 * node), fe[2 * p]);
-          Kokkos::atomic_add(&f(2 * node + 1), fe[2 * p + 1]);
-        }
-        if (tangent)
-          scatterBlockMatrix<2, Elem>(a, map, d.mesh, e, ke);
-      },
-      Kokkos::Min<LocalIndex>(inverted));
-  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
+  return assembleNonlinear<2, Elem>(exec, d.mesh, AlmansiKernel<Elem, MemorySpace>{d, u}, map, a,
+                                    f);
 }
 
 /// Mixed model, element e: the incremental Hellinger-Reissner residual ge (5 per node: G_u x, y,
@@ -484,6 +508,19 @@ mixedCurrentElement(const MixedElementData<MemorySpace> &d,
   return valid;
 }
 
+/// Element kernel of the mixed model's current form for assembleNonlinear.
+template <class Elem, class MemorySpace> struct MixedCurrentKernel {
+  MixedElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> x;
+  double stabilization;
+  template <bool Tangent>
+  KOKKOS_INLINE_FUNCTION bool
+  compute(LocalIndex e, double (&ge)[5 * Elem::kNumNodes],
+          double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) const {
+    return mixedCurrentElement<Elem, Tangent>(d, x, stabilization, e, ge, ke);
+  }
+};
+
 /// Mixed model in the current configuration: g += residual of every element, a += Jacobian when
 /// a.numRows > 0 (5 unknowns per node). Returns the first inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
@@ -492,29 +529,22 @@ LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<Me
                                 double stabilization, const Map &map,
                                 const CsrMatrix<MemorySpace> &a,
                                 const Kokkos::View<double *, MemorySpace> &g) {
-  LocalIndex inverted = -1;
-  const bool tangent = a.numRows > 0;
-  Kokkos::parallel_reduce(
-      "mixcon::kernels::assembleMixedCurrent",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
-        constexpr int nd = 5 * Elem::kNumNodes;
-        double ge[nd], ke[nd][nd];
-        const bool ok = tangent ? mixedCurrentElement<Elem, true>(d, x, stabilization, e, ge, ke)
-                                : mixedCurrentElement<Elem, false>(d, x, stabilization, e, ge, ke);
-        if (!ok && e < first)
-          first = e;
-        for (int p = 0; p < Elem::kNumNodes; ++p) {
-          const LocalIndex node = d.mesh.connectivity(e, p);
-          for (int i = 0; i < 5; ++i)
-            Kokkos::atomic_add(&g(5 * node + i), ge[5 * p + i]);
-        }
-        if (tangent)
-          scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
-      },
-      Kokkos::Min<LocalIndex>(inverted));
-  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
+  return assembleNonlinear<5, Elem>(
+      exec, d.mesh, MixedCurrentKernel<Elem, MemorySpace>{d, x, stabilization}, map, a, g);
 }
+
+/// Element kernel of the mixed model's incremental form for assembleNonlinear.
+template <class Elem, class MemorySpace> struct MixedIncrementKernel {
+  MixedElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> tau, x;
+  double stabilization;
+  template <bool Tangent>
+  KOKKOS_INLINE_FUNCTION bool
+  compute(LocalIndex e, double (&ge)[5 * Elem::kNumNodes],
+          double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) const {
+    return mixedIncrementElement<Elem, Tangent>(d, tau, x, stabilization, e, ge, ke);
+  }
+};
 
 /// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
 /// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a
@@ -526,29 +556,8 @@ LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<
                                   double stabilization, const Map &map,
                                   const CsrMatrix<MemorySpace> &a,
                                   const Kokkos::View<double *, MemorySpace> &g) {
-  LocalIndex inverted = -1;
-  const bool tangent = a.numRows > 0;
-  Kokkos::parallel_reduce(
-      "mixcon::kernels::assembleMixedIncrement",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
-        constexpr int nd = 5 * Elem::kNumNodes;
-        double ge[nd], ke[nd][nd];
-        const bool ok =
-            tangent ? mixedIncrementElement<Elem, true>(d, tau, x, stabilization, e, ge, ke)
-                    : mixedIncrementElement<Elem, false>(d, tau, x, stabilization, e, ge, ke);
-        if (!ok && e < first)
-          first = e;
-        for (int p = 0; p < Elem::kNumNodes; ++p) {
-          const LocalIndex node = d.mesh.connectivity(e, p);
-          for (int i = 0; i < 5; ++i)
-            Kokkos::atomic_add(&g(5 * node + i), ge[5 * p + i]);
-        }
-        if (tangent)
-          scatterBlockMatrix<5, Elem>(a, map, d.mesh, e, ke);
-      },
-      Kokkos::Min<LocalIndex>(inverted));
-  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
+  return assembleNonlinear<5, Elem>(
+      exec, d.mesh, MixedIncrementKernel<Elem, MemorySpace>{d, tau, x, stabilization}, map, a, g);
 }
 
 /// Follower pressure p (positive into the body) on element edges, on the current configuration:
