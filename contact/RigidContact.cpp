@@ -193,6 +193,44 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
   return changes;
 }
 
+bool RigidContact::penetrationWithin(double relative, std::string &where) const {
+  std::vector<double> extent(specs_.size(), 0.0);
+  for (std::size_t k = 0; k < node_.size(); ++k)
+    extent[obstacle_[k]] = std::max(extent[obstacle_[k]], std::abs(arc_[k]));
+  double worst = 0.0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    if (status_[k] == ContactStatus::Open)
+      continue;
+    const RigidObstacle &o = specs_[obstacle_[k]].obstacle;
+    const double size = o.kind == ObstacleKind::Circle ? o.radius : extent[obstacle_[k]];
+    const double ratio = -gap_[k] / std::max(size, 1e-300);
+    if (ratio > worst) {
+      worst = ratio;
+      at = k;
+    }
+  }
+  if (worst <= relative)
+    return true;
+  std::ostringstream m;
+  m << "node " << node_[at] + 1 << " on '" << specs_[obstacle_[at]].name << "' penetrates by "
+    << -gap_[at] << " (" << worst << " of the obstacle size)";
+  where = m.str();
+  return false;
+}
+
+int RigidContact::closeTouching(double tolerance) {
+  int closed = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k)
+    if (status_[k] == ContactStatus::Open && gap_[k] <= tolerance) {
+      status_[k] = specs_[obstacle_[k]].friction > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
+      anchorArc_[k] = arc_[k];
+      ++closed;
+    }
+  buildConstraints();
+  return closed;
+}
+
 void RigidContact::commit() {
   committedArc_ = arc_;
   saved_ = {status_, anchorArc_, normalForce_, tangentForce_};

@@ -69,6 +69,16 @@ public:
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
                    const std::vector<double> *stress = nullptr);
 
+  /// Closes the open candidates already touching their obstacle (gap <= tolerance) at the last
+  /// detection: a body that rests on an obstacle is supported from the first iteration.
+  /// Returns how many closed.
+  int closeTouching(double tolerance);
+
+  /// Whether every closed node penetrates its obstacle by at most `relative` times the
+  /// obstacle's size (a pin's radius; for a half-plane the extent of its candidate nodes along
+  /// it); `where` names the worst node otherwise.
+  bool penetrationWithin(double relative, std::string &where) const;
+
   /// Accept the current state as converged; rollback() returns to the last commit.
   void commit();
   void rollback();

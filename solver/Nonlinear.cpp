@@ -17,6 +17,7 @@
 #include <ostream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace mixcon {
 
@@ -943,11 +944,25 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
 LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log)
     : model_(model), options_(options), log_(log) {}
 
+std::string LoadStepper::contactHint() const {
+  return model_.contact() ? "; with contact, a body held only by obstacles has rigid-body modes "
+                            "until it touches them: start it touching (gap 0) or hold it by a "
+                            "displacement condition"
+                          : "";
+}
+
 bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why) {
   out.history.clear();
   if (model_.contact())
     model_.contact()->setLoadFactor(lambda);
-  const double r0 = model_.evaluate(lambda, true);
+  double r0 = model_.evaluate(lambda, true);
+  if (model_.contact() && !contactStarted_) {
+    // Nodes touching an obstacle in the initial state close before the first correction, so a
+    // body resting on an obstacle is supported from the start.
+    contactStarted_ = true;
+    if (model_.contact()->closeTouching(1e-12) > 0)
+      r0 = model_.evaluate(lambda, true);
+  }
   out.initialResidual = r0;
   if (!std::isfinite(r0)) {
     why = model_.invertedElementMessage() + " at the start of the increment";
@@ -955,7 +970,15 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
   }
   for (int it = 1; it <= options_.maxIterations; ++it) {
     double inc = 0.0;
-    const LinearSolveStats s = model_.correct(lambda, inc);
+    LinearSolveStats s;
+    try {
+      s = model_.correct(lambda, inc);
+    } catch (const InputError &) {
+      throw; // a modelling error, not a failed increment
+    } catch (const std::runtime_error &e) {
+      why = std::string("the linear solve failed: ") + e.what() + contactHint();
+      return false;
+    }
     ++out.iterations;
     out.linearIterations += s.iterations;
     out.solveSeconds += s.solveSeconds;
@@ -963,7 +986,7 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
       std::ostringstream m;
       m << "the linear solver did not converge (relative residual " << s.relativeResidual
         << " after " << s.iterations << " iterations)";
-      why = m.str();
+      why = m.str() + contactHint();
       return false;
     }
     const bool tangent = options_.method == IterationMethod::Newton;
@@ -1014,8 +1037,14 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
     ++out.contactIterations;
     if (log_ && !changesLog.empty())
       *log_ << changesLog;
-    if (changes == 0)
+    if (changes == 0) {
+      std::string where;
+      if (!contact->penetrationWithin(1e-6, where)) {
+        why = "penetration above 1e-6 of the obstacle size after convergence: " + where;
+        return false;
+      }
       return true;
+    }
     if (!seen.insert(contact->signature()).second) {
       // A status pattern came back: the active set cycles. Resolve it by accepting the
       // equilibrium of the current pattern without further updates, and report it.

@@ -305,10 +305,12 @@ public:
 private:
   bool attempt(double lambda, IncrementOutcome &out, std::string &why);
   bool settleContact(double lambda, IncrementOutcome &out, std::string &why);
+  std::string contactHint() const;
   NonlinearModel &model_;
   NonlinearOptions options_;
   std::ostream *log_;
   double lambda_ = 0.0;
+  bool contactStarted_ = false;
 };
 
 /// Convergence orders log(r_k+1 / r_k) / log(r_k / r_k-1) of a residual history (2: quadratic).

@@ -161,3 +161,45 @@ TEST(RigidContact, MixedModelSticksWithLargeFriction) {
     EXPECT_NEAR(u[2 * b.contact->candidateNode(c)], 0.0, 1e-12);
   }
 }
+
+// A block resting on the plane (gap 0) under a downward traction q on its top and held only by
+// the plane and the symmetry line: the touching nodes close before the first correction, the
+// base carries q W (equilibrium), uniformly for the frictionless plane. Lifted by 1e-3 instead,
+// it is not supported at all: the increment fails with a message naming the rigid-body mode.
+TEST(RigidContact, RestingBodyIsSupportedAndAFloatingOneIsReported) {
+  for (double lift : {0.0, 1e-3}) {
+    Mesh mesh = rectangleMesh(kW, kH, 6, 3, ElementType::Quad8, 0.0, lift);
+    const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStrain)};
+    NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), c, 1.0);
+    model.setSmallDisplacements(true);
+    for (LocalIndex n : mesh.nodesOf("left"))
+      model.prescribe(n, 0, 0.0);
+    const double q = 50.0;
+    model.addEdgeLoad(mesh.boundaries.at("top"), 0.0, -q, 0.0);
+    RigidContactSpec spec;
+    spec.obstacle.kind = ObstacleKind::HalfPlane;
+    spec.obstacle.normal[0] = 0.0;
+    spec.obstacle.normal[1] = 1.0;
+    spec.nodes = mesh.nodesOf("bottom");
+    spec.name = "bottom";
+    RigidContact contact(mesh.numNodes(), {spec});
+    model.setContact(&contact);
+    LinearSolverOptions o;
+    o.type = LinearSolverType::Direct;
+    model.setup(o, MPI_COMM_WORLD);
+    NonlinearOptions opts;
+    opts.maxCuts = 1;
+    LoadStepper stepper(model, opts);
+    const IncrementOutcome out = stepper.advance(1.0);
+    if (lift == 0.0) {
+      ASSERT_TRUE(out.converged) << out.message;
+      double sumN = 0.0;
+      for (LocalIndex k = 0; k < contact.numCandidates(); ++k)
+        sumN += contact.normalForce(k);
+      EXPECT_NEAR(sumN, q * kW, 1e-8 * q * kW);
+    } else {
+      EXPECT_FALSE(out.converged);
+      EXPECT_NE(out.message.find("rigid-body"), std::string::npos) << "message: " << out.message;
+    }
+  }
+}
