@@ -180,8 +180,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
                            : "Cauchy stress from the Almansi strain (Eq. (26)), 2x2 Gauss "
                              "points extrapolated to the nodes and averaged";
     f.reaction = model.reactionHost(lambda);
-    model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
-    model.gaussPointFieldsHost(f.gaussGradient, f.gaussCurrentCoordinates);
+    model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
+                               f.gaussGradient, f.gaussCurrentCoordinates);
     if (mixed)
       f.gaussInterpolatedStress =
           static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();

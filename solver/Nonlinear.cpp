@@ -212,6 +212,31 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
 
 void NonlinearModel::setContact(RigidContact *contact) { contact_ = contact; }
 
+double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
+                                      const Kokkos::View<double *, Memory> &g, int stride,
+                                      const Kokkos::View<const int *, Memory> &flags,
+                                      const Kokkos::View<double *[2], Memory> &coordinates,
+                                      const Kokkos::View<const double *, Memory> &x,
+                                      std::chrono::steady_clock::time_point start) {
+  // Contact detection at the positions coordinates + x, the friction forces of slip nodes (on
+  // the body), and the relative residual over the free displacement unknowns.
+  double free = 0.0;
+  if (contact_) {
+    contact_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x, stride);
+    subtractFrictionForces(g, stride);
+    free = contactFreeResidualNorm(g, flags, stride);
+  } else {
+    free = strideNorm(g, stride, 0, 2, flags, 0);
+  }
+  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  const double r =
+      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
+  fresh_ = tangent;
+  assemblySeconds_ += seconds(start);
+  invertedElement_ = inverted;
+  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
+}
+
 double NonlinearModel::forceFloor(double displacementNorm) {
   // Largest diagonal of K^L on the reference configuration, once: the force a unit displacement
   // of one node produces. 1e-8 of that times ||u|| is round-off level for internal forces, the
@@ -258,6 +283,13 @@ void NonlinearModel::gaussPointStressHost(std::vector<double> &coordinates,
                                           std::vector<double> &stress,
                                           int &pointsPerElement) const {
   std::vector<double> gradient, current;
+  gaussPointFieldsHost(coordinates, stress, pointsPerElement, gradient, current);
+}
+
+void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
+                                          std::vector<double> &stress, int &pointsPerElement,
+                                          std::vector<double> &gradient,
+                                          std::vector<double> &currentCoordinates) const {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
@@ -267,27 +299,15 @@ void NonlinearModel::gaussPointStressHost(std::vector<double> &coordinates,
     Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
     almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc);
-    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
-    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    const auto assign = [](std::vector<double> &out, const auto &view) {
+      auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+      out.assign(h.data(), h.data() + h.size());
+    };
     pointsPerElement = Elem::kNumQp;
-    coordinates.assign(hx.data(), hx.data() + hx.size());
-    stress.assign(hs.data(), hs.data() + hs.size());
-  });
-}
-
-void NonlinearModel::gaussPointFieldsHost(std::vector<double> &gradient,
-                                          std::vector<double> &currentCoordinates) const {
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
-    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
-    Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
-    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc);
-    auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gq);
-    auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xc);
-    gradient.assign(hg.data(), hg.data() + hg.size());
-    currentCoordinates.assign(hc.data(), hc.data() + hc.size());
+    assign(coordinates, xq);
+    assign(stress, sq);
+    assign(gradient, gq);
+    assign(currentCoordinates, xc);
   });
 }
 
@@ -364,21 +384,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
                                         ConstVec(follower_.pressure), lambda, data_.thickness, map_,
                                         a, g_);
   });
-  fresh_ = tangent;
-  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
-  double free = 0.0;
-  if (contact_) {
-    contact_->detect(Kokkos::View<const double *[2], Memory>(data_.mesh.coordinates), u_, 2);
-    subtractFrictionForces(g_, 2); // friction forces of slip nodes act on the body
-    free = contactFreeResidualNorm(g_, isConstrained_, 2);
-  } else {
-    free = strideNorm(g_, 1, 0, 1, isConstrained_, 0);
-  }
-  const double r =
-      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
-  assemblySeconds_ += seconds(start);
-  invertedElement_ = inverted;
-  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, 2, isConstrained_,
+                        data_.mesh.coordinates, u_, start);
 }
 
 template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
@@ -677,23 +684,10 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
                                         ConstVec(x_), follower_.edges, ConstVec(follower_.pressure),
                                         lambda, data_.thickness, map_, a, g_);
   });
-  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
-  double free = 0.0;
-  if (contact_) {
-    const auto coordinates =
-        form_ == MixedForm::Current ? reference_.mesh.coordinates : current_.mesh.coordinates;
-    contact_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x_, 5);
-    subtractFrictionForces(g_, 5);
-    free = contactFreeResidualNorm(g_, constrained5_, 5);
-  } else {
-    free = strideNorm(g_, 5, 0, 2, constrained5_, 0);
-  }
-  const double r =
-      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
-  fresh_ = tangent;
-  assemblySeconds_ += seconds(start);
-  invertedElement_ = inverted;
-  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, 5, constrained5_,
+                        form_ == MixedForm::Current ? reference_.mesh.coordinates
+                                                    : current_.mesh.coordinates,
+                        x_, start);
 }
 
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {

@@ -10,6 +10,7 @@
 #include <kernels/MixedElasticity.hpp>
 #include <solver/ModelBase.hpp>
 
+#include <chrono>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -82,12 +83,13 @@ public:
   LocalIndex invertedElement() const { return invertedElement_; }
   std::string invertedElementMessage() const;
 
-  /// Quadrature-point output of the current state: coordinates (reference), the Cauchy stress of
-  /// the Almansi law from the displacements, the spatial displacement gradient du/dx (4 per
-  /// point), and the current coordinates.
+  /// Quadrature-point output of the current state, in one kernel pass: coordinates (reference),
+  /// the Cauchy stress of the Almansi law from the displacements, the spatial displacement
+  /// gradient du/dx (4 per point), and the current coordinates.
   void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
                             int &pointsPerElement) const override;
-  void gaussPointFieldsHost(std::vector<double> &gradient,
+  void gaussPointFieldsHost(std::vector<double> &coordinates, std::vector<double> &stress,
+                            int &pointsPerElement, std::vector<double> &gradient,
                             std::vector<double> &currentCoordinates) const;
 
 protected:
@@ -112,6 +114,15 @@ protected:
       const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
       const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
       LinearSolver &solver, const Kokkos::View<double *, Memory> &dx);
+  /// The common end of evaluate(): contact detection at coordinates + x (`stride` unknowns per
+  /// node), friction forces, and the relative residual of g over the free displacement unknowns
+  /// (reference max(f_int, f_ext, force floor)); infinity when an element is inverted.
+  double finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
+                        const Kokkos::View<double *, Memory> &g, int stride,
+                        const Kokkos::View<const int *, Memory> &flags,
+                        const Kokkos::View<double *[2], Memory> &coordinates,
+                        const Kokkos::View<const double *, Memory> &x,
+                        std::chrono::steady_clock::time_point start);
   /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
   /// rigid motions under no load).
   double forceFloor(double displacementNorm);

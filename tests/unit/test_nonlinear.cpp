@@ -35,6 +35,14 @@ LinearSolverOptions directOptions() {
   return o;
 }
 
+/// Almansi strain (I - b^-1) / 2 from F = dx/dX at a point with natural gradients dn, reference
+/// and current element coordinates xe0, xe.
+Eigen::Matrix2d referenceAlmansi(const Eigen::MatrixXd &xe0, const Eigen::MatrixXd &xe,
+                                 const Eigen::MatrixXd &dn) {
+  const Eigen::Matrix2d fgrad = (xe.transpose() * dn) * (xe0.transpose() * dn).inverse();
+  return 0.5 * (Eigen::Matrix2d::Identity() - (fgrad * fgrad.transpose()).inverse());
+}
+
 /// Host reference of the displacement model's internal force: F = dx/dX, b^-1 = (F F^T)^-1,
 /// e = (I - b^-1)/2, sigma = C e, f = t int B(x)^T sigma da over the current element.
 Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::VectorXd &u) {
@@ -52,10 +60,8 @@ Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::VectorXd &u
       Eigen::VectorXd sh;
       Eigen::MatrixXd dn;
       referenceShape(n, g[0], g[1], sh, dn);
-      const Eigen::Matrix2d j0 = xe0.transpose() * dn, j = xe.transpose() * dn;
-      const Eigen::Matrix2d fgrad = j * j0.inverse();
-      const Eigen::Matrix2d binv = (fgrad * fgrad.transpose()).inverse();
-      const Eigen::Matrix2d strain = 0.5 * (Eigen::Matrix2d::Identity() - binv);
+      const Eigen::Matrix2d j = xe.transpose() * dn;
+      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
       const Eigen::Vector3d sigma =
           c * Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1));
       fe += referenceB(dn * j.inverse()).transpose() * sigma *
@@ -134,10 +140,8 @@ Eigen::VectorXd referenceMixedCurrent(const Fixture &f, const Eigen::VectorXd &x
       Eigen::VectorXd sh;
       Eigen::MatrixXd dn;
       referenceShape(n, q[0], q[1], sh, dn);
-      const Eigen::Matrix2d j0 = xe0.transpose() * dn, j = xe.transpose() * dn;
-      const Eigen::Matrix2d fgrad = j * j0.inverse();
-      const Eigen::Matrix2d strain =
-          0.5 * (Eigen::Matrix2d::Identity() - (fgrad * fgrad.transpose()).inverse());
+      const Eigen::Matrix2d j = xe.transpose() * dn;
+      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
       Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
       for (int a = 0; a < n; ++a)
         for (int c = 0; c < 3; ++c)
