@@ -237,21 +237,22 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
   return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
 }
 
-double NonlinearModel::forceFloor(double displacementNorm) {
-  // Largest diagonal of K^L on the reference configuration, once: the force a unit displacement
-  // of one node produces. 1e-8 of that times ||u|| is round-off level for internal forces, the
+void NonlinearModel::setStiffnessScale(
+    const NodeGraph &graph, const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map) {
+  // RMS diagonal of K^L on the reference configuration, on the model's own pattern: the force a
+  // unit displacement of one node produces.
+  auto k = expandGraph<Memory>(graph, 2);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
+  });
+  Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
+  fieldDiagonal(k, 1, 0, 1, d, 1.0);
+  stiffnessScale_ = strideNorm(d, 1, 0, 1, {}, 0) / std::sqrt(std::max<double>(1.0, k.numRows));
+}
+
+double NonlinearModel::forceFloor(double displacementNorm) const {
+  // 1e-8 of the stiffness scale times ||u|| is round-off level for internal forces: the
   // reference left when a motion is (nearly) rigid and no force acts.
-  if (stiffnessScale_ < 0.0) {
-    const NodeGraph graph = buildNodeGraph(mesh_);
-    auto k = expandGraph<Memory>(graph, 2);
-    const auto map = elementScatterMap<Memory>(mesh_, graph);
-    dispatchElement(mesh_.elementType, [&](auto elem) {
-      assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
-    });
-    Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
-    fieldDiagonal(k, 1, 0, 1, d, 1.0);
-    stiffnessScale_ = strideNorm(d, 1, 0, 1, {}, 0) / std::sqrt(std::max<double>(1.0, k.numRows));
-  }
   return 1e-8 * stiffnessScale_ * displacementNorm;
 }
 
@@ -321,6 +322,7 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 2);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
+  setStiffnessScale(graph_, map_);
   constrained_ = CsrMatrix<Memory>{};
   commitStaged();
   follower_ = followerLoads();
@@ -596,6 +598,7 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 5);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
+  setStiffnessScale(graph_, map_);
   commitStaged();
   follower_ = followerLoads();
   const LocalIndex nn = mesh_.numNodes();

@@ -125,8 +125,11 @@ protected:
                         std::chrono::steady_clock::time_point start);
   /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
   /// rigid motions under no load).
-  double forceFloor(double displacementNorm);
-  double stiffnessScale_ = -1.0;
+  double forceFloor(double displacementNorm) const;
+  /// Sets the stiffness scale of forceFloor from K^L assembled on the model's node graph.
+  void setStiffnessScale(const NodeGraph &graph,
+                         const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map);
+  double stiffnessScale_ = 0.0;
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
   RigidContact *contact_ = nullptr;
