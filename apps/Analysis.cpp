@@ -91,6 +91,12 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
                   r.contactClosed, r.contactStick, r.contactSlip, r.contactIterations,
                   r.contactCycled ? ", active set CYCLED (last pattern kept)" : "");
     *log << line;
+    for (std::size_t o = 0; 2 * o + 1 < r.obstacleMotion.size(); ++o)
+      if (r.obstacleMotion[2 * o] != 0.0 || r.obstacleMotion[2 * o + 1] != 0.0) {
+        std::snprintf(line, sizeof line, "        obstacle %zu moved by (%.6g, %.6g)\n", o + 1,
+                      r.obstacleMotion[2 * o], r.obstacleMotion[2 * o + 1]);
+        *log << line;
+      }
   }
   *log << std::flush;
 }
@@ -132,8 +138,12 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       s.obstacle.normal[0] = c.normal[0];
       s.obstacle.normal[1] = c.normal[1];
       s.friction = c.friction;
-      s.drive[0] = c.driveDisplacement[0];
-      s.drive[1] = c.driveDisplacement[1];
+      for (int i = 0; i < 2; ++i) {
+        s.drive[i] = c.driveDisplacement[i];
+        s.forceDriven[i] = c.forceDriven[i];
+        s.force[i] = c.driveForce[i];
+      }
+      s.statusFromStress = c.statusFromStress;
       s.nodes = p.mesh.nodesOf(c.boundary);
       s.name = c.boundary;
       specs.push_back(s);
@@ -189,6 +199,9 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       r.contactClosed = contact->numClosed();
       r.contactIterations = o.contactIterations;
       r.contactCycled = o.contactCycled;
+      for (std::size_t s = 0; s < contact->specs().size(); ++s)
+        for (int i = 0; i < 2; ++i)
+          r.obstacleMotion.push_back(contact->obstacleMotion(static_cast<int>(s))[i]);
       bool first = true;
       const auto u = model.displacementHost();
       auto &c = f.contact;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -39,12 +40,14 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   tangentForce_.assign(m, 0.0);
   anchorArc_.assign(m, 0.0);
   committedArc_.assign(m, 0.0);
+  motion_.assign(2 * specs_.size(), 0.0);
+  for (std::size_t s = 0; s < specs_.size(); ++s)
+    for (int i = 0; i < 2; ++i)
+      if (specs_[s].forceDriven[i])
+        driven_.push_back({static_cast<int>(s), i});
   obstacles_ =
       Kokkos::View<RigidObstacle *, DeviceSpace>("mixcon::contact::obstacles", specs_.size());
-  auto ho = Kokkos::create_mirror_view(obstacles_);
-  for (std::size_t s = 0; s < specs_.size(); ++s)
-    ho(s) = specs_[s].obstacle;
-  Kokkos::deep_copy(obstacles_, ho);
+  uploadObstacles();
   nodesDevice_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::contact::nodes", m);
   obstacleDevice_ = Kokkos::View<int *, DeviceSpace>("mixcon::contact::obstacleOf", m);
   auto hn = Kokkos::create_mirror_view(nodesDevice_);
@@ -59,14 +62,82 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   buildConstraints();
 }
 
-void RigidContact::setLoadFactor(double lambda) {
+void RigidContact::uploadObstacles() {
   auto ho = Kokkos::create_mirror_view(obstacles_);
   for (std::size_t s = 0; s < specs_.size(); ++s) {
     ho(s) = specs_[s].obstacle;
     for (int i = 0; i < 2; ++i)
-      ho(s).point[i] += lambda * specs_[s].drive[i];
+      ho(s).point[i] += motion_[2 * s + i];
   }
   Kokkos::deep_copy(obstacles_, ho);
+}
+
+void RigidContact::setLoadFactor(double lambda) {
+  lambda_ = lambda;
+  for (std::size_t s = 0; s < specs_.size(); ++s)
+    for (int i = 0; i < 2; ++i)
+      if (!specs_[s].forceDriven[i])
+        motion_[2 * s + i] = lambda * specs_[s].drive[i];
+  uploadObstacles();
+}
+
+double RigidContact::drivenForce(const DrivenComponent &c) const {
+  return lambda_ * specs_[c.obstacle].force[c.direction];
+}
+
+void RigidContact::moveObstacle(int s, const double *delta) {
+  for (int i = 0; i < 2; ++i)
+    motion_[2 * static_cast<std::size_t>(s) + i] += delta[i];
+  uploadObstacles();
+}
+
+int RigidContact::seatForceDriven() {
+  int moved = 0;
+  for (std::size_t s = 0; s < specs_.size(); ++s) {
+    const RigidContactSpec &spec = specs_[s];
+    if (!spec.forceDriven[0] && !spec.forceDriven[1])
+      continue;
+    bool supported = false;
+    for (std::size_t k = 0; k < node_.size(); ++k)
+      supported = supported || (obstacle_[k] == static_cast<int>(s) &&
+                                (status_[k] != ContactStatus::Open || gap_[k] <= 0.0));
+    double d[2] = {spec.forceDriven[0] ? spec.force[0] : 0.0,
+                   spec.forceDriven[1] ? spec.force[1] : 0.0};
+    const double len = std::hypot(d[0], d[1]);
+    if (supported || !(len > 0.0))
+      continue;
+    d[0] /= len;
+    d[1] /= len;
+    // The first candidate the obstacle meets when it translates along d: for a circle the
+    // smaller root t of |p - (c + t d)| = R (p = c + (R + gap) n from the last detection), for
+    // a half-plane gap / (d . n_plane).
+    const RigidObstacle &o = spec.obstacle;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < node_.size(); ++k) {
+      if (obstacle_[k] != static_cast<int>(s))
+        continue;
+      const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+      if (o.kind == ObstacleKind::Circle) {
+        const double w0 = (o.radius + gap_[k]) * n0, w1 = (o.radius + gap_[k]) * n1; // p - c
+        const double b = w0 * d[0] + w1 * d[1];
+        const double disc = b * b - (w0 * w0 + w1 * w1) + o.radius * o.radius;
+        if (disc >= 0.0 && b - std::sqrt(disc) >= 0.0)
+          best = std::min(best, b - std::sqrt(disc));
+      } else {
+        const double toward = d[0] * o.normal[0] + d[1] * o.normal[1];
+        if (toward > 0.0)
+          best = std::min(best, gap_[k] / toward);
+      }
+    }
+    if (!std::isfinite(best))
+      throw InputError("obstacle on '" + spec.name +
+                       "' is driven by a force but no node of that boundary lies in its path: "
+                       "the force cannot be carried by the body");
+    const double delta[2] = {best * d[0], best * d[1]};
+    moveObstacle(static_cast<int>(s), delta);
+    ++moved;
+  }
+  return moved;
 }
 
 LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
@@ -99,12 +170,14 @@ void RigidContact::buildConstraints() {
   c.normalStep.assign(numNodes_, 0.0);
   c.tangentStep.assign(numNodes_, 0.0);
   c.force.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
+  c.obstacle.assign(numNodes_, -1);
   for (std::size_t k = 0; k < node_.size(); ++k) {
     if (status_[k] == ContactStatus::Open)
       continue;
     const LocalIndex p = node_[k];
     const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
     c.framed[p] = 1;
+    c.obstacle[p] = obstacle_[k];
     c.normal[2 * p] = n0;
     c.normal[2 * p + 1] = n1;
     c.normalFixed[p] = 1;
@@ -125,7 +198,7 @@ void RigidContact::buildConstraints() {
 }
 
 int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::string &log,
-                               const std::vector<double> *stress) {
+                               const std::vector<double> *stress, bool frozen) {
   std::ostringstream out;
   int changes = 0;
   for (std::size_t k = 0; k < node_.size(); ++k) {
@@ -138,18 +211,35 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     const double mu = specs_[obstacle_[k]].friction;
     // Release and slip measures: contact forces, or the nodal stresses rotated to the surface.
     double compression = nForce, shear = tForce;
-    if (stress) {
+    if (stress && specs_[obstacle_[k]].statusFromStress) {
       const double sxx = (*stress)[3 * p], syy = (*stress)[3 * p + 1], sxy = (*stress)[3 * p + 2];
       const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1; // s . n
       compression = -(n0 * tn0 + n1 * tn1);                              // -sigma_nn
       shear = -n1 * tn0 + n0 * tn1;                                      // tau_nt
     }
     const ContactStatus before = status_[k];
+    if (frozen) {
+      // Statuses kept; a slip node's friction force follows mu N.
+      if (status_[k] == ContactStatus::Slip && mu > 0.0 &&
+          std::abs(mu * nForce - std::abs(tangentForce_[k])) >
+              1e-3 * mu * std::max(nForce, 1e-300)) {
+        ++changes;
+        out << "    contact: node " << p << " friction " << tangentForce_[k] << " -> "
+            << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
+      }
+      const bool closed = status_[k] != ContactStatus::Open;
+      normalForce_[k] = closed ? nForce : 0.0;
+      tangentForce_[k] = status_[k] == ContactStatus::Slip
+                             ? (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce
+                             : (closed ? tForce : 0.0);
+      continue;
+    }
     switch (status_[k]) {
     case ContactStatus::Open:
       if (gap_[k] < 0.0) {
         status_[k] = mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
         anchorArc_[k] = arc_[k];
+        committedArc_[k] = arc_[k]; // slip is measured from where the node closed
         normalForce_[k] = tangentForce_[k] = 0.0;
       }
       break;
@@ -225,6 +315,7 @@ int RigidContact::closeTouching(double tolerance) {
     if (status_[k] == ContactStatus::Open && gap_[k] <= tolerance) {
       status_[k] = specs_[obstacle_[k]].friction > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
       anchorArc_[k] = arc_[k];
+      committedArc_[k] = arc_[k];
       ++closed;
     }
   buildConstraints();
@@ -233,7 +324,7 @@ int RigidContact::closeTouching(double tolerance) {
 
 void RigidContact::commit() {
   committedArc_ = arc_;
-  saved_ = {status_, anchorArc_, normalForce_, tangentForce_};
+  saved_ = {status_, anchorArc_, normalForce_, tangentForce_, motion_, committedArc_};
 }
 
 void RigidContact::rollback() {
@@ -241,12 +332,16 @@ void RigidContact::rollback() {
     std::fill(status_.begin(), status_.end(), ContactStatus::Open);
     std::fill(normalForce_.begin(), normalForce_.end(), 0.0);
     std::fill(tangentForce_.begin(), tangentForce_.end(), 0.0);
+    std::fill(motion_.begin(), motion_.end(), 0.0);
   } else {
     status_ = saved_.status;
     anchorArc_ = saved_.anchorArc;
     normalForce_ = saved_.normalForce;
     tangentForce_ = saved_.tangentForce;
+    motion_ = saved_.motion;
+    committedArc_ = saved_.committedArc;
   }
+  uploadObstacles();
   buildConstraints();
 }
 

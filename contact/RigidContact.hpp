@@ -29,7 +29,14 @@ struct RigidContactSpec {
   std::vector<LocalIndex> nodes;
   double friction = 0.0;        ///< Coulomb coefficient mu (0: frictionless)
   double drive[2] = {0.0, 0.0}; ///< rigid motion of the obstacle at load factor 1
-  std::string name;             ///< for messages (e.g. the boundary)
+  /// Components driven by a force instead: the obstacle's motion along them is an unknown and
+  /// the contact forces it exerts on the body balance lambda * force there (a loaded pin).
+  bool forceDriven[2] = {false, false};
+  double force[2] = {0.0, 0.0}; ///< force on the obstacle at load factor 1 (forceDriven parts)
+  /// Whether the mixed model's nodal stresses decide release and slip (the report's way);
+  /// false: the nodal contact forces decide, as for the displacement model.
+  bool statusFromStress = true;
+  std::string name; ///< for messages (e.g. the boundary)
 };
 
 /// Per-node constraint data for one Newton correction (host arrays, N nodes).
@@ -41,14 +48,34 @@ struct ContactConstraints {
   std::vector<double> normalStep;  ///< prescribed change of the normal component (-gap)
   std::vector<double> tangentStep; ///< prescribed change of the tangential component (stick)
   std::vector<double> force;       ///< 2 per node: friction forces on the body (slip), global
+  std::vector<int> obstacle;       ///< obstacle (spec index) of a framed node, -1 otherwise
+};
+
+/// One force-driven component of an obstacle's motion: spec index and direction (0: x, 1: y).
+struct DrivenComponent {
+  int obstacle;
+  int direction;
 };
 
 class RigidContact {
 public:
   RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs);
 
-  /// Moves every obstacle to its position at load factor lambda (point + lambda drive).
+  /// Moves every obstacle to its position at load factor lambda: point + lambda drive along
+  /// displacement-driven components; force-driven components keep their current motion.
   void setLoadFactor(double lambda);
+  /// The force-driven components of all obstacles (empty: every obstacle is displacement
+  /// driven), the force on them at the current load factor, and their current motion.
+  const std::vector<DrivenComponent> &drivenComponents() const { return driven_; }
+  double drivenForce(const DrivenComponent &c) const;
+  /// Rigid motion of obstacle s from its declared position (2 components).
+  const double *obstacleMotion(int s) const { return &motion_[2 * static_cast<std::size_t>(s)]; }
+  /// Translates obstacle s by `delta` (2 components); call detect() again afterwards.
+  void moveObstacle(int s, const double *delta);
+  /// Moves every force-driven obstacle that has no closed node along its force until the first
+  /// candidate touches it (uses the last detection), so that the obstacle is supported; throws
+  /// InputError when no candidate lies in the way. Returns how many obstacles moved.
+  int seatForceDriven();
 
   /// Projects every candidate at the current position (coordinates + u, `stride` unknowns per
   /// node, displacements first) onto its obstacle; returns the number penetrating.
@@ -66,8 +93,10 @@ public:
   /// stresses rotated to the surface, sigma_nn = n.s.n (tensile: release) and tau_nt = t.s.n
   /// (slip when |tau_nt| > mu |sigma_nn|), as the report does; otherwise from the forces N, T.
   /// Returns the number of status changes; `log` lists them (empty when none).
+  /// With `frozen` the statuses stay and only the friction forces of slip nodes are updated to
+  /// mu N (how a cycling active set is resolved).
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
-                   const std::vector<double> *stress = nullptr);
+                   const std::vector<double> *stress = nullptr, bool frozen = false);
 
   /// Closes the open candidates already touching their obstacle (gap <= tolerance) at the last
   /// detection: a body that rests on an obstacle is supported from the first iteration.
@@ -106,10 +135,14 @@ private:
   std::vector<ContactStatus> status_;
   std::vector<double> gap_, angle_, arc_, normal_, normalForce_, tangentForce_;
   std::vector<double> anchorArc_, committedArc_; ///< stick anchors; arc at the last commit
+  std::vector<double> motion_;                   ///< 2 per obstacle: motion from `point`
+  std::vector<DrivenComponent> driven_;
+  double lambda_ = 0.0;
   struct Saved {
     std::vector<ContactStatus> status;
-    std::vector<double> anchorArc, normalForce, tangentForce;
+    std::vector<double> anchorArc, normalForce, tangentForce, motion, committedArc;
   } saved_;
+  void uploadObstacles();
   ContactConstraints constraints_;
   Kokkos::View<RigidObstacle *, DeviceSpace> obstacles_;
   Kokkos::View<LocalIndex *, DeviceSpace> nodesDevice_;

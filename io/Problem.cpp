@@ -167,7 +167,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
     const Item g = m["generator"];
     g.requireMap();
     const std::string type = g.required("type").choice(
-        {"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk"});
+        {"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk", "pinned_plate"});
     const ElementType et = g.has("element") ? elementType(g["element"]) : ElementType::Quad4;
     try {
       if (type == "rectangle") {
@@ -188,6 +188,18 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
         mesh = plateWithHoleMesh(g.required("hole_radius").number(), g.required("width").number(),
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
+      } else if (type == "pinned_plate") {
+        g.allowOnly({"type", "element", "hole_radius", "half_width", "end_distance", "length",
+                     "divisions", "grading"});
+        const Item d = g.required("divisions");
+        if (!d.node.IsSequence() || d.node.size() != 4)
+          d.fail("expected four integers [around the hole per 60 degrees, radial, end block, "
+                 "far block]");
+        mesh =
+            pinnedPlateMesh(g.required("hole_radius").number(), g.required("half_width").number(),
+                            g.required("end_distance").number(), g.required("length").number(),
+                            d.at(0).integer(), d.at(1).integer(), d.at(2).integer(),
+                            d.at(3).integer(), et, g.has("grading") ? g["grading"].number() : 1.0);
       } else {
         g.allowOnly({"type", "element", "radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
@@ -467,9 +479,15 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       s.line = c.line();
       s.type = c.required("type").choice({"rigid_circle", "rigid_half_plane"});
       if (s.type == "rigid_circle")
-        c.allowOnly({"type", "boundary", "center", "radius", "friction", "drive"});
+        c.allowOnly({"type", "boundary", "center", "radius", "friction", "drive", "status_from"});
       else
-        c.allowOnly({"type", "boundary", "point", "normal", "friction", "drive"});
+        c.allowOnly({"type", "boundary", "point", "normal", "friction", "drive", "status_from"});
+      if (c.has("status_from")) {
+        s.statusFromStress = c["status_from"].choice({"stresses", "forces"}) == "stresses";
+        if (p.model.formulation != Formulation::Mixed)
+          c["status_from"].fail("status_from applies to formulation: mixed (the displacement "
+                                "model has no nodal stress unknowns; its contact forces decide)");
+      }
       const Item b = c.required("boundary");
       s.boundary = b.string();
       if (!p.mesh.hasBoundary(s.boundary))
@@ -492,11 +510,31 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       }
       if (c.has("drive")) {
         const Item d = c["drive"];
+        d.requireMap();
         d.allowOnly({"displacement", "force"});
-        if (d.has("force"))
-          d["force"].fail("a force-driven obstacle is not available in this version; drive it by "
-                          "a displacement (scaled by the load factor)");
-        s.driveDisplacement = d.required("displacement").pair();
+        // Per component either a displacement or a force (the other list holds null there).
+        std::array<int, 2> given{0, 0};
+        for (const char *key : {"displacement", "force"}) {
+          if (!d.has(key))
+            continue;
+          const Item v = d[key];
+          if (!v.node.IsSequence() || v.node.size() != 2)
+            v.fail("expected a list of two entries [x, y] (numbers, or null for a component "
+                   "given by the other list)");
+          const bool force = std::string(key) == "force";
+          for (int i = 0; i < 2; ++i) {
+            if (v.at(i).node.IsNull())
+              continue;
+            ++given[i];
+            (force ? s.driveForce : s.driveDisplacement)[i] = v.at(i).number();
+            s.forceDriven[i] = force;
+          }
+        }
+        for (int i = 0; i < 2; ++i)
+          if (given[i] != 1)
+            d.fail(std::string("component ") + (i == 0 ? "x" : "y") +
+                   " of the drive must be given exactly once, as a displacement or as a force "
+                   "(write null in the other list)");
       }
       p.contact.push_back(s);
     }

@@ -69,6 +69,9 @@ struct ContactSpec {
   std::array<double, 2> normal{0.0, 1.0}; ///< half-plane: unit normal into the body
   double friction = 0.0;
   std::array<double, 2> driveDisplacement{0.0, 0.0}; ///< obstacle motion at load factor 1
+  std::array<bool, 2> forceDriven{false, false};     ///< components driven by a force instead
+  std::array<double, 2> driveForce{0.0, 0.0};        ///< force on the obstacle at load factor 1
+  bool statusFromStress = true; ///< mixed model: nodal stresses (true) or forces decide
   int line = 0;
 };
 

@@ -191,6 +191,9 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     writeDataset(cg, "tangential_force", c.tangentForce.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "angle", c.angle.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "arc", c.arc.data(), H5T_NATIVE_DOUBLE, n, 0);
+    if (!r.obstacleMotion.empty())
+      writeDataset(cg, "obstacle_motion", r.obstacleMotion.data(), H5T_NATIVE_DOUBLE,
+                   r.obstacleMotion.size() / 2, 2);
     writeStringAttribute(cg, "status_codes", "0 open, 1 stick, 2 slip");
     H5Gclose(cg);
   }
@@ -290,12 +293,17 @@ void ResultsWriter::writeSummary() const {
       list("convergence_orders", convergenceOrders(s.residualHistory));
       j << ", \"cuts\": " << s.cuts;
     }
-    if (s.contactClosed >= 0)
+    if (s.contactClosed >= 0) {
       j << ", \"contact\": {\"closed\": " << s.contactClosed << ", \"stick\": " << s.contactStick
         << ", \"slip\": " << s.contactSlip << ", \"status_updates\": " << s.contactIterations
         << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
         << ", \"arc_min\": " << number(s.contactArcMin)
-        << ", \"arc_max\": " << number(s.contactArcMax) << "}";
+        << ", \"arc_max\": " << number(s.contactArcMax) << ", \"obstacle_motion\": [";
+      for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o)
+        j << (o ? ", " : "") << "[" << number(s.obstacleMotion[2 * o]) << ", "
+          << number(s.obstacleMotion[2 * o + 1]) << "]";
+      j << "]}";
+    }
     j << "}";
   }
   j << "\n  ]";

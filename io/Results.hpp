@@ -32,6 +32,8 @@ struct StepRecord {
   int contactClosed = -1, contactStick = 0, contactSlip = 0, contactIterations = 0;
   bool contactCycled = false;
   double contactArcMin = 0.0, contactArcMax = 0.0;
+  /// Rigid motion of every obstacle from its declared position (2 per obstacle).
+  std::vector<double> obstacleMotion;
 };
 
 /// Per contact candidate (boundary node against an obstacle) of one step.

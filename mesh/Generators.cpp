@@ -252,4 +252,69 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGra
   return mesh;
 }
 
+Mesh pinnedPlateMesh(double r, double b, double e, double l, int n, int m, int nEnd, int nFar,
+                     ElementType type, double ratio) {
+  const std::string gen = "pinned_plate";
+  requirePositive("hole_radius", r, gen);
+  requirePositive("divisions[0]", n, gen);
+  requirePositive("divisions[1]", m, gen);
+  requirePositive("divisions[2]", nEnd, gen);
+  requirePositive("divisions[3]", nFar, gen);
+  requirePositive("grading", ratio, gen);
+  const double a = b / std::sqrt(3.0); // O-grid half-length: its corners lie at 60 and 120 deg
+  if (!(a > 1.05 * r))
+    throw InputError("mesh generator pinned_plate: half_width must exceed sqrt(3) * 1.05 * "
+                     "hole_radius (the O-grid around the hole needs room)");
+  if (!(e > a * 1.05) || !(l > a * 1.05))
+    throw InputError("mesh generator pinned_plate: end_distance and length must exceed "
+                     "half_width / sqrt(3) by 5 % (the O-grid around the hole)");
+  const double third = M_PI / 3;
+  const auto hole = [r](double t) { return Point{r * std::cos(t), r * std::sin(t)}; };
+  // Sectors: u radial from the hole (graded), v counter-clockwise along it.
+  Patch right{[=](double u, double v) {
+                const double t = v * third;
+                return lerp(hole(t), {a, a * std::tan(t)}, u);
+              },
+              m,
+              n,
+              {"bottom", "", "", "hole"},
+              ratio};
+  Patch top{[=](double u, double v) {
+              const double t = third + v * third;
+              return lerp(hole(t), {b * std::cos(t) / std::sin(t), b}, u);
+            },
+            m,
+            n,
+            {"", "top", "", "hole"},
+            ratio};
+  Patch left{[=](double u, double v) {
+               const double t = 2 * third + v * third;
+               return lerp(hole(t), {-a, a * std::tan((1.0 - v) * third)}, u);
+             },
+             m,
+             n,
+             {"", "", "bottom", "hole"},
+             ratio};
+  // Blocks: rows at the sectors' outer node heights y = a tan(v pi / 3).
+  Patch end{[=](double u, double v) {
+              return Point{-e + u * (e - a), a * std::tan(v * third)};
+            },
+            nEnd,
+            n,
+            {"bottom", "", "top", "end"},
+            1.0 / ratio};
+  Patch far{[=](double u, double v) {
+              return Point{a + u * (l - a), a * std::tan(v * third)};
+            },
+            nFar,
+            n,
+            {"bottom", "far", "top", ""},
+            ratio};
+  Mesh mesh = buildPatches({right, top, left, end, far}, type, "generator " + gen);
+  mesh.nodeSets["hole_bearing"] = {closestNode(mesh, -r, 0.0)};
+  mesh.nodeSets["hole_top"] = {closestNode(mesh, 0.0, r)};
+  mesh.nodeSets["far_bottom"] = {closestNode(mesh, l, 0.0)};
+  return mesh;
+}
+
 } // namespace mixcon

@@ -35,4 +35,17 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
 Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGrading = 1.0,
                      double radialGrading = 1.0);
 
+/// Half of a pin-loaded plate (y >= 0, symmetric about y = 0): a strip -e <= x <= l,
+/// 0 <= y <= b with a hole of radius r at the origin. An O-grid of three sectors of 60 degrees
+/// around the hole (n elements each along the hole, m radially, geometric growth `ratio` away
+/// from the hole) fills [-a, a] x [0, b] with a = b / sqrt(3), so that the hole nodes are evenly
+/// spaced every 60 / n degrees; an end block of nEnd columns fills [-e, -a] and a far block of
+/// nFar columns [a, l] (both n rows, columns growing by `ratio` away from the hole).
+/// Elements: 3 n m + n (nEnd + nFar); with n = 4, m = 6, nEnd = 4, nFar = 9 these are the
+/// report's 124 elements and 156 nodes. Region "body"; boundaries "hole", "bottom" (y = 0, the
+/// symmetry line), "top" (y = b), "end" (x = -e, the free end beyond the hole), "far"
+/// (x = l); node sets "hole_bearing" (-r, 0), "hole_top" (0, r), "far_bottom" (l, 0).
+Mesh pinnedPlateMesh(double r, double b, double e, double l, int n, int m, int nEnd, int nFar,
+                     ElementType type, double ratio = 1.0);
+
 } // namespace mixcon

@@ -9,6 +9,8 @@
 
 #include <kernels/Nonlinear.hpp>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -168,6 +170,28 @@ LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
   return solver.solve(rhs, dx);
 }
 
+/// Component d of the contact force that obstacle o exerts on the body, from a residual-like
+/// host vector y (`stride` unknowns per node; the Dirichlet flags `dirichlet` per unknown): at
+/// each node closed on o, n (n . y), plus t (t . y) in stick, plus the friction force of slip
+/// nodes when `withFriction`. Nodes with both components prescribed carry no contact force.
+double obstacleForce(const ContactConstraints &c, const double *y, int stride, const int *dirichlet,
+                     LocalIndex numNodes, int o, int d, bool withFriction) {
+  double f = 0.0;
+  for (LocalIndex p = 0; p < numNodes; ++p) {
+    const LocalIndex i0 = stride * p;
+    if (!c.framed[p] || c.obstacle[p] != o || (dirichlet[i0] && dirichlet[i0 + 1]))
+      continue;
+    const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
+    const double t[2] = {-n[1], n[0]};
+    f += n[d] * (n[0] * y[i0] + n[1] * y[i0 + 1]);
+    if (c.tangentFixed[p] && !dirichlet[i0] && !dirichlet[i0 + 1])
+      f += t[d] * (t[0] * y[i0] + t[1] * y[i0 + 1]);
+    if (withFriction)
+      f += c.force[2 * p + d];
+  }
+  return f;
+}
+
 } // namespace nonlinear_detail
 using namespace nonlinear_detail;
 
@@ -228,7 +252,10 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
   } else {
     free = strideNorm(g, stride, 0, 2, flags, 0);
   }
-  const double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  if (contact_)
+    for (const auto &d : contact_->drivenComponents())
+      fext = std::hypot(fext, contact_->drivenForce(d)); // forces on driven obstacles
   const double r =
       relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
   fresh_ = tangent;
@@ -430,6 +457,13 @@ double NonlinearModel::contactFreeResidualNorm(const Kokkos::View<const double *
       if (!flags(i0 + i) && !(c.framed[p] && c.normalFixed[p]))
         s += g(i0 + i) * g(i0 + i);
   }
+  // The balance of every force-driven obstacle: applied force minus the contact forces.
+  for (const auto &d : contact_->drivenComponents()) {
+    const double r =
+        contact_->drivenForce(d) - obstacleForce(c, g.data(), stride, flags.data(),
+                                                 mesh_.numNodes(), d.obstacle, d.direction, true);
+    s += r * r;
+  }
   return std::sqrt(s);
 }
 
@@ -480,6 +514,32 @@ LinearSolveStats NonlinearModel::correctWithContact(
     step[i0] = c.normalStep[p];
     step[i0 + 1] = c.tangentStep[p];
   }
+  // Force-driven obstacles: their motion dc along each driven component is an unknown. The
+  // prescribed normal (and stick tangential) components of their closed nodes then read
+  // step + (n . dc) (and t . dc), so the correction is dx0 + sum_j dx_j dc_j with dx_j the
+  // response to a unit motion along component j; dc follows from the balance of the contact
+  // forces on each obstacle with its applied force (static condensation of the 2 rigid-body
+  // unknowns per obstacle, exact for the linearized problem).
+  const auto &driven = contact_->drivenComponents();
+  const std::size_t nd = driven.size();
+  std::vector<std::vector<double>> unitStep(nd, std::vector<double>(step.size(), 0.0));
+  for (std::size_t j = 0; j < nd; ++j)
+    for (LocalIndex p = 0; p < nn; ++p) {
+      if (!c.framed[p] || c.obstacle[p] != driven[j].obstacle)
+        continue;
+      const LocalIndex i0 = stride * p;
+      const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
+      const double t[2] = {-n[1], n[0]};
+      const int d = driven[j].direction;
+      if (framed[p]) {
+        unitStep[j][i0] = n[d];
+        if (c.tangentFixed[p])
+          unitStep[j][i0 + 1] = t[d];
+      } else if (!(dflags(i0) && dflags(i0 + 1))) {
+        const int other = dflags(i0) ? 1 : 0;
+        unitStep[j][i0 + other] = n[d] / n[other];
+      }
+    }
   const auto start = std::chrono::steady_clock::now();
   Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", flags.size()),
       dfr("mixcon::nonlinear::framed", nn);
@@ -508,13 +568,76 @@ LinearSolveStats NonlinearModel::correctWithContact(
   axpby(-1.0, g, 0.0, rhs);
   const auto cfr = Kokkos::View<const int *, Memory>(dfr);
   const auto cn = Kokkos::View<const double *[2], Memory>(dn);
+  const auto cf = Kokkos::View<const int *, Memory>(df);
   rotateToLocalFrames(Exec(), work, stride, cfr, cn, rhs);
-  applyDirichlet(Exec(), work, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
+  CsrMatrix<Memory> rotated;
+  if (nd > 0)
+    rotated = cloneValues(work);
+  applyDirichlet(Exec(), work, cf, ConstVec(target), rhs);
   Exec().fence();
   solver.setup(work);
   solverSetupSeconds_ += seconds(start);
-  const LinearSolveStats s = solver.solve(rhs, dx);
+  LinearSolveStats s = solver.solve(rhs, dx);
   fromLocalFrames(Exec(), stride, cfr, cn, dx);
+  if (nd == 0)
+    return s;
+
+  // Responses to unit obstacle motions (same factorization), then the obstacle balance.
+  const LocalIndex n = static_cast<LocalIndex>(g.extent(0));
+  Vec diag("mixcon::nonlinear::contactDiag", n), zero("mixcon::nonlinear::zero", n),
+      lifted("mixcon::nonlinear::lifted", n), unit("mixcon::nonlinear::unitStep", n),
+      product("mixcon::nonlinear::product", n);
+  constrainedDiagonal(Exec(), work, cf, diag);
+  std::vector<Vec> response(nd);
+  for (std::size_t j = 0; j < nd; ++j) {
+    auto hu = Kokkos::create_mirror_view(unit);
+    for (LocalIndex i = 0; i < n; ++i)
+      hu(i) = unitStep[j][i];
+    Kokkos::deep_copy(unit, hu);
+    multiply(Exec(), rotated, ConstVec(unit), product);
+    constrainedRhs(Exec(), cf, ConstVec(diag), ConstVec(zero), ConstVec(unit), ConstVec(product),
+                   lifted);
+    response[j] = Vec("mixcon::nonlinear::unitResponse", n);
+    const LinearSolveStats sj = solver.solve(lifted, response[j]);
+    s.iterations += sj.iterations;
+    s.solveSeconds += sj.solveSeconds;
+    s.converged = s.converged && sj.converged;
+    fromLocalFrames(Exec(), stride, cfr, cn, response[j]);
+  }
+  multiply(Exec(), tangent, ConstVec(dx), product);
+  axpby(1.0, g, 1.0, product); // G + K dx0: the linearized residual after the base correction
+  const auto base = toHost(product);
+  Eigen::MatrixXd a(nd, nd);
+  Eigen::VectorXd b(nd);
+  for (std::size_t i = 0; i < nd; ++i)
+    b(i) = contact_->drivenForce(driven[i]) - obstacleForce(c, base.data(), stride, dflags.data(),
+                                                            nn, driven[i].obstacle,
+                                                            driven[i].direction, true);
+  for (std::size_t j = 0; j < nd; ++j) {
+    multiply(Exec(), tangent, ConstVec(response[j]), product);
+    const auto y = toHost(product);
+    for (std::size_t i = 0; i < nd; ++i)
+      a(i, j) = obstacleForce(c, y.data(), stride, dflags.data(), nn, driven[i].obstacle,
+                              driven[i].direction, false);
+  }
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+  lu.setThreshold(1e-10);
+  if (!lu.isInvertible()) {
+    std::ostringstream m;
+    m << "a force-driven obstacle ('" << contact_->specs()[driven[0].obstacle].name
+      << "') has no stiffness along a driven direction: its closed nodes cannot carry the force "
+         "there (too few contact nodes, or frictionless contact loaded tangentially)";
+    throw std::runtime_error(m.str());
+  }
+  const Eigen::VectorXd dc = lu.solve(b);
+  for (std::size_t j = 0; j < nd; ++j)
+    axpby(dc(j), response[j], 1.0, dx);
+  std::vector<double> motion(2 * contact_->specs().size(), 0.0);
+  for (std::size_t j = 0; j < nd; ++j)
+    motion[2 * driven[j].obstacle + driven[j].direction] += dc(j);
+  for (std::size_t o = 0; o < contact_->specs().size(); ++o)
+    if (motion[2 * o] != 0.0 || motion[2 * o + 1] != 0.0)
+      contact_->moveObstacle(static_cast<int>(o), &motion[2 * o]);
   return s;
 }
 
@@ -953,11 +1076,16 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
   if (model_.contact())
     model_.contact()->setLoadFactor(lambda);
   double r0 = model_.evaluate(lambda, true);
-  if (model_.contact() && !contactStarted_) {
+  RigidContact *contact = model_.contact();
+  // A force-driven obstacle without support first moves along its force onto the body.
+  const bool seated = contact && contact->seatForceDriven() > 0;
+  if (seated)
+    r0 = model_.evaluate(lambda, true);
+  if (contact && (!contactStarted_ || seated)) {
     // Nodes touching an obstacle in the initial state close before the first correction, so a
     // body resting on an obstacle is supported from the start.
     contactStarted_ = true;
-    if (model_.contact()->closeTouching(1e-12) > 0)
+    if (contact->closeTouching(1e-12) > 0)
       r0 = model_.evaluate(lambda, true);
   }
   out.initialResidual = r0;
@@ -1025,12 +1153,15 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
   RigidContact *contact = model_.contact();
   if (!contact)
     return true;
-  std::set<std::string> seen{contact->signature()};
+  std::string previous = contact->signature();
+  std::set<std::string> seen{previous};
+  bool frozen = false;
   for (int it = 0; it < options_.maxContactIterations; ++it) {
     std::string changesLog;
     const auto stress = model_.contactStressHost();
-    const int changes = contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(),
-                                              changesLog, stress.empty() ? nullptr : &stress);
+    const int changes =
+        contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(), changesLog,
+                              stress.empty() ? nullptr : &stress, frozen);
     ++out.contactIterations;
     if (log_ && !changesLog.empty())
       *log_ << changesLog;
@@ -1042,14 +1173,18 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
       }
       return true;
     }
-    if (!seen.insert(contact->signature()).second) {
-      // A status pattern came back: the active set cycles. Resolve it by accepting the
-      // equilibrium of the current pattern without further updates, and report it.
+    // Only status changes can cycle; friction-force updates alone keep the signature.
+    const std::string signature = contact->signature();
+    const bool statusChanged = signature != previous;
+    previous = signature;
+    if (statusChanged && !seen.insert(signature).second) {
+      // A status pattern came back: the active set cycles. Resolve it by keeping the current
+      // pattern and iterating only the friction forces to mu N, and report it.
       out.contactCycled = true;
+      frozen = true;
       if (log_)
         *log_ << "    contact: the active set cycles at load factor " << lambda
               << "; keeping the current pattern\n";
-      return attempt(lambda, out, why);
     }
     if (!attempt(lambda, out, why))
       return false;

@@ -1,6 +1,7 @@
 // Rigid-obstacle geometry and detection (contact/RigidObstacle.hpp) against plain host formulas,
 // and the nodal local frames (solver/LocalFrames.hpp) against dense R^T A R, for 2 and 5 unknowns
-// per node.
+// per node; the seating of a force-driven obstacle against a host ray cast.
+#include <contact/RigidContact.hpp>
 #include <contact/RigidObstacle.hpp>
 #include <solver/LocalFrames.hpp>
 #include <support/KernelFixture.hpp>
@@ -168,4 +169,58 @@ TEST(LocalFrames, RotationEqualsDenseProductForTwoAndFiveUnknownsPerNode) {
     fromLocalFrames(Exec(), ndof, cf, cn, v);
     EXPECT_LT((toEigen(v) - b).cwiseAbs().maxCoeff(), 1e-14);
   }
+}
+
+// A force-driven pin below a row of nodes, pushed up and to the side: seatForceDriven moves it
+// along its force until the first node touches. Reference: the smallest t >= 0 with
+// |p - (c + t d)| = R over the nodes, solved here by bisection on the host.
+TEST(RigidContact, SeatingMovesAForceDrivenPinOntoTheFirstNodeInItsPath) {
+  const Fixture f = makeFixture(ElementType::Quad4, 6, 2);
+  const LocalIndex nn = f.mesh.numNodes();
+  RigidContactSpec spec;
+  spec.obstacle = circle(0.3, -0.8, 0.5);
+  spec.nodes = f.mesh.nodesOf("bottom");
+  spec.forceDriven[0] = spec.forceDriven[1] = true;
+  spec.force[0] = 0.6;
+  spec.force[1] = 0.8; // direction (0.6, 0.8)
+  spec.name = "bottom";
+  RigidContact contact(nn, {spec});
+  contact.setLoadFactor(1.0);
+  Kokkos::View<double *, Memory> u("u", 2 * nn);
+  contact.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), u, 2);
+  ASSERT_EQ(contact.seatForceDriven(), 1);
+  double best = 1e300;
+  for (LocalIndex n : spec.nodes) {
+    const auto inside = [&](double t) {
+      return std::hypot(f.mesh.x(n) - 0.3 - 0.6 * t, f.mesh.y(n) + 0.8 - 0.8 * t) < 0.5;
+    };
+    // First entry: scan in steps of 1e-3, then bisect the bracketing step.
+    double lo = 0.0, hi = -1.0;
+    for (double t = 1e-3; t < 3.0 && hi < 0.0; t += 1e-3) {
+      if (inside(t))
+        hi = t;
+      else
+        lo = t;
+    }
+    if (hi < 0.0)
+      continue;
+    for (int it = 0; it < 200; ++it)
+      (inside(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    best = std::min(best, hi);
+  }
+  const double *motion = contact.obstacleMotion(0);
+  EXPECT_NEAR(motion[0], 0.6 * best, 1e-12);
+  EXPECT_NEAR(motion[1], 0.8 * best, 1e-12);
+  contact.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), u, 2);
+  double minGap = 1e300;
+  for (LocalIndex k = 0; k < contact.numCandidates(); ++k)
+    minGap = std::min(minGap, contact.gap(k));
+  EXPECT_NEAR(minGap, 0.0, 1e-12);
+  // Pulled away from the nodes instead, nothing lies in its path: a clear error.
+  spec.force[0] = 0.0;
+  spec.force[1] = -1.0;
+  RigidContact away(nn, {spec});
+  away.setLoadFactor(1.0);
+  away.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), u, 2);
+  EXPECT_THROW(away.seatForceDriven(), InputError);
 }

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <iomanip>
 #include <sstream>
 
@@ -81,6 +83,38 @@ TEST_P(GeneratorTest, CurvedGeneratorsConvergeToExactAreaAndShareNodes) {
     EXPECT_NEAR(plate.y(n), 4.0, 1e-12);
   for (LocalIndex n : disk.nodesOf("arc"))
     EXPECT_NEAR(std::hypot(disk.x(n), disk.y(n)), 1.0, 1e-12);
+}
+
+TEST_P(GeneratorTest, PinnedPlateHasTheReportsCountsAndEvenlySpacedHoleNodes) {
+  const bool q8 = GetParam() == ElementType::Quad8;
+  const Mesh m = pinnedPlateMesh(0.5, 2.0, 4.0, 8.0, 4, 6, 4, 9, GetParam(), 1.25);
+  EXPECT_NO_THROW(validateMesh(m));
+  // The report's wood plate: 124 elements, 156 nodes (Quad4).
+  EXPECT_EQ(m.numElements(), 124);
+  if (!q8) {
+    EXPECT_EQ(m.numNodes(), 156);
+  }
+  EXPECT_NEAR(meshArea(m), 12.0 * 2.0 - M_PI * 0.25 / 2, q8 ? 1e-5 : 1e-2);
+  EXPECT_EQ(m.boundaries.at("hole").size(), 12u);
+  EXPECT_EQ(m.boundaries.at("end").size(), 4u);
+  EXPECT_EQ(m.boundaries.at("far").size(), 4u);
+  // Hole nodes on the circle, every 15 degrees (7.5 with the Quad8 mid-side nodes).
+  std::vector<double> angles;
+  for (LocalIndex n : m.nodesOf("hole")) {
+    EXPECT_NEAR(std::hypot(m.x(n), m.y(n)), 0.5, 1e-12);
+    angles.push_back(std::atan2(m.y(n), m.x(n)) * 180.0 / M_PI);
+  }
+  std::sort(angles.begin(), angles.end());
+  ASSERT_EQ(angles.size(), q8 ? 25u : 13u);
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    EXPECT_NEAR(angles[k], k * (q8 ? 7.5 : 15.0), 1e-9);
+  for (LocalIndex n : m.nodesOf("bottom"))
+    EXPECT_NEAR(m.y(n), 0.0, 1e-12);
+  for (LocalIndex n : m.nodesOf("end"))
+    EXPECT_NEAR(m.x(n), -4.0, 1e-12);
+  const LocalIndex b = m.nodeSets.at("hole_bearing").front();
+  EXPECT_NEAR(m.x(b), -0.5, 1e-12);
+  EXPECT_NEAR(m.y(b), 0.0, 1e-12);
 }
 
 TEST(MeshValidation, RejectsInvertedElementAndNamesIt) {

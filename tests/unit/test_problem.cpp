@@ -142,11 +142,27 @@ std::vector<BadCase> badCases() {
                "contact:\n  - {type: rigid_circle, boundary: hole, center: [0, 0], radius: 1}\n"
                "output: {directory: somewhere}"),
        "unknown boundary 'hole'", 16},
-      {"contact_force_drive",
+      {"contact_drive_component_twice",
        replace(g, "output: {directory: somewhere}",
                "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
-               "drive: {force: [0, 1]}}\noutput: {directory: somewhere}"),
-       "a force-driven obstacle is not available", 16},
+               "drive: {force: [0, 1], displacement: [0, null]}}\noutput: {directory: "
+               "somewhere}"),
+       "component x of the drive must be given exactly once", 16},
+      {"contact_drive_component_missing",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
+               "drive: {force: [null, 1]}}\noutput: {directory: somewhere}"),
+       "component x of the drive must be given exactly once", 16},
+      {"contact_status_from_on_displacement",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
+               "status_from: forces}\noutput: {directory: somewhere}"),
+       "status_from applies to formulation: mixed", 16},
+      {"pinned_plate_too_narrow",
+       replace(g, kGenerator,
+               "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 0.8, "
+               "end_distance: 4, length: 8, divisions: [4, 6, 4, 9]}"),
+       "half_width must exceed", 0},
       {"contact_negative_friction",
        replace(g, "output: {directory: somewhere}",
                "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
@@ -461,4 +477,20 @@ TEST(Cli, ContactRunWritesContactFieldsAndCsv) {
   std::stringstream summary;
   summary << in.rdbuf();
   EXPECT_NE(summary.str().find("\"contact\": {\"closed\""), std::string::npos);
+}
+
+TEST(Problem, ParsesAForceDrivenPinPerComponent) {
+  const std::string text =
+      replace(kGood, "output: {directory: somewhere}",
+              "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
+              "friction: 0.7, drive: {force: [-200, null], displacement: [null, 0.5]}}\n"
+              "output: {directory: somewhere}");
+  const Problem p = parseProblem(text, "pin.yaml", "");
+  ASSERT_EQ(p.contact.size(), 1u);
+  const ContactSpec &c = p.contact[0];
+  EXPECT_TRUE(c.forceDriven[0]);
+  EXPECT_FALSE(c.forceDriven[1]);
+  EXPECT_DOUBLE_EQ(c.driveForce[0], -200.0);
+  EXPECT_DOUBLE_EQ(c.driveDisplacement[1], 0.5);
+  EXPECT_DOUBLE_EQ(c.friction, 0.7);
 }

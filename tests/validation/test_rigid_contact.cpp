@@ -203,3 +203,65 @@ TEST(RigidContact, RestingBodyIsSupportedAndAFloatingOneIsReported) {
     }
   }
 }
+
+// A force-driven rigid plane: the block (held at the top, symmetric about x = 0) starts 1e-3
+// above the plane, which is pushed up by F = q W. The plane first moves onto the block (seating),
+// then compresses it: frictionless, the base carries F uniformly, so the plane's motion is
+// 1e-3 + F H (1 - nu^2) / (E W) (uniaxial plane strain, free lateral expansion) and the contact
+// forces sum to F. Driving the plane by that motion as a displacement gives the same force.
+// The mixed model (finite kinematics) balances the plane's force too.
+TEST(RigidContact, ForceDrivenPlaneCarriesItsForceAndMatchesTheDisplacementDrive) {
+  const double q = 40.0, clearance = 1e-3, force = q * kW;
+  const auto run = [&](Kinematics kind, bool byForce, double motion, double &sumN, double &moved) {
+    Mesh mesh = rectangleMesh(kW, kH, 8, 4, ElementType::Quad8);
+    const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStrain)};
+    const std::vector<int> material(mesh.numElements(), 0);
+    std::unique_ptr<NonlinearModel> model;
+    if (kind == Kinematics::FiniteMixed) {
+      model = std::make_unique<NonlinearMixedModel>(mesh, material, c, 1.0);
+    } else {
+      auto d = std::make_unique<NonlinearDisplacementModel>(mesh, material, c, 1.0);
+      d->setSmallDisplacements(kind == Kinematics::SmallDisplacement);
+      model = std::move(d);
+    }
+    for (LocalIndex n : mesh.nodesOf("left"))
+      model->prescribe(n, 0, 0.0);
+    for (LocalIndex n : mesh.nodesOf("top"))
+      model->prescribe(n, 1, 0.0);
+    RigidContactSpec spec;
+    spec.obstacle.kind = ObstacleKind::HalfPlane;
+    spec.obstacle.point[1] = -clearance;
+    spec.obstacle.normal[0] = 0.0;
+    spec.obstacle.normal[1] = 1.0;
+    spec.nodes = mesh.nodesOf("bottom");
+    spec.name = "bottom";
+    spec.forceDriven[1] = byForce;
+    spec.force[1] = force;
+    spec.drive[1] = byForce ? 0.0 : motion;
+    RigidContact contact(mesh.numNodes(), {spec});
+    model->setContact(&contact);
+    LinearSolverOptions o;
+    o.type = LinearSolverType::Direct;
+    model->setup(o, MPI_COMM_WORLD);
+    LoadStepper stepper(*model, NonlinearOptions{});
+    const IncrementOutcome out = stepper.advance(1.0);
+    ASSERT_TRUE(out.converged) << out.message;
+    sumN = 0.0;
+    for (LocalIndex k = 0; k < contact.numCandidates(); ++k) {
+      EXPECT_NE(contact.status(k), ContactStatus::Open);
+      sumN += contact.normalForce(k);
+    }
+    moved = contact.obstacleMotion(0)[1];
+  };
+  double sumN = 0.0, moved = 0.0;
+  run(Kinematics::SmallDisplacement, true, 0.0, sumN, moved);
+  EXPECT_NEAR(sumN, force, 1e-8 * force);
+  const double expected = clearance + force * kH * (1 - kNu * kNu) / (kE * kW);
+  EXPECT_NEAR(moved, expected, 1e-8 * expected);
+  double sumByDisplacement = 0.0, unused = 0.0;
+  run(Kinematics::SmallDisplacement, false, moved, sumByDisplacement, unused);
+  EXPECT_NEAR(sumByDisplacement, force, 1e-6 * force);
+  run(Kinematics::FiniteMixed, true, 0.0, sumN, moved);
+  EXPECT_NEAR(sumN, force, 1e-6 * force);
+  EXPECT_NEAR(moved, expected, 2e-2 * expected); // finite kinematics: close to the linear value
+}
