@@ -87,6 +87,15 @@ def final_state(result):
     return res
 
 
+def tributary(phi):
+    """Arc length (in) each hole node stands for, from the node angles (degrees): half the
+    distance to its neighbours on either side, one-sided at the ends (R = 0.5 in)."""
+    rad = np.radians(phi)
+    left = np.concatenate(([0.0], np.diff(rad))) / 2
+    right = np.concatenate((np.diff(rad), [0.0])) / 2
+    return 0.5 * (left + right)
+
+
 def zones(st):
     """(contact arc, stick zone): the largest phi of the closed nodes, and of the stick nodes
     contiguous with the bearing point phi = 0 (degrees)."""
@@ -205,14 +214,14 @@ def main():
         for status, colour in (("stick", "tab:blue"), ("slip", "tab:red"),
                                ("open", "tab:gray")):
             m = st["status"] == status
-            ax1.plot(st["phi"][m], st["N"][m] / (1 if name == "refined" else 1), style,
+            ax1.plot(st["phi"][m], (st["N"] / tributary(st["phi"]))[m], style,
                      color=colour, mfc="none" if name == "report" else colour, ms=4,
                      label=f"{name} {status}")
             ratio = np.where(st["N"] > 0, np.abs(st["T"]) / np.maximum(st["N"], 1e-300), 0)
             ax2.plot(st["phi"][m], ratio[m], style, color=colour,
                      mfc="none" if name == "report" else colour, ms=4)
     ax2.axhline(MU, color="k", lw=0.8, ls="--", label="mu = 0.7")
-    ax1.set_ylabel("nodal normal force N (lb)")
+    ax1.set_ylabel("contact pressure N / (R dtheta) (psi)")
     ax2.set_ylabel("|T| / N")
     ax2.set_xlabel("angle from the bearing point phi (deg)")
     ax1.set_title("Contact zones at P = 400 lb/in: stick (blue), slip (red), open (grey)")
