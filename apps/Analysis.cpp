@@ -121,6 +121,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     auto d = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
                                                           p.model.thickness);
     d->setTangent(p.tangent);
+    d->setElasticLaw(p.model.elasticLaw);
     d->setSmallDisplacements(!p.model.geometricNonlinearity); // a linear body in contact
     owner = std::move(d);
   }

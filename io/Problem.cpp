@@ -218,7 +218,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
 
 ModelSpec readModel(const Item &m) {
   m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity", "compliance",
-               "stabilization", "stress_element", "mixed_form", "stress_update"});
+               "stabilization", "stress_element", "mixed_form", "stress_update", "elastic_law"});
   ModelSpec s;
   if (m.has("formulation"))
     s.formulation = m["formulation"].choice({"displacement", "mixed"}) == "mixed"
@@ -264,6 +264,14 @@ ModelSpec readModel(const Item &m) {
     s.mixedForm = m["mixed_form"].choice({"current", "incremental"}) == "incremental"
                       ? MixedForm::Incremental
                       : MixedForm::Current;
+  if (m.has("elastic_law")) {
+    if (!s.geometricNonlinearity || s.formulation != Formulation::Displacement)
+      m["elastic_law"].fail("elastic_law applies to formulation: displacement with "
+                            "geometric_nonlinearity: true only");
+    s.elasticLaw = m["elastic_law"].choice({"almansi", "saint_venant_kirchhoff"}) == "almansi"
+                       ? ElasticLaw::Almansi
+                       : ElasticLaw::SaintVenantKirchhoff;
+  }
   if (m.has("stress_update")) {
     if (s.mixedForm != MixedForm::Incremental)
       m["stress_update"].fail("stress_update applies to mixed_form: incremental only");
@@ -564,6 +572,10 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
                           "iterates with its exact Jacobian)");
       p.tangent = s["tangent"].choice({"exact", "report"}) == "report" ? TangentKind::Report
                                                                        : TangentKind::Exact;
+      if (p.tangent == TangentKind::Report &&
+          p.model.elasticLaw == ElasticLaw::SaintVenantKirchhoff)
+        s["tangent"].fail("tangent: report is the Almansi law's K^L + K^sigma; with elastic_law: "
+                          "saint_venant_kirchhoff use the exact tangent");
     }
     if (s.has("tolerance"))
       n.tolerance = s["tolerance"].positive();

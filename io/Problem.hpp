@@ -29,6 +29,8 @@ struct ModelSpec {
   /// Geometrically nonlinear mixed model: its form and (form incremental) stress update.
   MixedForm mixedForm = MixedForm::Current;
   StressUpdate stressUpdate = StressUpdate::Projected;
+  /// Geometrically nonlinear displacement model: elastic law.
+  ElasticLaw elasticLaw = ElasticLaw::Almansi;
 };
 
 struct MaterialSpec {

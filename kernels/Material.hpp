@@ -122,4 +122,14 @@ KOKKOS_INLINE_FUNCTION void applyStiffness(const PlaneMatrix &c, const double (&
     sig[i] = c.m[i][0] * eps[0] + c.m[i][1] * eps[1] + c.m[i][2] * eps[2];
 }
 
+/// Elastic law of the geometrically nonlinear displacement model (both reduce to Hooke's law at
+/// small strain and differ at second order in the strain).
+enum class ElasticLaw : int {
+  /// Cauchy stress = C : Almansi strain of the current configuration (the report's Eq. (26)).
+  Almansi = 0,
+  /// 2nd Piola-Kirchhoff stress = C : Green-Lagrange strain (St. Venant-Kirchhoff, the usual
+  /// "linear elastic material with geometric nonlinearity" of total-Lagrangian codes).
+  SaintVenantKirchhoff = 1
+};
+
 } // namespace mixcon

@@ -52,6 +52,28 @@ KOKKOS_INLINE_FUNCTION void stressFromStrainTensor(const PlaneMatrix &c, const d
   s[0][1] = s[1][0] = sv[2];
 }
 
+/// Cauchy stress of the St. Venant-Kirchhoff law from the spatial displacement gradient h =
+/// du/dx: F = (I - h)^-1, E = (F^T F - I) / 2, S = C : E, sigma = F S F^T / det F.
+KOKKOS_INLINE_FUNCTION void
+svkCauchyFromSpatialGradient(const PlaneMatrix &c, const double (&h)[2][2], double (&s)[2][2]) {
+  const double fi[2][2] = {{1.0 - h[0][0], -h[0][1]}, {-h[1][0], 1.0 - h[1][1]}}; // F^-1
+  const double di = fi[0][0] * fi[1][1] - fi[0][1] * fi[1][0];
+  const double f[2][2] = {{fi[1][1] / di, -fi[0][1] / di}, {-fi[1][0] / di, fi[0][0] / di}};
+  double e[2][2], pk2[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      e[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
+  stressFromStrainTensor(c, e, pk2);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      double v = 0.0;
+      for (int k = 0; k < 2; ++k)
+        for (int l = 0; l < 2; ++l)
+          v += f[i][k] * pk2[k][l] * f[j][l];
+      s[i][j] = v * di; // 1 / det F = det F^-1
+    }
+}
+
 /// Element nodal coordinates x = X + u (current configuration) and displacements.
 template <class Elem, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
@@ -152,21 +174,99 @@ KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
   return valid;
 }
 
+/// Displacement model with the St. Venant-Kirchhoff law, element e, total Lagrangian on the
+/// reference configuration X (d.mesh): fe = t int P grad_X(N) dA, P = F S, S = C : E,
+/// E = (F^T F - I) / 2, F = I + du/dX (the same internal force as t int B^T sigma da with
+/// sigma = F S F^T / J); ke = d fe / du exactly (material part with dE = sym(F^T dF), geometric
+/// part dF S). Returns false for an inverted element.
+template <class Elem, bool Tangent, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool svkElement(const ElementData<MemorySpace> &d,
+                                       const Kokkos::View<const double *, MemorySpace> &u,
+                                       LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
+                                       double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][2], ue[n][2];
+  detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < 2; ++i)
+      xe[a][i] -= ue[a][i]; // reference coordinates
+  const PlaneMatrix c = d.stiffness(d.material(e));
+  bool valid = true;
+  detail::zeroElement<Tangent>(fe, ke);
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, sh, dn);
+    const double det = physicalGradients<Elem>(xe, dn, g);
+    detail::nodalGradient<n>(ue, g, h);
+    const double f[2][2] = {{1.0 + h[0][0], h[0][1]}, {h[1][0], 1.0 + h[1][1]}};
+    if (!(det > 0.0) || !(f[0][0] * f[1][1] - f[0][1] * f[1][0] > 0.0))
+      valid = false;
+    double green[2][2], s[2][2], p[2][2];
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        green[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
+    detail::stressFromStrainTensor(c, green, s);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        p[i][j] = f[i][0] * s[0][j] + f[i][1] * s[1][j];
+    const double jw = d.thickness * w * det;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        fe[2 * a + i] += jw * (p[i][0] * g[a][0] + p[i][1] * g[a][1]);
+    if (!Tangent)
+      continue;
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < 2; ++m) {
+        // dF = e_m (x) g_b: dE_kl = (F_mk g_bl + F_ml g_bk) / 2, dS = C : dE.
+        double de[2][2], ds[2][2];
+        for (int k = 0; k < 2; ++k)
+          for (int l = 0; l < 2; ++l)
+            de[k][l] = 0.5 * (f[m][k] * g[b][l] + f[m][l] * g[b][k]);
+        detail::stressFromStrainTensor(c, de, ds);
+        double gs[2]; // (g_b S)_j
+        for (int j = 0; j < 2; ++j)
+          gs[j] = g[b][0] * s[0][j] + g[b][1] * s[1][j];
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < 2; ++i) {
+            // dP_ij = delta_im (g_b S)_j + F_ik dS_kj
+            double v = 0.0;
+            for (int j = 0; j < 2; ++j)
+              v += ((i == m ? gs[j] : 0.0) + f[i][0] * ds[0][j] + f[i][1] * ds[1][j]) * g[a][j];
+            ke[2 * a + i][2 * b + m] += jw * v;
+          }
+      }
+  }
+  return valid;
+}
+
+/// Cauchy stress of `law` from the spatial displacement gradient h = du/dx.
+KOKKOS_INLINE_FUNCTION void cauchyFromSpatialGradient(ElasticLaw law, const PlaneMatrix &c,
+                                                      const double (&h)[2][2], double (&s)[2][2]) {
+  if (law == ElasticLaw::SaintVenantKirchhoff) {
+    detail::svkCauchyFromSpatialGradient(c, h, s);
+  } else {
+    double es[2][2];
+    detail::almansiStrain(h, es);
+    detail::stressFromStrainTensor(c, es, s);
+  }
+}
+
 /// Cauchy stress (Almansi law) of total displacements u at natural point (xi, eta) of element e
 /// (a functor for recoverNodalStress).
 template <class Elem, class MemorySpace> struct AlmansiPointStress {
   ElementData<MemorySpace> d;
   Kokkos::View<const double *, MemorySpace> u;
+  ElasticLaw law = ElasticLaw::Almansi;
   KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, double xi, double eta,
                                          double (&sig)[3]) const {
     constexpr int n = Elem::kNumNodes;
-    double xe[n][2], ue[n][2], sh[n], dn[n][2], g[n][2], h[2][2], es[2][2], s[2][2];
+    double xe[n][2], ue[n][2], sh[n], dn[n][2], g[n][2], h[2][2], s[2][2];
     detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
     Elem::shape(xi, eta, sh, dn);
     physicalGradients<Elem>(xe, dn, g);
     detail::nodalGradient<n>(ue, g, h);
-    detail::almansiStrain(h, es);
-    detail::stressFromStrainTensor(d.stiffness(d.material(e)), es, s);
+    cauchyFromSpatialGradient(law, d.stiffness(d.material(e)), h, s);
     sig[0] = s[0][0];
     sig[1] = s[1][1];
     sig[2] = s[0][1];
@@ -181,7 +281,8 @@ void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpac
                              const Kokkos::View<const double *, MemorySpace> &u,
                              const Kokkos::View<double **[3], MemorySpace> &stress,
                              const Kokkos::View<double **[4], MemorySpace> &grad,
-                             const Kokkos::View<double **[2], MemorySpace> &xq) {
+                             const Kokkos::View<double **[2], MemorySpace> &xq,
+                             ElasticLaw law = ElasticLaw::Almansi) {
   Kokkos::parallel_for(
       "mixcon::kernels::almansiGaussPointStress",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
@@ -193,6 +294,8 @@ void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpac
         for (int q = 0; q < Elem::kNumQp; ++q) {
           double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
           detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
+          if (law != ElasticLaw::Almansi)
+            cauchyFromSpatialGradient(law, c, h, s);
           stress(e, q, 0) = s[0][0];
           stress(e, q, 1) = s[1][1];
           stress(e, q, 2) = s[0][1];
@@ -294,6 +397,18 @@ template <class Elem, class MemorySpace> struct AlmansiKernel {
   compute(LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
           double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) const {
     return almansiElement<Elem, Tangent>(d, u, e, fe, ke);
+  }
+};
+
+/// Element kernel of the displacement model with the St. Venant-Kirchhoff law (svkElement).
+template <class Elem, class MemorySpace> struct SvkKernel {
+  ElementData<MemorySpace> d;
+  Kokkos::View<const double *, MemorySpace> u;
+  template <bool Tangent>
+  KOKKOS_INLINE_FUNCTION bool
+  compute(LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
+          double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) const {
+    return svkElement<Elem, Tangent>(d, u, e, fe, ke);
   }
 };
 

@@ -326,7 +326,7 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
     Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
     Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc);
+    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
     const auto assign = [](std::vector<double> &out, const auto &view) {
       auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
       out.assign(h.data(), h.data() + h.size());
@@ -345,6 +345,9 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
 NonlinearDisplacementModel::~NonlinearDisplacementModel() = default;
 
 void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (law_ == ElasticLaw::SaintVenantKirchhoff && tangentKind_ == TangentKind::Report)
+    throw InputError("the report's tangent (K^L + K^sigma of the Almansi law) is not available "
+                     "with the St. Venant-Kirchhoff law; use the exact tangent");
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 2);
@@ -402,7 +405,11 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
       if (tangent)
         Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
     } else {
-      inverted = assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
+      inverted =
+          law_ == ElasticLaw::SaintVenantKirchhoff
+              ? assembleNonlinear<2, Elem>(
+                    Exec(), data_.mesh, SvkKernel<Elem, Memory>{data_, ConstVec(u_)}, map_, a, g_)
+              : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
     }
     if (report && !small_)
       assembleReportTangent<Elem>();
@@ -683,7 +690,8 @@ std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
   Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    recoverNodalStress<Elem>(Exec(), data_.mesh, AlmansiPointStress<Elem, Memory>{data_, u_}, s);
+    recoverNodalStress<Elem>(Exec(), data_.mesh, AlmansiPointStress<Elem, Memory>{data_, u_, law_},
+                             s);
   });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
   return std::vector<double>(h.data(), h.data() + h.size());

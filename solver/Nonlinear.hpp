@@ -133,6 +133,7 @@ protected:
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
   RigidContact *contact_ = nullptr;
+  ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
 
 private:
   std::vector<BoundaryEdge> followerEdges_;
@@ -160,7 +161,7 @@ public:
   void rollback() override;
 
   std::string solverName() const override;
-  std::vector<double> nodalStressHost() const override; ///< Almansi law, recovered at nodes
+  std::vector<double> nodalStressHost() const override; ///< the law's, recovered at nodes
   std::vector<double> reactionHost(double loadFactor) const override;
   /// The last assembled tangent (unconstrained) and residual, for tests.
   const CsrMatrix<Memory> &tangent() const { return tangent_; }
@@ -170,6 +171,8 @@ public:
   /// Small-displacement kinematics (linear elasticity on the reference configuration, residual
   /// K u - f): the nonlinear machinery then serves contact on a linear body. Call before setup().
   void setSmallDisplacements(bool on) { small_ = on; }
+  /// Elastic law (default Almansi; St. Venant-Kirchhoff needs the exact tangent).
+  void setElasticLaw(ElasticLaw law) { law_ = law; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
   int unknownsPerNode() const override { return 2; }
 

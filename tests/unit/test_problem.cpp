@@ -158,6 +158,16 @@ std::vector<BadCase> badCases() {
                "contact:\n  - {type: rigid_circle, boundary: top, center: [0, 2], radius: 1, "
                "status_from: forces}\noutput: {directory: somewhere}"),
        "status_from applies to formulation: mixed", 16},
+      {"elastic_law_on_linear",
+       replace(g, "thickness: 0.5", "thickness: 0.5, elastic_law: saint_venant_kirchhoff"),
+       "elastic_law applies to formulation: displacement with geometric_nonlinearity", 3},
+      {"elastic_law_with_report_tangent",
+       replace(replace(g, "thickness: 0.5",
+                       "thickness: 0.5, geometric_nonlinearity: true, elastic_law: "
+                       "saint_venant_kirchhoff"),
+               "steps: {load_factors: [0.5, 1.0]}",
+               "steps: {load_factors: [0.5, 1.0], tangent: report}"),
+       "use the exact tangent", 13},
       {"pinned_plate_too_narrow",
        replace(g, kGenerator,
                "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 0.8, "
