@@ -55,6 +55,45 @@ void applyConditions(const Problem &p, ModelBase &model, NonlinearModel *nonline
   }
 }
 
+/// The boundary length (times thickness) each node of `edges` stands for in the configuration
+/// X + u: the row sums of the edges' boundary mass matrix, t int N_a ds (3-point Gauss).
+std::vector<double> boundaryShares(const Mesh &mesh, const std::vector<BoundaryEdge> &edges,
+                                   const std::vector<double> &u, double thickness) {
+  std::vector<double> share(mesh.numNodes(), 0.0);
+  const int npe = mesh.elementType == ElementType::Quad8 ? 3 : 2;
+  const double gs[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, gw[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  for (const auto &e : edges) {
+    LocalIndex nodes[3];
+    double x[3][2];
+    for (int k = 0; k < npe; ++k) {
+      nodes[k] = mesh.edgeNode(e, k);
+      x[k][0] = mesh.x(nodes[k]) + u[2 * nodes[k]];
+      x[k][1] = mesh.y(nodes[k]) + u[2 * nodes[k] + 1];
+    }
+    for (int q = 0; q < 3; ++q) {
+      double n3[3], d3[3], n2[2], d2[2];
+      if (npe == 3) {
+        edgeShape<3>(gs[q], n3, d3);
+      } else {
+        edgeShape<2>(gs[q], n2, d2);
+        for (int k = 0; k < 2; ++k) {
+          n3[k] = n2[k];
+          d3[k] = d2[k];
+        }
+      }
+      double tx = 0.0, ty = 0.0;
+      for (int k = 0; k < npe; ++k) {
+        tx += d3[k] * x[k][0];
+        ty += d3[k] * x[k][1];
+      }
+      const double ds = std::hypot(tx, ty) * gw[q] * thickness;
+      for (int k = 0; k < npe; ++k)
+        share[nodes[k]] += n3[k] * ds;
+    }
+  }
+  return share;
+}
+
 std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   std::ostringstream s;
   s << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
@@ -186,10 +225,19 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     StepFields f;
     f.displacement = model.displacementHost();
     f.stress = model.nodalStressHost();
-    f.stressSource = mixed ? "nodal Cauchy stress of the mixed model (2nd Piola-Kirchhoff "
-                             "increments pushed forward at the nodes, Eq. (5b))"
-                           : "Cauchy stress from the Almansi strain (Eq. (26)), 2x2 Gauss "
-                             "points extrapolated to the nodes and averaged";
+    f.stressSource =
+        mixed ? (p.model.mixedForm == MixedForm::Incremental
+                     ? "nodal Cauchy stress of the mixed model (2nd Piola-Kirchhoff increments "
+                       "pushed forward at the nodes, Eq. (5b))"
+                     : "nodal Cauchy stress unknowns of the mixed model (current form)")
+        : !p.model.geometricNonlinearity
+            ? "Cauchy stress of the linear law (small displacements), Gauss points extrapolated "
+              "to the nodes and averaged"
+        : p.model.elasticLaw == ElasticLaw::SaintVenantKirchhoff
+            ? "Cauchy stress F S F^T / J of the St. Venant-Kirchhoff law, Gauss points "
+              "extrapolated to the nodes and averaged"
+            : "Cauchy stress from the Almansi strain (Eq. (26)), Gauss points extrapolated to "
+              "the nodes and averaged";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
                                f.gaussGradient, f.gaussCurrentCoordinates);
@@ -205,6 +253,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
           r.obstacleMotion.push_back(contact->obstacleMotion(static_cast<int>(s))[i]);
       bool first = true;
       const auto u = model.displacementHost();
+      std::vector<std::vector<double>> shares;
+      for (const auto &spec : p.contact)
+        shares.push_back(
+            boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary), u, p.model.thickness));
       auto &c = f.contact;
       for (LocalIndex k = 0; k < contact->numCandidates(); ++k) {
         const LocalIndex n = contact->candidateNode(k);
@@ -215,6 +267,16 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         c.gap.push_back(contact->gap(k));
         c.normalForce.push_back(st == ContactStatus::Open ? 0.0 : contact->normalForce(k));
         c.tangentForce.push_back(st == ContactStatus::Open ? 0.0 : contact->tangentForce(k));
+        // Contact tractions: the nodal forces over the node's share of the contact boundary;
+        // and the nodal stress rotated to the obstacle's frame (the mixed model's measure).
+        const double share = shares[contact->obstacleOf(k)][n];
+        c.normalStress.push_back(share > 0.0 ? c.normalForce.back() / share : 0.0);
+        c.tangentStress.push_back(share > 0.0 ? c.tangentForce.back() / share : 0.0);
+        const double th = contact->angle(k), n0 = std::cos(th), n1 = std::sin(th);
+        const double sxx = f.stress[3 * n], syy = f.stress[3 * n + 1], sxy = f.stress[3 * n + 2];
+        const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1;
+        c.sigmaNN.push_back(n0 * tn0 + n1 * tn1);
+        c.tauNT.push_back(-n1 * tn0 + n0 * tn1);
         c.angle.push_back(contact->angle(k));
         c.arc.push_back(contact->arcCoordinate(k));
         c.x.push_back(p.mesh.x(n) + u[2 * n]);

@@ -189,6 +189,10 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     writeDataset(cg, "gap", c.gap.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "normal_force", c.normalForce.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "tangential_force", c.tangentForce.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "normal_stress", c.normalStress.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "tangential_stress", c.tangentStress.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "sigma_nn", c.sigmaNN.data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeDataset(cg, "tau_nt", c.tauNT.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "angle", c.angle.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "arc", c.arc.data(), H5T_NATIVE_DOUBLE, n, 0);
     if (!r.obstacleMotion.empty())
@@ -202,7 +206,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
                     contactCsvStarted_ ? std::ios::app : std::ios::trunc);
   if (!contactCsvStarted_)
     csv << "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
-           "angle_deg,arc,x,y\n";
+           "angle_deg,arc,x,y,normal_stress,tangential_stress,sigma_nn,tau_nt\n";
   contactCsvStarted_ = true;
   static const char *names[] = {"open", "stick", "slip"};
   csv << std::setprecision(10);
@@ -210,7 +214,8 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] << "," << c.node[k] << ","
         << names[c.status[k]] << "," << c.gap[k] << "," << c.normalForce[k] << ","
         << c.tangentForce[k] << "," << c.angle[k] * 180.0 / M_PI << "," << c.arc[k] << "," << c.x[k]
-        << "," << c.y[k] << "\n";
+        << "," << c.y[k] << "," << c.normalStress[k] << "," << c.tangentStress[k] << ","
+        << c.sigmaNN[k] << "," << c.tauNT[k] << "\n";
 }
 
 void ResultsWriter::setSummaryExtra(const std::string &key, const std::string &jsonValue) {

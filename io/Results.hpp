@@ -42,6 +42,10 @@ struct ContactFields {
   std::vector<long> node;  ///< mesh node id
   std::vector<int> status; ///< 0 open, 1 stick, 2 slip
   std::vector<double> gap, normalForce, tangentForce, angle, arc, x, y;
+  /// Contact tractions (nodal force / the node's share of the contact boundary, current
+  /// configuration) and the nodal stress rotated to the obstacle: sigma_nn = n.s.n,
+  /// tau_nt = t.s.n.
+  std::vector<double> normalStress, tangentStress, sigmaNN, tauNT;
 };
 
 /// Host arrays of one step's fields (row-major).
