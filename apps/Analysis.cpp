@@ -254,9 +254,13 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       bool first = true;
       const auto u = model.displacementHost();
       std::vector<std::vector<double>> shares;
+      // Shares on the configuration the forces refer to: current with geometric nonlinearity,
+      // reference with small displacements.
+      const std::vector<double> zero(u.size(), 0.0);
       for (const auto &spec : p.contact)
-        shares.push_back(
-            boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary), u, p.model.thickness));
+        shares.push_back(boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary),
+                                        p.model.geometricNonlinearity ? u : zero,
+                                        p.model.thickness));
       auto &c = f.contact;
       for (LocalIndex k = 0; k < contact->numCandidates(); ++k) {
         const LocalIndex n = contact->candidateNode(k);
@@ -272,7 +276,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         const double share = shares[contact->obstacleOf(k)][n];
         c.normalStress.push_back(share > 0.0 ? c.normalForce.back() / share : 0.0);
         c.tangentStress.push_back(share > 0.0 ? c.tangentForce.back() / share : 0.0);
-        const double th = contact->angle(k), n0 = std::cos(th), n1 = std::sin(th);
+        const double n0 = contact->normal(k)[0], n1 = contact->normal(k)[1];
         const double sxx = f.stress[3 * n], syy = f.stress[3 * n + 1], sxy = f.stress[3 * n + 2];
         const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1;
         c.sigmaNN.push_back(n0 * tn0 + n1 * tn1);

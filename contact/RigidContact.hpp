@@ -119,6 +119,8 @@ public:
   ContactStatus status(LocalIndex k) const { return status_[k]; }
   double gap(LocalIndex k) const { return gap_[k]; }
   double angle(LocalIndex k) const { return angle_[k]; }
+  /// Unit normal into the body at candidate k's projection (last detection), 2 components.
+  const double *normal(LocalIndex k) const { return &normal_[2 * static_cast<std::size_t>(k)]; }
   double normalForce(LocalIndex k) const { return normalForce_[k]; }
   double tangentForce(LocalIndex k) const { return tangentForce_[k]; }
   LocalIndex numClosed() const;

@@ -327,6 +327,8 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
     Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
     almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
+    if (small_) // linear law on the reference configuration
+      gaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq);
     const auto assign = [](std::vector<double> &out, const auto &view) {
       auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
       out.assign(h.data(), h.data() + h.size());
@@ -690,8 +692,11 @@ std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
   Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    recoverNodalStress<Elem>(Exec(), data_.mesh, AlmansiPointStress<Elem, Memory>{data_, u_, law_},
-                             s);
+    if (small_)
+      recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_}, s);
+    else
+      recoverNodalStress<Elem>(Exec(), data_.mesh,
+                               AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
   });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
   return std::vector<double>(h.data(), h.data() + h.size());

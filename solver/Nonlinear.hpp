@@ -134,6 +134,7 @@ protected:
   LocalIndex invertedElement_ = -1;
   RigidContact *contact_ = nullptr;
   ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
+  bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
 
 private:
   std::vector<BoundaryEdge> followerEdges_;
@@ -179,7 +180,6 @@ public:
 private:
   template <class Elem> void assembleReportTangent();
   TangentKind tangentKind_ = TangentKind::Exact;
-  bool small_ = false;
   CsrMatrix<Memory> linearStiffness_; ///< K^L on the reference configuration (small_)
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;

@@ -451,7 +451,8 @@ TEST(Cli, NonlinearMixedRunWritesConvergenceHistoryAndGaussFields) {
       H5Dclose(d);
   }
   const hid_t g = H5Gopen2(f, "/steps/2", H5P_DEFAULT);
-  EXPECT_NE(readStringAttribute(g, "stress_source").find("pushed forward"), std::string::npos);
+  EXPECT_NE(readStringAttribute(g, "stress_source").find("nodal Cauchy stress unknowns"),
+            std::string::npos);
   H5Gclose(g);
   H5Fclose(f);
 }
@@ -470,7 +471,7 @@ TEST(Cli, ContactRunWritesContactFieldsAndCsv) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header, "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
-                    "angle_deg,arc,x,y");
+                    "angle_deg,arc,x,y,normal_stress,tangential_stress,sigma_nn,tau_nt");
   int rows = 0, closed = 0;
   for (std::string line; std::getline(csv, line); ++rows)
     closed += line.find(",slip,") != std::string::npos;
@@ -487,6 +488,48 @@ TEST(Cli, ContactRunWritesContactFieldsAndCsv) {
   std::stringstream summary;
   summary << in.rdbuf();
   EXPECT_NE(summary.str().find("\"contact\": {\"closed\""), std::string::npos);
+}
+
+// Contact tractions in contact.csv: a block (W = 2, H = 1, plane strain, E = 21000, nu = 0.3)
+// pressed by delta = 0.01 onto a frictionless rigid plane is uniformly compressed, sigma_yy =
+// -E delta / (H (1 - nu^2)) (free lateral expansion). Every base node must report that as its
+// traction (nodal force over its boundary share: end nodes have half shares) and as -sigma_nn.
+TEST(Cli, ContactTractionsOfAUniformlyCompressedBlock) {
+  TempDir dir;
+  const fs::path problem = dir.path() / "block.yaml";
+  std::ofstream(problem) << "mesh:\n  generator: {type: rectangle, size: [2, 1], divisions: [8, "
+                            "4], element: quad8}\n"
+                            "model: {analysis: plane_strain}\n"
+                            "materials:\n  - {region: body, type: isotropic, E: 21000, nu: 0.3}\n"
+                            "boundary_conditions:\n  - {boundary: left, ux: 0}\n"
+                            "  - {boundary: top, uy: -0.01}\n"
+                            "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, "
+                            "0], normal: [0, 1]}\n"
+                            "steps: {increments: 1}\n"
+                            "output: {directory: block, hdf5: false}\n";
+  std::string out;
+  ASSERT_EQ(runMixcon("run " + problem.string() + " --output " + (dir.path() / "block").string(),
+                      out, dir.path()),
+            0)
+      << out;
+  std::ifstream csv(dir.path() / "block" / "contact.csv");
+  std::string line;
+  std::getline(csv, line);
+  const double expected = 21000.0 * 0.01 / (1.0 - 0.09);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');)
+      cells.push_back(c);
+    ASSERT_EQ(cells.size(), 16u) << line;
+    EXPECT_EQ(cells[4], "slip") << line;
+    EXPECT_NEAR(std::stod(cells[12]), expected, 1e-6 * expected) << line;
+    EXPECT_NEAR(std::stod(cells[13]), 0.0, 1e-6 * expected) << line;
+    EXPECT_NEAR(std::stod(cells[14]), -expected, 1e-6 * expected) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 17); // the 8 Quad8 edges' 17 nodes
 }
 
 TEST(Problem, ParsesAForceDrivenPinPerComponent) {
