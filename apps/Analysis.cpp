@@ -2,13 +2,16 @@
 // factors, prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
 #include <contact/RigidContact.hpp>
+#include <io/Measurements.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <ostream>
 #include <sstream>
@@ -137,7 +140,69 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
         *log << line;
       }
   }
+  if (!f.hybrid.node.empty()) {
+    double lo = 1e300, hi = -1e300;
+    int determined = 0;
+    for (double m : f.hybrid.muForce)
+      if (std::isfinite(m)) {
+        lo = std::min(lo, m);
+        hi = std::max(hi, m);
+        ++determined;
+      }
+    if (determined > 0)
+      std::snprintf(line, sizeof line,
+                    "        hybrid: measured load %.6g, mu from the hole tractions %.3f to %.3f "
+                    "at %d of %zu nodes (the others undetermined)\n",
+                    r.measuredLoad, lo, hi, determined, f.hybrid.node.size());
+    else
+      std::snprintf(line, sizeof line,
+                    "        hybrid: measured load %.6g, mu undetermined everywhere (no "
+                    "compression above the threshold)\n",
+                    r.measuredLoad);
+    *log << line;
+  }
   *log << std::flush;
+}
+
+/// Hybrid mode, one step: polar stresses, reaction tractions and the inferred friction
+/// coefficient at the nodes of the measured boundary (f.stress and f.reaction must be set).
+void hybridFields(const Problem &p, const BoundaryValues &b, const std::vector<double> &u,
+                  StepFields &f, StepRecord &r) {
+  const HybridSpec &h = *p.hybrid;
+  const std::vector<double> zero(u.size(), 0.0);
+  const auto share = boundaryShares(p.mesh, p.mesh.boundaries.at(h.boundary),
+                                    p.model.geometricNonlinearity ? u : zero, p.model.thickness);
+  auto &out = f.hybrid;
+  double peakS = 0.0, peakT = 0.0;
+  for (std::size_t i = 0; i < b.nodes.size(); ++i) {
+    const LocalIndex n = b.nodes[i];
+    const double th = b.theta[i], n0 = std::cos(th), n1 = std::sin(th);
+    const double sxx = f.stress[3 * n], syy = f.stress[3 * n + 1], sxy = f.stress[3 * n + 2];
+    const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1;
+    const double gx = f.reaction[2 * n], gy = f.reaction[2 * n + 1];
+    out.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
+    out.angle.push_back(th);
+    out.ux.push_back(b.ux[i]);
+    out.uy.push_back(b.uy[i]);
+    out.sigmaRR.push_back(n0 * tn0 + n1 * tn1);
+    out.tauRT.push_back(-n1 * tn0 + n0 * tn1);
+    out.tractionN.push_back(share[n] > 0.0 ? (gx * n0 + gy * n1) / share[n] : 0.0);
+    out.tractionT.push_back(share[n] > 0.0 ? (-gx * n1 + gy * n0) / share[n] : 0.0);
+    peakS = std::max(peakS, -out.sigmaRR.back());
+    peakT = std::max(peakT, out.tractionN.back());
+  }
+  // mu only where the surface is in compression by more than the threshold times the peak:
+  // elsewhere the ratio divides by (nearly) zero and is reported as undetermined (NaN).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < out.node.size(); ++i) {
+    const double s = -out.sigmaRR[i], t = out.tractionN[i];
+    out.muStress.push_back(
+        peakS > 0.0 && s > h.threshold * peakS && s > 0.0 ? std::abs(out.tauRT[i]) / s : nan);
+    out.muForce.push_back(
+        peakT > 0.0 && t > h.threshold * peakT && t > 0.0 ? std::abs(out.tractionT[i]) / t : nan);
+  }
+  r.measuredLoad = h.steps[static_cast<std::size_t>(r.step - 1)].load;
+  r.asymmetry = b.asymmetry;
 }
 
 /// The geometrically nonlinear analysis: load stepping with equilibrium iterations.
@@ -191,6 +256,39 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     contact = std::make_unique<RigidContact>(p.mesh.numNodes(), specs);
     model.setContact(contact.get());
   }
+  // Hybrid mode: both displacement components of the measured boundary are prescribed; their
+  // values come from the measurements, interpolated and symmetrized per step (checked here, before
+  // any solve, so that a file that does not cover the boundary fails at once).
+  std::vector<LocalIndex> hybridNodes;
+  std::vector<BoundaryValues> measured;
+  if (p.hybrid) {
+    hybridNodes = p.mesh.nodesOf(p.hybrid->boundary);
+    for (LocalIndex n : hybridNodes)
+      for (int c = 0; c < 2; ++c)
+        model.prescribe(n, c, 0.0);
+    for (const auto &step : p.hybrid->steps) {
+      const AngularProfile profile(step, p.hybrid->center);
+      measured.push_back(boundaryValues(p.mesh, hybridNodes, profile, p.hybrid->center,
+                                        p.hybrid->symmetrize, step.step));
+    }
+    if (log) {
+      *log << "mixcon: hybrid mode: " << p.hybrid->steps.size() << " measured steps from "
+           << p.hybrid->measurements << " prescribed on " << hybridNodes.size() << " nodes of '"
+           << p.hybrid->boundary << "' (piecewise linear in the angle about the centre)";
+      if (p.hybrid->symmetrize)
+        *log << ", mirrored halves averaged";
+      *log << "\n";
+      for (std::size_t k = 0; k < measured.size(); ++k)
+        if (measured[k].asymmetry >= 0.0) {
+          char line[160];
+          std::snprintf(line, sizeof line,
+                        "        step %zu: load %.6g, asymmetry of the measurements %.3g %% of "
+                        "the largest displacement\n",
+                        k + 1, p.hybrid->steps[k].load, 100.0 * measured[k].asymmetry);
+          *log << line;
+        }
+    }
+  }
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
   if (log)
     *log << modelLine(p, model, mixed);
@@ -206,6 +304,16 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     const auto stepStart = clock::now();
     const double lambda = p.loadFactors[k];
     const double setupBefore = model.solverSetupSeconds();
+    if (p.hybrid) {
+      // The stepper prescribes lambda times the reference value: reference = measured / lambda.
+      std::vector<ModelBase::PrescribedValue> values;
+      const BoundaryValues &b = measured[k];
+      for (std::size_t i = 0; i < b.nodes.size(); ++i) {
+        values.push_back({b.nodes[i], 0, b.ux[i] / lambda});
+        values.push_back({b.nodes[i], 1, b.uy[i] / lambda});
+      }
+      model.updatePrescribed(values);
+    }
     const IncrementOutcome o = stepper.advance(lambda);
     StepRecord r;
     r.step = k + 1;
@@ -295,6 +403,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         }
       }
     }
+    if (p.hybrid)
+      hybridFields(p, measured[k], model.displacementHost(), f, r);
     r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count();
     recordStep(writer, result, r, f, log, nsteps, start);
     if (!o.converged) {
@@ -309,7 +419,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   writer.finish(true, "");
   if (log)
     *log << "mixcon: wrote " << result.outputDirectory << "/{"
-         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "") << "summary.json}\n";
+         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "") << (contact ? "contact.csv, " : "")
+         << (p.hybrid ? "hybrid.csv, " : "") << "summary.json}\n";
   return result;
 }
 
@@ -334,7 +445,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
-  if (p.model.geometricNonlinearity || !p.contact.empty())
+  if (p.model.geometricNonlinearity || !p.contact.empty() || p.hybrid)
     return runNonlinear(p, options, comm, elementMaterial, stiffness, std::move(result));
 
   const bool mixed = p.model.formulation == Formulation::Mixed;

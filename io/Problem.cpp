@@ -346,8 +346,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
   const Item top{root, "", &p.file};
   if (!root.IsMap())
     top.fail("a problem file is a YAML map with keys mesh, model, materials, ...");
-  top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "contact", "steps",
-                 "solver", "output", "verification", "title"});
+  top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "contact", "hybrid",
+                 "steps", "solver", "output", "verification", "title"});
 
   p.mesh = readMesh(top.required("mesh"), baseDirectory);
   if (top.has("model")) {
@@ -548,13 +548,47 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
   }
 
+  if (top.has("hybrid")) {
+    const Item h = top["hybrid"];
+    h.requireMap();
+    h.allowOnly({"measurements", "boundary", "center", "symmetrize", "max_distance", "threshold"});
+    if (top.has("contact"))
+      h.fail("a hybrid run replaces the contact by the measured displacements: remove the "
+             "contact section");
+    HybridSpec s;
+    s.line = h.line();
+    s.boundary = h.required("boundary").string();
+    if (!p.mesh.hasBoundary(s.boundary))
+      h["boundary"].fail("unknown boundary '" + s.boundary + "' (mesh has: " + p.mesh.namedSets() +
+                         ")");
+    if (h.has("center"))
+      s.center = h["center"].pair();
+    if (h.has("symmetrize"))
+      s.symmetrize = h["symmetrize"].boolean();
+    s.maxDistance = h.required("max_distance").positive();
+    if (h.has("threshold")) {
+      s.threshold = h["threshold"].number();
+      if (!(s.threshold >= 0.0 && s.threshold < 1.0))
+        h["threshold"].fail("threshold must lie in [0, 1) (a fraction of the peak |sigma_rr|)");
+    }
+    s.measurements = joinPath(baseDirectory, h.required("measurements").string());
+    s.steps = readMeasurements(s.measurements);
+    checkNearBoundary(p.mesh, s.boundary, s.steps, s.maxDistance, s.measurements, s.symmetrize,
+                      s.center[1]);
+    p.hybrid = s;
+  }
+
   if (top.has("steps")) {
     const Item s = top["steps"];
+    if (p.hybrid)
+      for (const char *key : {"increments", "load_factors"})
+        if (s.has(key))
+          s[key].fail("the steps of a hybrid run come from its measurement file");
     s.allowOnly({"increments", "load_factors", "iteration", "tolerance", "residual_tolerance",
                  "max_iterations", "max_cuts", "tangent"});
     for (const char *key :
          {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts", "tangent"})
-      if (s.has(key) && !p.model.geometricNonlinearity && p.contact.empty())
+      if (s.has(key) && !p.model.geometricNonlinearity && p.contact.empty() && !p.hybrid)
         s[key].fail(std::string(key) +
                     " applies to geometrically nonlinear or contact analyses (model: "
                     "geometric_nonlinearity: true, or a contact: section); linear steps are single "
@@ -611,6 +645,16 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     }
   }
 
+  if (p.hybrid) {
+    // One step per measured step; the measured values are prescribed as they are at each step.
+    const std::size_t n = p.hybrid->steps.size();
+    p.loadFactors.clear();
+    for (std::size_t k = 1; k <= n; ++k)
+      p.loadFactors.push_back(static_cast<double>(k) / n);
+    if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity)
+      top["hybrid"].fail("a hybrid run with formulation: mixed needs geometric_nonlinearity: true "
+                         "(the iterating driver has the mixed model's finite kinematics only)");
+  }
   const bool nonlinearMixed =
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
   if (nonlinearMixed)

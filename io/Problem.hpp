@@ -3,6 +3,7 @@
 // format docs/problem-format.md documents key by key. Data flow: io (input side).
 #pragma once
 
+#include <io/Measurements.hpp>
 #include <kernels/Material.hpp>
 #include <mesh/Mesh.hpp>
 #include <solver/MixedOptions.hpp>
@@ -85,6 +86,19 @@ struct VerificationSpec {
   double tolerance = 0.02;
 };
 
+/// Hybrid experimental/numerical mode: measured displacements prescribed on a boundary, step by
+/// step (io/Measurements.hpp).
+struct HybridSpec {
+  std::string measurements;               ///< the CSV, resolved against the problem's folder
+  std::string boundary;                   ///< where the displacements were measured
+  std::array<double, 2> center{0.0, 0.0}; ///< pole of the angle, sigma_rr and tau_rt
+  bool symmetrize = true;                 ///< average the mirrored halves (about y = center y)
+  double maxDistance = 0.0;               ///< farthest a point may lie from the boundary
+  double threshold = 0.05;                ///< |sigma_rr| below this times the peak: no mu
+  std::vector<MeasuredStep> steps;        ///< read at parse time
+  int line = 0;
+};
+
 struct Problem {
   std::string file; ///< the problem file (for messages)
   Mesh mesh;
@@ -93,6 +107,7 @@ struct Problem {
   std::vector<DirichletSpec> dirichlet;
   std::vector<LoadSpec> loads;
   std::vector<ContactSpec> contact;
+  std::optional<HybridSpec> hybrid;
   std::vector<double> loadFactors{1.0};
   /// Equilibrium iterations of geometrically nonlinear analyses (steps: iteration, tolerance...).
   NonlinearOptions nonlinear;

@@ -164,6 +164,8 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     writeStringAttribute(g, "stress_source", f.stressSource);
     if (!f.contact.node.empty())
       writeContact(g, r, f.contact);
+    if (!f.hybrid.node.empty())
+      writeHybrid(g, r, f.hybrid);
     writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
     writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
     writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
@@ -172,10 +174,53 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     H5Gclose(g);
     H5Fflush(file, H5F_SCOPE_GLOBAL);
     writeXdmf();
-  } else if (!f.contact.node.empty()) {
-    writeContact(-1, r, f.contact);
+  } else {
+    if (!f.contact.node.empty())
+      writeContact(-1, r, f.contact);
+    if (!f.hybrid.node.empty())
+      writeHybrid(-1, r, f.hybrid);
   }
   writeSummary();
+}
+
+void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const HybridFields &h) {
+  const hsize_t n = h.node.size();
+  if (group >= 0) {
+    const hid_t g = static_cast<hid_t>(group);
+    const hid_t hg = H5Gcreate2(g, "hybrid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    writeDataset(hg, "node_id", h.node.data(), H5T_NATIVE_LONG, n, 0);
+    const std::pair<const char *, const std::vector<double> *> sets[] = {
+        {"angle", &h.angle},
+        {"ux", &h.ux},
+        {"uy", &h.uy},
+        {"sigma_rr", &h.sigmaRR},
+        {"tau_rt", &h.tauRT},
+        {"mu_stress", &h.muStress},
+        {"traction_n", &h.tractionN},
+        {"traction_t", &h.tractionT},
+        {"mu_force", &h.muForce}};
+    for (const auto &[name, v] : sets)
+      writeDataset(hg, name, v->data(), H5T_NATIVE_DOUBLE, n, 0);
+    writeAttribute(hg, "measured_load", r.measuredLoad, H5T_NATIVE_DOUBLE);
+    writeAttribute(hg, "asymmetry", r.asymmetry, H5T_NATIVE_DOUBLE);
+    writeStringAttribute(hg, "undetermined",
+                         "mu_stress / mu_force are NaN where |sigma_rr| / "
+                         "the normal traction is below the threshold");
+    H5Gclose(hg);
+  }
+  // hybrid.csv: one row per boundary node and step, appended (valid after each step).
+  std::ofstream csv(directory_ + "/hybrid.csv",
+                    hybridCsvStarted_ ? std::ios::app : std::ios::trunc);
+  if (!hybridCsvStarted_)
+    csv << "step,load,node_id,angle_deg,ux,uy,sigma_rr,tau_rt,mu_stress,traction_n,traction_t,"
+           "mu_force\n";
+  hybridCsvStarted_ = true;
+  csv << std::setprecision(10);
+  for (hsize_t k = 0; k < n; ++k)
+    csv << r.step << "," << r.measuredLoad << "," << h.node[k] << "," << h.angle[k] * 180.0 / M_PI
+        << "," << h.ux[k] << "," << h.uy[k] << "," << h.sigmaRR[k] << "," << h.tauRT[k] << ","
+        << h.muStress[k] << "," << h.tractionN[k] << "," << h.tractionT[k] << "," << h.muForce[k]
+        << "\n";
 }
 
 void ResultsWriter::writeContact(long long group, const StepRecord &r, const ContactFields &c) {
@@ -298,6 +343,9 @@ void ResultsWriter::writeSummary() const {
       list("convergence_orders", convergenceOrders(s.residualHistory));
       j << ", \"cuts\": " << s.cuts;
     }
+    if (!std::isnan(s.measuredLoad))
+      j << ", \"hybrid\": {\"measured_load\": " << number(s.measuredLoad)
+        << ", \"asymmetry\": " << number(s.asymmetry) << "}";
     if (s.contactClosed >= 0) {
       j << ", \"contact\": {\"closed\": " << s.contactClosed << ", \"stick\": " << s.contactStick
         << ", \"slip\": " << s.contactSlip << ", \"status_updates\": " << s.contactIterations

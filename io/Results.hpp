@@ -6,6 +6,7 @@
 
 #include <mesh/Mesh.hpp>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +35,10 @@ struct StepRecord {
   double contactArcMin = 0.0, contactArcMax = 0.0;
   /// Rigid motion of every obstacle from its declared position (2 per obstacle).
   std::vector<double> obstacleMotion;
+  /// Hybrid mode: the measured load of the step and the asymmetry of the measurements
+  /// (-1: not symmetrized); NaN outside the hybrid mode.
+  double measuredLoad = std::numeric_limits<double>::quiet_NaN();
+  double asymmetry = -1.0;
 };
 
 /// Per contact candidate (boundary node against an obstacle) of one step.
@@ -46,6 +51,15 @@ struct ContactFields {
   /// configuration) and the nodal stress rotated to the obstacle: sigma_nn = n.s.n,
   /// tau_nt = t.s.n.
   std::vector<double> normalStress, tangentStress, sigmaNN, tauNT;
+};
+
+/// Hybrid mode, per node of the measured boundary and step: the prescribed (measured)
+/// displacement, the nodal stress in polar components about the centre, the tractions of the
+/// reactions, and the inferred friction coefficient (NaN where undetermined: |sigma_rr| or the
+/// normal traction below the threshold).
+struct HybridFields {
+  std::vector<long> node; ///< mesh node id
+  std::vector<double> angle, ux, uy, sigmaRR, tauRT, muStress, tractionN, tractionT, muForce;
 };
 
 /// Host arrays of one step's fields (row-major).
@@ -61,6 +75,7 @@ struct StepFields {
   std::vector<double> gaussGradient, gaussCurrentCoordinates, gaussInterpolatedStress;
   std::string stressSource; ///< how the nodal stresses were obtained (an HDF5 attribute)
   ContactFields contact;    ///< empty without contact
+  HybridFields hybrid;      ///< empty outside the hybrid mode
 };
 
 class ResultsWriter {
@@ -93,7 +108,8 @@ private:
   long long file_ = -1; ///< hid_t of results.h5
   std::vector<StepRecord> steps_;
   std::vector<std::pair<std::string, std::string>> extra_;
-  bool contactCsvStarted_ = false;
+  bool contactCsvStarted_ = false, hybridCsvStarted_ = false;
+  void writeHybrid(long long group, const StepRecord &r, const HybridFields &h);
   std::string status_ = "running";
   std::string message_;
 };

@@ -76,6 +76,20 @@ void ModelBase::prescribe(LocalIndex node, int comp, double value) {
   prescribedHost_[i] = value;
 }
 
+void ModelBase::updatePrescribed(const std::vector<PrescribedValue> &values) {
+  for (const auto &v : values) {
+    const LocalIndex i = dofs_.dof(v.node, v.comp);
+    if (!constrainedHost_[i])
+      throw InputError("node " + std::to_string(v.node + 1) + " component " +
+                       std::to_string(v.comp) + " is not prescribed; cannot update its value");
+    prescribedHost_[i] = v.value;
+  }
+  auto hp = Kokkos::create_mirror_view(prescribed_);
+  for (std::size_t i = 0; i < prescribedHost_.size(); ++i)
+    hp(i) = prescribedHost_[i];
+  Kokkos::deep_copy(prescribed_, hp);
+}
+
 LocalIndex ModelBase::numConstrained() const {
   return static_cast<LocalIndex>(std::count(constrainedHost_.begin(), constrainedHost_.end(), 1));
 }

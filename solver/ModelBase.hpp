@@ -40,6 +40,14 @@ public:
   /// Prescribes component `comp` (0: x, 1: y) of `node` (reference value, scaled too).
   void prescribe(LocalIndex node, int comp, double value);
   LocalIndex numConstrained() const;
+  /// Replaces the reference values of components prescribed before setup() (e.g. measured
+  /// displacements that change from step to step) and copies them to the device.
+  struct PrescribedValue {
+    LocalIndex node;
+    int comp;
+    double value;
+  };
+  void updatePrescribed(const std::vector<PrescribedValue> &values);
 
   /// Solves for load factor lambda: loads lambda F, u = lambda g on constrained unknowns.
   virtual LinearSolveStats solve(double loadFactor) = 0;

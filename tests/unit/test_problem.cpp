@@ -547,3 +547,76 @@ TEST(Problem, ParsesAForceDrivenPinPerComponent) {
   EXPECT_DOUBLE_EQ(c.driveDisplacement[1], 0.5);
   EXPECT_DOUBLE_EQ(c.friction, 0.7);
 }
+
+// The hybrid section: measurements read at parse time; a file that does not match the mesh, a
+// contact section beside it, or steps given twice are refused with the file and line.
+TEST(Problem, HybridSectionReadsMeasurementsAndRefusesMismatches) {
+  TempDir dir;
+  std::ofstream(dir.path() / "m.csv") << "step,load,x,y,ux,uy\n1,5,0,1,0,-1e-3\n1,5,10,1,0,-1e-3\n"
+                                         "2,10,0,1,0,-2e-3\n2,10,10,1,0,-2e-3\n";
+  std::ofstream(dir.path() / "far.csv") << "step,load,x,y,ux,uy\n1,5,0,1,0,0\n1,5,5,0.5,0,0\n";
+  const std::string hybrid = "hybrid: {measurements: m.csv, boundary: top, center: [5, 0], "
+                             "symmetrize: false, max_distance: 0.01}\n";
+  const std::string base =
+      replace(replace(kGood, "steps: {load_factors: [0.5, 1.0]}\n", ""),
+              "output: {directory: somewhere}", hybrid + "output: {directory: somewhere}");
+  const Problem p = parseProblem(base, "h.yaml", dir.path().string());
+  ASSERT_TRUE(p.hybrid.has_value());
+  EXPECT_EQ(p.hybrid->steps.size(), 2u);
+  EXPECT_EQ(p.loadFactors, (std::vector<double>{0.5, 1.0}));
+  EXPECT_FALSE(p.hybrid->symmetrize);
+  const auto error = [&](const std::string &text) {
+    try {
+      parseProblem(text, "h.yaml", dir.path().string());
+    } catch (const InputError &e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error(replace(base, "m.csv", "far.csv")).find("far.csv:3: the measured point (5, 0.5)"),
+            std::string::npos);
+  EXPECT_NE(error(replace(base, "m.csv", "none.csv")).find("cannot open the measurement file"),
+            std::string::npos);
+  EXPECT_NE(error(replace(base, "boundary: top, center", "boundary: rim, center"))
+                .find("unknown boundary 'rim'"),
+            std::string::npos);
+  EXPECT_NE(error(replace(base, "output: {directory: somewhere}",
+                          "steps: {increments: 3}\noutput: {directory: somewhere}"))
+                .find("the steps of a hybrid run come from its measurement file"),
+            std::string::npos);
+  EXPECT_NE(error(replace(base, "output: {directory: somewhere}",
+                          "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, "
+                          "0], normal: [0, 1]}\noutput: {directory: somewhere}"))
+                .find("remove the contact section"),
+            std::string::npos);
+}
+
+TEST(Cli, HybridRunWritesStressesAndFrictionPerStep) {
+  TempDir dir;
+  std::string out;
+  const fs::path outDir = dir.path() / "hybrid";
+  ASSERT_EQ(runMixcon("run " + std::string(MIXCON_SOURCE_DIR) +
+                          "/examples/hybrid/hybrid.yaml --output " + outDir.string(),
+                      out, dir.path()),
+            0)
+      << out;
+  EXPECT_NE(out.find("hybrid mode: 18 measured steps"), std::string::npos) << out;
+  EXPECT_NE(out.find("asymmetry of the measurements"), std::string::npos) << out;
+  std::ifstream csv(outDir / "hybrid.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "step,load,node_id,angle_deg,ux,uy,sigma_rr,tau_rt,mu_stress,traction_n,"
+                    "traction_t,mu_force");
+  int rows = 0, undetermined = 0;
+  for (std::string line; std::getline(csv, line); ++rows)
+    undetermined += line.find("nan") != std::string::npos;
+  EXPECT_EQ(rows, 18 * 13);   // 18 steps, 13 hole nodes
+  EXPECT_GT(undetermined, 0); // the open part of the hole: no mu
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "/steps/18/hybrid/mu_force", H5P_DEFAULT);
+  EXPECT_GE(d, 0);
+  if (d >= 0)
+    H5Dclose(d);
+  H5Fclose(f);
+}
