@@ -13,7 +13,6 @@ Usage: python3 examples/hertz_study.py [--mixcon build/apps/mixcon] [--out out/h
 import argparse
 import csv
 import os
-import subprocess
 import sys
 
 import h5py
@@ -25,26 +24,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from study_util import run_variant  # noqa: E402
 R, E, NU = 1.0, 21000.0, 0.3
 
 
 def run(mixcon, name, out, source=None, substitutions=()):
     """Runs mixcon on examples/hertz/<source or name>.yaml with textual substitutions."""
-    text = open(os.path.join(HERE, "hertz", (source or name) + ".yaml")).read()
-    for a, b in substitutions:
-        if a not in text:
-            sys.exit(f"{source or name}: cannot substitute '{a}'")
-        text = text.replace(a, b)
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(text)
-    result = os.path.join(out, name)
-    log = subprocess.run([mixcon, "run", path, "--output", result], capture_output=True,
-                         text=True)
-    if log.returncode != 0:
-        sys.exit(f"mixcon failed on {name}:\n{log.stdout}\n{log.stderr}")
-    return result
+    return run_variant(mixcon, os.path.join(HERE, "hertz", (source or name) + ".yaml"), name, out,
+                       substitutions)
 
 
 def hertz(P):

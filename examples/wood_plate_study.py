@@ -18,7 +18,6 @@ Usage: python3 examples/wood_plate_study.py [--mixcon build/apps/mixcon] [--out 
 import argparse
 import csv
 import os
-import subprocess
 import sys
 
 import h5py
@@ -30,26 +29,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from study_util import run_variant  # noqa: E402
 P_WHOLE, D, T, MU, HALF_LOAD = 400.0, 1.0, 1.0, 0.7, -200.0
 
 
-def run(mixcon, name, out, source, substitutions=()):
-    """Runs mixcon on examples/wood_plate/<source>.yaml with textual substitutions."""
-    text = open(os.path.join(HERE, "wood_plate", source + ".yaml")).read()
-    for a, b in substitutions:
-        if a not in text:
-            sys.exit(f"{source}: cannot substitute '{a}'")
-        text = text.replace(a, b)
-    os.makedirs(out, exist_ok=True)
-    path = os.path.join(out, name + ".yaml")
-    with open(path, "w") as f:
-        f.write(text)
-    result = os.path.join(out, name)
-    log = subprocess.run([mixcon, "run", path, "--output", result], capture_output=True,
-                         text=True)
-    if log.returncode != 0:
-        sys.exit(f"mixcon failed on {name}:\n{log.stdout}\n{log.stderr}")
-    return result
+def run(mixcon, name, out, source=None, substitutions=()):
+    """Runs mixcon on examples/wood_plate/<source or name>.yaml with textual substitutions."""
+    return run_variant(mixcon, os.path.join(HERE, "wood_plate", (source or name) + ".yaml"), name, out,
+                       substitutions)
 
 
 def final_state(result):

@@ -52,6 +52,13 @@ KOKKOS_INLINE_FUNCTION void stressFromStrainTensor(const PlaneMatrix &c, const d
   s[0][1] = s[1][0] = sv[2];
 }
 
+/// Green-Lagrange strain E = (F^T F - I) / 2 of a deformation gradient F.
+KOKKOS_INLINE_FUNCTION void greenStrain(const double (&f)[2][2], double (&e)[2][2]) {
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      e[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
+}
+
 /// Cauchy stress of the St. Venant-Kirchhoff law from the spatial displacement gradient h =
 /// du/dx: F = (I - h)^-1, E = (F^T F - I) / 2, S = C : E, sigma = F S F^T / det F.
 KOKKOS_INLINE_FUNCTION void
@@ -60,9 +67,7 @@ svkCauchyFromSpatialGradient(const PlaneMatrix &c, const double (&h)[2][2], doub
   const double di = fi[0][0] * fi[1][1] - fi[0][1] * fi[1][0];
   const double f[2][2] = {{fi[1][1] / di, -fi[0][1] / di}, {-fi[1][0] / di, fi[0][0] / di}};
   double e[2][2], pk2[2][2];
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      e[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
+  greenStrain(f, e);
   stressFromStrainTensor(c, e, pk2);
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) {
@@ -203,9 +208,7 @@ KOKKOS_INLINE_FUNCTION bool svkElement(const ElementData<MemorySpace> &d,
     if (!(det > 0.0) || !(f[0][0] * f[1][1] - f[0][1] * f[1][0] > 0.0))
       valid = false;
     double green[2][2], s[2][2], p[2][2];
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
-        green[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
+    detail::greenStrain(f, green);
     detail::stressFromStrainTensor(c, green, s);
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)

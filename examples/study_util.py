@@ -1,0 +1,25 @@
+"""Shared helper of the example studies: run mixcon on a problem file with textual substitutions."""
+import os
+import subprocess
+import sys
+
+
+def run_variant(mixcon, source, name, out, substitutions=()):
+    """Writes <out>/<name>.yaml (the problem file `source` with each (a, b) of `substitutions`
+    replaced, failing when `a` is absent), runs mixcon on it with output <out>/<name>, and
+    returns that output directory; exits with mixcon's log when the run fails."""
+    text = open(source).read()
+    for a, b in substitutions:
+        if a not in text:
+            sys.exit(f"{source}: cannot substitute '{a}'")
+        text = text.replace(a, b)
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, name + ".yaml")
+    with open(path, "w") as f:
+        f.write(text)
+    result = os.path.join(out, name)
+    log = subprocess.run([mixcon, "run", path, "--output", result], capture_output=True,
+                         text=True)
+    if log.returncode != 0:
+        sys.exit(f"mixcon failed on {name}:\n{log.stdout}\n{log.stderr}")
+    return result
