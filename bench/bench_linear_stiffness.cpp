@@ -1,7 +1,7 @@
 // Google Benchmark: the batched K^L kernel (element matrices, elements/s and GB/s of element-matrix
 // output), fused compute + atomic CSR scatter (elements/s, GB/s of CSR traffic), the same kernel on
-// Kokkos::Serial as the single-thread baseline, and a STREAM-triad on the same Views as the
-// bandwidth roofline, all in one run so ratios are meaningful on a noisy machine.
+// Kokkos::Serial as the single-thread baseline (the STREAM triad, the bandwidth roofline, is in
+// bench_machine.cpp; bench/report runs both in one go).
 #include <bench/BenchMain.hpp>
 #include <kernels/LinearElasticity.hpp>
 #include <mesh/Generators.hpp>
@@ -93,27 +93,6 @@ void assembleCsr(benchmark::State &state) {
   });
 }
 
-/// STREAM triad a = b + s c on Views of the same size as a Quad8 CSR of this mesh: the machine's
-/// attainable bandwidth, measured in the same run as the kernels.
-void streamTriad(benchmark::State &state) {
-  using Exec = Kokkos::DefaultExecutionSpace;
-  const std::size_t n = static_cast<std::size_t>(state.range(0)) * 1000000;
-  Kokkos::View<double *, Memory> a("a", n), b("b", n), c("c", n);
-  Kokkos::deep_copy(b, 1.0);
-  Kokkos::deep_copy(c, 2.0);
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Kokkos::parallel_for(
-        "mixcon::bench::triad", Kokkos::RangePolicy<Exec>(0, n),
-        KOKKOS_LAMBDA(std::size_t i) { a(i) = b(i) + 3.0 * c(i); });
-    Exec().fence();
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  state.counters["GB/s"] =
-      benchmark::Counter(24.0 * n / 1e9, benchmark::Counter::kIsIterationInvariantRate);
-}
-
 } // namespace linear_stiffness_bench
 using namespace linear_stiffness_bench;
 
@@ -137,11 +116,4 @@ BENCHMARK(assembleCsr)
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(streamTriad)
-    ->Name("stream/triad")
-    ->Arg(32)
-    ->ArgName("Mdoubles")
-    ->UseManualTime()
-    ->Unit(benchmark::kMillisecond);
-
 int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }
