@@ -58,10 +58,11 @@ void applyConditions(const Problem &p, ModelBase &model, NonlinearModel *nonline
   }
 }
 
-/// The boundary length (times thickness) each node of `edges` stands for in the configuration
-/// X + u: the row sums of the edges' boundary mass matrix, t int N_a ds (3-point Gauss).
+/// The boundary length (times thickness) each node of `edges` stands for, the row sums of the
+/// edges' boundary mass matrix t int N_a ds (3-point Gauss), in the configuration the nodal
+/// forces refer to: X + u with geometric nonlinearity, X with small displacements (u == nullptr).
 std::vector<double> boundaryShares(const Mesh &mesh, const std::vector<BoundaryEdge> &edges,
-                                   const std::vector<double> &u, double thickness) {
+                                   const std::vector<double> *u, double thickness) {
   std::vector<double> share(mesh.numNodes(), 0.0);
   const int npe = mesh.elementType == ElementType::Quad8 ? 3 : 2;
   const double gs[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, gw[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
@@ -70,8 +71,8 @@ std::vector<double> boundaryShares(const Mesh &mesh, const std::vector<BoundaryE
     double x[3][2];
     for (int k = 0; k < npe; ++k) {
       nodes[k] = mesh.edgeNode(e, k);
-      x[k][0] = mesh.x(nodes[k]) + u[2 * nodes[k]];
-      x[k][1] = mesh.y(nodes[k]) + u[2 * nodes[k] + 1];
+      x[k][0] = mesh.x(nodes[k]) + (u ? (*u)[2 * nodes[k]] : 0.0);
+      x[k][1] = mesh.y(nodes[k]) + (u ? (*u)[2 * nodes[k] + 1] : 0.0);
     }
     for (int q = 0; q < 3; ++q) {
       double n3[3], d3[3], n2[2], d2[2];
@@ -169,23 +170,23 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
 void hybridFields(const Problem &p, const BoundaryValues &b, const std::vector<double> &u,
                   StepFields &f, StepRecord &r) {
   const HybridSpec &h = *p.hybrid;
-  const std::vector<double> zero(u.size(), 0.0);
-  const auto share = boundaryShares(p.mesh, p.mesh.boundaries.at(h.boundary),
-                                    p.model.geometricNonlinearity ? u : zero, p.model.thickness);
+  const auto share =
+      boundaryShares(p.mesh, p.mesh.boundaries.at(h.boundary),
+                     p.model.geometricNonlinearity ? &u : nullptr, p.model.thickness);
   auto &out = f.hybrid;
   double peakS = 0.0, peakT = 0.0;
   for (std::size_t i = 0; i < b.nodes.size(); ++i) {
     const LocalIndex n = b.nodes[i];
     const double th = b.theta[i], n0 = std::cos(th), n1 = std::sin(th);
-    const double sxx = f.stress[3 * n], syy = f.stress[3 * n + 1], sxy = f.stress[3 * n + 2];
-    const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1;
+    double snn = 0.0, snt = 0.0;
+    surfaceStress(&f.stress[3 * n], n0, n1, snn, snt);
     const double gx = f.reaction[2 * n], gy = f.reaction[2 * n + 1];
     out.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
     out.angle.push_back(th);
     out.ux.push_back(b.ux[i]);
     out.uy.push_back(b.uy[i]);
-    out.sigmaRR.push_back(n0 * tn0 + n1 * tn1);
-    out.tauRT.push_back(-n1 * tn0 + n0 * tn1);
+    out.sigmaRR.push_back(snn);
+    out.tauRT.push_back(snt);
     out.tractionN.push_back(share[n] > 0.0 ? (gx * n0 + gy * n1) / share[n] : 0.0);
     out.tractionT.push_back(share[n] > 0.0 ? (-gx * n1 + gy * n0) / share[n] : 0.0);
     peakS = std::max(peakS, -out.sigmaRR.back());
@@ -362,12 +363,9 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       bool first = true;
       const auto u = model.displacementHost();
       std::vector<std::vector<double>> shares;
-      // Shares on the configuration the forces refer to: current with geometric nonlinearity,
-      // reference with small displacements.
-      const std::vector<double> zero(u.size(), 0.0);
       for (const auto &spec : p.contact)
         shares.push_back(boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary),
-                                        p.model.geometricNonlinearity ? u : zero,
+                                        p.model.geometricNonlinearity ? &u : nullptr,
                                         p.model.thickness));
       auto &c = f.contact;
       for (LocalIndex k = 0; k < contact->numCandidates(); ++k) {
@@ -385,10 +383,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         c.normalStress.push_back(share > 0.0 ? c.normalForce.back() / share : 0.0);
         c.tangentStress.push_back(share > 0.0 ? c.tangentForce.back() / share : 0.0);
         const double n0 = contact->normal(k)[0], n1 = contact->normal(k)[1];
-        const double sxx = f.stress[3 * n], syy = f.stress[3 * n + 1], sxy = f.stress[3 * n + 2];
-        const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1;
-        c.sigmaNN.push_back(n0 * tn0 + n1 * tn1);
-        c.tauNT.push_back(-n1 * tn0 + n0 * tn1);
+        double snn = 0.0, snt = 0.0;
+        surfaceStress(&f.stress[3 * n], n0, n1, snn, snt);
+        c.sigmaNN.push_back(snn);
+        c.tauNT.push_back(snt);
         c.angle.push_back(contact->angle(k));
         c.arc.push_back(contact->arcCoordinate(k));
         c.x.push_back(p.mesh.x(n) + u[2 * n]);

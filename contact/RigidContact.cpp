@@ -212,10 +212,9 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     // Release and slip measures: contact forces, or the nodal stresses rotated to the surface.
     double compression = nForce, shear = tForce;
     if (stress && specs_[obstacle_[k]].statusFromStress) {
-      const double sxx = (*stress)[3 * p], syy = (*stress)[3 * p + 1], sxy = (*stress)[3 * p + 2];
-      const double tn0 = sxx * n0 + sxy * n1, tn1 = sxy * n0 + syy * n1; // s . n
-      compression = -(n0 * tn0 + n1 * tn1);                              // -sigma_nn
-      shear = -n1 * tn0 + n0 * tn1;                                      // tau_nt
+      double nn = 0.0;
+      surfaceStress(&(*stress)[3 * p], n0, n1, nn, shear);
+      compression = -nn;
     }
     const ContactStatus before = status_[k];
     if (frozen) {

@@ -35,6 +35,15 @@ struct ObstacleProjection {
   double arcCoordinate = 0.0;     ///< circle: R * angle; half-plane: (x - point) . tangent
 };
 
+/// Components of a symmetric stress s = (xx, yy, xy) on a surface with unit normal n:
+/// sigma_nn = n . s . n and tau_nt = t . s . n with t = (-n_y, n_x).
+KOKKOS_INLINE_FUNCTION void surfaceStress(const double *s, double n0, double n1, double &nn,
+                                          double &nt) {
+  const double tn0 = s[0] * n0 + s[2] * n1, tn1 = s[2] * n0 + s[1] * n1; // s . n
+  nn = n0 * tn0 + n1 * tn1;
+  nt = -n1 * tn0 + n0 * tn1;
+}
+
 /// Closest-point projection of (x, y) onto the obstacle surface. A point exactly at a pin's
 /// centre has no normal; it gets n = (1, 0) and gap -R (deepest penetration).
 KOKKOS_INLINE_FUNCTION ObstacleProjection projectOntoObstacle(const RigidObstacle &o, double x,

@@ -183,6 +183,16 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
   writeSummary();
 }
 
+std::ofstream ResultsWriter::appendCsv(const std::string &name, bool &started,
+                                       const char *header) const {
+  std::ofstream csv(directory_ + "/" + name, started ? std::ios::app : std::ios::trunc);
+  if (!started)
+    csv << header << "\n";
+  started = true;
+  csv << std::setprecision(10);
+  return csv;
+}
+
 void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const HybridFields &h) {
   const hsize_t n = h.node.size();
   if (group >= 0) {
@@ -209,13 +219,9 @@ void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const Hybr
     H5Gclose(hg);
   }
   // hybrid.csv: one row per boundary node and step, appended (valid after each step).
-  std::ofstream csv(directory_ + "/hybrid.csv",
-                    hybridCsvStarted_ ? std::ios::app : std::ios::trunc);
-  if (!hybridCsvStarted_)
-    csv << "step,load,node_id,angle_deg,ux,uy,sigma_rr,tau_rt,mu_stress,traction_n,traction_t,"
-           "mu_force\n";
-  hybridCsvStarted_ = true;
-  csv << std::setprecision(10);
+  std::ofstream csv = appendCsv("hybrid.csv", hybridCsvStarted_,
+                                "step,load,node_id,angle_deg,ux,uy,sigma_rr,tau_rt,mu_stress,"
+                                "traction_n,traction_t,mu_force");
   for (hsize_t k = 0; k < n; ++k)
     csv << r.step << "," << r.measuredLoad << "," << h.node[k] << "," << h.angle[k] * 180.0 / M_PI
         << "," << h.ux[k] << "," << h.uy[k] << "," << h.sigmaRR[k] << "," << h.tauRT[k] << ","
@@ -247,14 +253,11 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     H5Gclose(cg);
   }
   // contact.csv: one row per candidate and step, appended (the file stays valid after each step).
-  std::ofstream csv(directory_ + "/contact.csv",
-                    contactCsvStarted_ ? std::ios::app : std::ios::trunc);
-  if (!contactCsvStarted_)
-    csv << "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
-           "angle_deg,arc,x,y,normal_stress,tangential_stress,sigma_nn,tau_nt\n";
-  contactCsvStarted_ = true;
+  std::ofstream csv = appendCsv("contact.csv", contactCsvStarted_,
+                                "step,load_factor,obstacle,node_id,status,gap,normal_force,"
+                                "tangential_force,angle_deg,arc,x,y,normal_stress,"
+                                "tangential_stress,sigma_nn,tau_nt");
   static const char *names[] = {"open", "stick", "slip"};
-  csv << std::setprecision(10);
   for (hsize_t k = 0; k < n; ++k)
     csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] << "," << c.node[k] << ","
         << names[c.status[k]] << "," << c.gap[k] << "," << c.normalForce[k] << ","

@@ -6,6 +6,7 @@
 
 #include <mesh/Mesh.hpp>
 
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -110,6 +111,9 @@ private:
   std::vector<std::pair<std::string, std::string>> extra_;
   bool contactCsvStarted_ = false, hybridCsvStarted_ = false;
   void writeHybrid(long long group, const StepRecord &r, const HybridFields &h);
+  /// A CSV of this run's output folder opened for appending one step's rows: created with its
+  /// header by the first call (`started` false), appended to afterwards (10 digits).
+  std::ofstream appendCsv(const std::string &name, bool &started, const char *header) const;
   std::string status_ = "running";
   std::string message_;
 };

@@ -184,6 +184,19 @@ Eigen::VectorXd randomMixedState(LocalIndex nn, unsigned seed, Eigen::VectorXd *
   return x.cwiseProduct(s);
 }
 
+/// A finite-strain state (random displacements of size 0.03, strains of about 5-10 %) plus a
+/// rigid rotation of 0.3 rad.
+Eigen::VectorXd strainedAndRotated(const Fixture &f) {
+  Eigen::VectorXd u = 0.03 * randomVector(2 * f.mesh.numNodes(), 5);
+  const double th = 0.3;
+  for (LocalIndex k = 0; k < f.mesh.numNodes(); ++k) {
+    const double x = f.mesh.x(k), y = f.mesh.y(k);
+    u(2 * k) += (std::cos(th) - 1) * x - std::sin(th) * y;
+    u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
+  }
+  return u;
+}
+
 /// Central finite differences (step 1e-6) of the displacement model's assembled residual at u,
 /// load factor 1, one column per unknown.
 Eigen::MatrixXd finiteDifferenceTangent(NonlinearDisplacementModel &model,
@@ -230,13 +243,7 @@ TEST_P(NonlinearModels, DisplacementTangentIsFiniteDifferenceOfResidual) {
   model.addFollowerPressure(f.mesh.boundaries.at("right"), 4.0e3);
   model.setup(directOptions(), MPI_COMM_WORLD);
   // Finite strain (about 5-10 %) plus a rotation of 0.3 rad: a prestressed, rotated state.
-  Eigen::VectorXd u = 0.03 * randomVector(2 * f.mesh.numNodes(), 5);
-  const double th = 0.3;
-  for (LocalIndex k = 0; k < f.mesh.numNodes(); ++k) {
-    const double x = f.mesh.x(k), y = f.mesh.y(k);
-    u(2 * k) += (std::cos(th) - 1) * x - std::sin(th) * y;
-    u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
-  }
+  const Eigen::VectorXd u = strainedAndRotated(f);
   model.setDisplacement(toStd(u));
   model.evaluate(1.0, true);
   const Eigen::MatrixXd k = toDense(model.tangent());
@@ -290,13 +297,7 @@ TEST_P(NonlinearModels, SaintVenantKirchhoffResidualAndTangent) {
     model.prescribe(n, 0, 0.0);
   model.addFollowerPressure(f.mesh.boundaries.at("right"), 4.0e3);
   model.setup(directOptions(), MPI_COMM_WORLD);
-  Eigen::VectorXd u = 0.03 * randomVector(2 * f.mesh.numNodes(), 5);
-  const double th = 0.3;
-  for (LocalIndex k = 0; k < f.mesh.numNodes(); ++k) {
-    const double x = f.mesh.x(k), y = f.mesh.y(k);
-    u(2 * k) += (std::cos(th) - 1) * x - std::sin(th) * y;
-    u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
-  }
+  const Eigen::VectorXd u = strainedAndRotated(f);
   model.setDisplacement(toStd(u));
   model.evaluate(0.0, false);
   const Eigen::VectorXd ref = referenceSvkForce(f, u);
