@@ -11,6 +11,7 @@
 #pragma once
 
 #include <contact/RigidObstacle.hpp>
+#include <solver/ContactIterations.hpp>
 #include <solver/LinearSolver.hpp>
 
 #include <string>
@@ -57,13 +58,13 @@ struct DrivenComponent {
   int direction;
 };
 
-class RigidContact {
+class RigidContact final : public ContactIterations {
 public:
   RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs);
 
   /// Moves every obstacle to its position at load factor lambda: point + lambda drive along
   /// displacement-driven components; force-driven components keep their current motion.
-  void setLoadFactor(double lambda);
+  void setLoadFactor(double lambda) override;
   /// The force-driven components of all obstacles (empty: every obstacle is displacement
   /// driven), the force on them at the current load factor, and their current motion.
   const std::vector<DrivenComponent> &drivenComponents() const { return driven_; }
@@ -75,7 +76,7 @@ public:
   /// Moves every force-driven obstacle that has no closed node along its force until the first
   /// candidate touches it (uses the last detection), so that the obstacle is supported; throws
   /// InputError when no candidate lies in the way. Returns how many obstacles moved.
-  int seatForceDriven();
+  int seatForceDriven() override;
 
   /// Projects every candidate at the current position (coordinates + u, `stride` unknowns per
   /// node, displacements first) onto its obstacle; returns the number penetrating.
@@ -96,23 +97,23 @@ public:
   /// With `frozen` the statuses stay and only the friction forces of slip nodes are updated to
   /// mu N (how a cycling active set is resolved).
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
-                   const std::vector<double> *stress = nullptr, bool frozen = false);
+                   const std::vector<double> *stress = nullptr, bool frozen = false) override;
 
   /// Closes the open candidates already touching their obstacle (gap <= tolerance) at the last
   /// detection: a body that rests on an obstacle is supported from the first iteration.
   /// Returns how many closed.
-  int closeTouching(double tolerance);
+  int closeTouching(double tolerance) override;
 
   /// Whether every closed node penetrates its obstacle by at most `relative` times the
   /// obstacle's size (a pin's radius; for a half-plane the extent of its candidate nodes along
   /// it); `where` names the worst node otherwise.
-  bool penetrationWithin(double relative, std::string &where) const;
+  bool penetrationWithin(double relative, std::string &where) const override;
 
   /// Accept the current state as converged; rollback() returns to the last commit.
-  void commit();
-  void rollback();
+  void commit() override;
+  void rollback() override;
   /// A string of the statuses (cycle detection).
-  std::string signature() const;
+  std::string signature() const override;
 
   LocalIndex numCandidates() const { return static_cast<LocalIndex>(node_.size()); }
   LocalIndex candidateNode(LocalIndex k) const { return node_[k]; }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace mixcon {
@@ -139,13 +140,16 @@ void requirePositive(const char *what, double v, const std::string &gen) {
 
 } // namespace
 
-Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0, double y0) {
+Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0, double y0,
+                   double gx, double gy) {
   requirePositive("size[0]", lx, "rectangle");
   requirePositive("size[1]", ly, "rectangle");
   requirePositive("divisions[0]", nx, "rectangle");
   requirePositive("divisions[1]", ny, "rectangle");
+  requirePositive("grading[0]", gx, "rectangle");
+  requirePositive("grading[1]", gy, "rectangle");
   Patch p{[=](double u, double v) {
-            return std::array<double, 2>{x0 + u * lx, y0 + v * ly};
+            return std::array<double, 2>{x0 + std::pow(u, gx) * lx, y0 + std::pow(v, gy) * ly};
           },
           nx,
           ny,
@@ -315,6 +319,54 @@ Mesh pinnedPlateMesh(double r, double b, double e, double l, int n, int m, int n
   mesh.nodeSets["hole_top"] = {closestNode(mesh, 0.0, r)};
   mesh.nodeSets["far_bottom"] = {closestNode(mesh, l, 0.0)};
   return mesh;
+}
+
+} // namespace mixcon
+
+namespace mixcon {
+
+Mesh mergeMeshes(const std::vector<MeshBody> &bodies) {
+  if (bodies.empty())
+    throw InputError("mesh bodies: the list is empty");
+  Mesh out;
+  out.elementType = bodies.front().mesh.elementType;
+  out.nodesPerElement = bodies.front().mesh.nodesPerElement;
+  std::set<std::string> names;
+  std::string source;
+  for (const MeshBody &b : bodies) {
+    const Mesh &m = b.mesh;
+    if (!names.insert(b.name).second)
+      throw InputError("mesh bodies: the name '" + b.name + "' is used twice");
+    if (m.elementType != out.elementType)
+      throw InputError("mesh bodies: body '" + b.name +
+                       "' has another element type than the first body");
+    const LocalIndex nodeBase = out.numNodes(), elementBase = out.numElements();
+    for (LocalIndex p = 0; p < m.numNodes(); ++p) {
+      out.coordinates.push_back(m.x(p) + b.offset[0]);
+      out.coordinates.push_back(m.y(p) + b.offset[1]);
+    }
+    for (LocalIndex n : m.connectivity)
+      out.connectivity.push_back(n + nodeBase);
+    const int regionBase = static_cast<int>(out.regionNames.size());
+    for (const auto &r : m.regionNames)
+      out.regionNames.push_back(m.regionNames.size() == 1 ? b.name : b.name + "." + r);
+    for (int r : m.elementRegion)
+      out.elementRegion.push_back(r + regionBase);
+    for (const auto &[name, edges] : m.boundaries) {
+      auto &e = out.boundaries[b.name + "." + name];
+      for (const BoundaryEdge &x : edges)
+        e.push_back({x.element + elementBase, x.edge});
+    }
+    for (const auto &[name, nodes] : m.nodeSets) {
+      auto &e = out.nodeSets[b.name + "." + name];
+      for (LocalIndex n : nodes)
+        e.push_back(n + nodeBase);
+    }
+    source += (source.empty() ? "" : ", ") + b.name + ": " + m.source;
+  }
+  out.source = "bodies (" + source + ")";
+  out.finalizeIds();
+  return out;
 }
 
 } // namespace mixcon

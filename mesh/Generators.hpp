@@ -4,14 +4,29 @@
 
 #include <mesh/Mesh.hpp>
 
+#include <string>
+#include <vector>
+
 namespace mixcon {
 
-/// Rectangle [x0, x0 + lx] x [y0, y0 + ly] with nx x ny elements.
+/// Rectangle [x0, x0 + lx] x [y0, y0 + ly] with nx x ny elements; grading exponents gx, gy > 1
+/// cluster the elements toward x0 and y0 (x = x0 + lx u^gx; 1: uniform).
 /// Region "body"; boundaries "left", "right", "bottom", "top"; node sets "bottom_left",
 /// "bottom_right", "top_left", "top_right" (the corners), "left_center", "right_center" (the
 /// nodes closest to the mid-height of the left and right sides).
 Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0 = 0.0,
-                   double y0 = 0.0);
+                   double y0 = 0.0, double gx = 1.0, double gy = 1.0);
+
+/// Several bodies in one mesh (one element type), each translated by its offset: nodes and
+/// elements concatenated in order; a body's region is named after it (its regions "B.R" when it
+/// has several), its boundaries and node sets "B.name". Bodies share no nodes (contact couples
+/// them). Throws InputError for mixed element types or repeated names.
+struct MeshBody {
+  std::string name;
+  Mesh mesh;
+  double offset[2] = {0.0, 0.0};
+};
+Mesh mergeMeshes(const std::vector<MeshBody> &bodies);
 
 /// Quarter annulus a <= r <= b, 0 <= theta <= pi/2 centred at the origin, nr radial x nt
 /// circumferential elements (radial spacing grows geometrically by `ratio` from r = a).

@@ -1,10 +1,12 @@
 // Nonlinear models (host orchestration of the kernels in kernels/Nonlinear.hpp) and the load
 // stepper.
 #include <contact/RigidContact.hpp>
+#include <contact/SurfaceContact.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LocalFrames.hpp>
 #include <solver/MixedModel.hpp>
+#include <solver/MultiPointConstraints.hpp>
 #include <solver/Nonlinear.hpp>
 
 #include <kernels/Nonlinear.hpp>
@@ -249,6 +251,36 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
     contact_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x, stride);
     subtractFrictionForces(g, stride);
     free = contactFreeResidualNorm(g, flags, stride);
+  } else if (surface_) {
+    // Node-to-segment contact: the residual the constrained system balances, T^T G, over the
+    // unknowns held neither by Dirichlet conditions nor as contact slaves.
+    const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
+    std::vector<int> fl(hf.data(), hf.data() + hf.extent(0)), held(2 * mesh_.numNodes(), 0);
+    for (LocalIndex p = 0; p < mesh_.numNodes(); ++p)
+      for (int i = 0; i < 2; ++i)
+        held[2 * p + i] = fl[stride * p + i];
+    surface_->setPrescribed(held);
+    surface_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x, stride);
+    const auto &f = surface_->frictionForces();
+    Vec fd("mixcon::nonlinear::friction", f.size());
+    auto hfd = Kokkos::create_mirror_view(fd);
+    for (std::size_t i = 0; i < f.size(); ++i)
+      hfd(i) = f[i];
+    Kokkos::deep_copy(fd, hfd);
+    Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
+    scatter<double>(fd, stride, 0, 2, spread, true);
+    axpby(-1.0, spread, 1.0, g);
+    MultiPointConstraints c;
+    surfaceConstraints(stride, fl, c);
+    std::vector<double> gh = toHost(g);
+    condenseVector(c, gh);
+    for (LocalIndex sl : c.slaves)
+      fl[sl] = 1;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < gh.size(); ++i)
+      if (static_cast<int>(i % stride) < 2 && !fl[i])
+        sum += gh[i] * gh[i];
+    free = std::sqrt(sum);
   } else {
     free = strideNorm(g, stride, 0, 2, flags, 0);
   }
@@ -650,6 +682,104 @@ LinearSolveStats NonlinearModel::correctWithContact(
   return s;
 }
 
+ContactIterations *NonlinearModel::contactIterations() const {
+  if (contact_)
+    return contact_;
+  return surface_;
+}
+
+bool NonlinearModel::surfaceClosed() const { return surface_ && !surface_->closedPairs().empty(); }
+
+void NonlinearModel::surfaceConstraints(int stride, const std::vector<int> &flags,
+                                        MultiPointConstraints &c) const {
+  // Per closed contactor p on target nodes i with weights w_i: in its local frame (n, t) the
+  // normal displacement is sum_i w_i n . u_i - gap (slave), in stick the tangential one
+  // sum_j w_j t . u_j + tangentStep at the anchor (slave), in slip the tangential one free:
+  // u_p = n (sum_i w_i n . u_i + step_n) + t (...). A contactor with one component held by a
+  // Dirichlet condition (a symmetry line) takes the normal condition on its other component.
+  c.clear();
+  for (const SurfacePair &q : surface_->closedPairs()) {
+    const LocalIndex i0 = stride * q.node;
+    const bool fx = flags[i0] != 0, fy = flags[i0 + 1] != 0;
+    if (fx && fy)
+      continue;
+    std::vector<std::pair<LocalIndex, double>> normalRow, tangentRow;
+    for (int a = 0; a < q.normalCount; ++a)
+      for (int d = 0; d < 2; ++d)
+        normalRow.emplace_back(stride * q.normalNodes[a] + d, q.normalWeights[a] * q.normal[d]);
+    if (fx || fy) {
+      const int fixed = fx ? 0 : 1, other = 1 - fixed;
+      const double nf = q.normal[fixed], no = q.normal[other];
+      if (std::abs(no) < 0.7)
+        throw InputError(
+            "node " + std::to_string(mesh_.nodeIds.empty() ? q.node + 1 : mesh_.nodeIds[q.node]) +
+            ": node-to-segment contact on a surface not normal to its free direction "
+            "while the other direction is prescribed is not supported");
+      auto row = normalRow;
+      for (auto &e : row)
+        e.second /= no;
+      row.emplace_back(i0 + fixed, -nf / no);
+      c.addRow(i0 + other, row, q.normalStep / no);
+      c.slaves.push_back(i0 + other);
+      continue;
+    }
+    if (q.stick)
+      for (int a = 0; a < q.tangentCount; ++a)
+        for (int d = 0; d < 2; ++d)
+          tangentRow.emplace_back(stride * q.tangentNodes[a] + d,
+                                  q.tangentWeights[a] * q.tangent[d]);
+    for (int d = 0; d < 2; ++d) {
+      std::vector<std::pair<LocalIndex, double>> row;
+      for (const auto &e : normalRow)
+        row.emplace_back(e.first, q.normal[d] * e.second);
+      double offset = q.normal[d] * q.normalStep;
+      if (q.stick) {
+        for (const auto &e : tangentRow)
+          row.emplace_back(e.first, q.tangent[d] * e.second);
+        offset += q.tangent[d] * q.tangentStep;
+      } else {
+        row.emplace_back(i0 + 1, q.tangent[d]); // the free local tangential component
+      }
+      c.addRow(i0 + d, row, offset);
+    }
+    c.slaves.push_back(i0);
+    if (q.stick)
+      c.slaves.push_back(i0 + 1);
+  }
+}
+
+LinearSolveStats NonlinearModel::correctWithSurfaceContact(
+    double lambda, int stride, const CsrMatrix<Memory> &tangent,
+    const Kokkos::View<const int *, Memory> &fv, const Kokkos::View<const double *, Memory> &g,
+    const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+    LinearSolver &solver, const Kokkos::View<double *, Memory> &dx) {
+  // The contact constraints eliminated (solver/MultiPointConstraints.hpp): (T^T K T + D) y =
+  // T^T (-G - K s), the Dirichlet conditions applied to that system as usual, x = T y + s.
+  const auto start = std::chrono::steady_clock::now();
+  prescribedStep(fv, prescribed_, u_, lambda, stride, target);
+  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
+  std::vector<int> flags(hf.data(), hf.data() + hf.extent(0));
+  MultiPointConstraints c;
+  surfaceConstraints(stride, flags, c);
+  axpby(-1.0, g, 0.0, rhs);
+  surfaceWork_ = eliminateConstraints(tangent, c, std::max(stiffnessScale_, 1e-300), rhs);
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", flags.size());
+  for (LocalIndex sl : c.slaves)
+    flags[sl] = 1;
+  auto hdf = Kokkos::create_mirror_view(df);
+  for (std::size_t i = 0; i < flags.size(); ++i)
+    hdf(i) = flags[i];
+  Kokkos::deep_copy(df, hdf);
+  applyDirichlet(Exec(), surfaceWork_, Kokkos::View<const int *, Memory>(df), ConstVec(target),
+                 rhs);
+  Exec().fence();
+  solver.setup(surfaceWork_);
+  solverSetupSeconds_ += seconds(start);
+  LinearSolveStats s = solver.solve(rhs, dx);
+  expandConstrained(c, dx);
+  return s;
+}
+
 bool NonlinearModel::contactFramed() const {
   if (!contact_)
     return false;
@@ -673,12 +803,14 @@ void NonlinearModel::subtractFrictionForces(const Kokkos::View<double *, Memory>
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
   const LinearSolveStats s =
-      contactFramed()
-          ? correctWithContact(lambda, 2, tangent_, constrained_, isConstrained_, g_, rhs_, target_,
-                               *solver_, du_)
-          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
-             constrainedSolve(tangent_, fresh_ || contact_ != nullptr, constrained_, isConstrained_,
-                              g_, target_, rhs_, diag_, *solver_, du_, solverSetupSeconds_));
+      surfaceClosed()   ? correctWithSurfaceContact(lambda, 2, tangent_, isConstrained_, g_, rhs_,
+                                                    target_, *solver_, du_)
+      : contactFramed() ? correctWithContact(lambda, 2, tangent_, constrained_, isConstrained_, g_,
+                                             rhs_, target_, *solver_, du_)
+                        : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
+                           constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr,
+                                            constrained_, isConstrained_, g_, target_, rhs_, diag_,
+                                            *solver_, du_, solverSetupSeconds_));
   fresh_ = false;
   axpby(1.0, du_, 1.0, u_);
   increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
@@ -728,7 +860,7 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
 NonlinearMixedModel::~NonlinearMixedModel() = default;
 
 void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
-  if (contact_ && options.type != LinearSolverType::Direct)
+  if ((contact_ || surface_) && options.type != LinearSolverType::Direct)
     throw InputError("contact with the mixed model needs solver: {type: direct} in this version");
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
@@ -832,11 +964,14 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
   prescribedStep(constrained5_, prescribed_, u_, lambda, 5, target_);
   const LinearSolveStats s =
-      contactFramed() ? correctWithContact(lambda, 5, tangent_, work_, constrained5_, g_, rhs_,
-                                           target_, *solver_, dx_)
+      surfaceClosed()   ? correctWithSurfaceContact(lambda, 5, tangent_, constrained5_, g_, rhs_,
+                                                    target_, *solver_, dx_)
+      : contactFramed() ? correctWithContact(lambda, 5, tangent_, work_, constrained5_, g_, rhs_,
+                                             target_, *solver_, dx_)
       : linearOptions_.type == LinearSolverType::Direct
-          ? constrainedSolve(tangent_, fresh_ || contact_ != nullptr, work_, constrained5_, g_,
-                             target_, rhs_, diag_, *solver_, dx_, solverSetupSeconds_)
+          ? constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, work_,
+                             constrained5_, g_, target_, rhs_, diag_, *solver_, dx_,
+                             solverSetupSeconds_)
           : solveSchur();
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
@@ -1078,18 +1213,19 @@ LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options,
     : model_(model), options_(options), log_(log) {}
 
 std::string LoadStepper::contactHint() const {
-  return model_.contact() ? "; with contact, a body held only by obstacles has rigid-body modes "
-                            "until it touches them: start it touching (gap 0) or hold it by a "
-                            "displacement condition"
-                          : "";
+  return model_.contactIterations()
+             ? "; with contact, a body held only by obstacles has rigid-body modes "
+               "until it touches them: start it touching (gap 0) or hold it by a "
+               "displacement condition"
+             : "";
 }
 
 bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why) {
   out.history.clear();
-  if (model_.contact())
-    model_.contact()->setLoadFactor(lambda);
+  ContactIterations *contact = model_.contactIterations();
+  if (contact)
+    contact->setLoadFactor(lambda);
   double r0 = model_.evaluate(lambda, true);
-  RigidContact *contact = model_.contact();
   // A force-driven obstacle without support first moves along its force onto the body.
   const bool seated = contact && contact->seatForceDriven() > 0;
   if (seated)
@@ -1163,7 +1299,7 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
 bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::string &why) {
   // The report's nested iterations: after equilibrium, update the contact statuses from the
   // positions and contact forces; while any changed, iterate equilibrium again at this load.
-  RigidContact *contact = model_.contact();
+  ContactIterations *contact = model_.contactIterations();
   if (!contact)
     return true;
   std::string previous = contact->signature();
@@ -1216,15 +1352,17 @@ IncrementOutcome LoadStepper::advance(double target) {
     std::string why;
     if (attempt(next, out, why) && settleContact(next, out, why)) {
       model_.commit();
-      if (model_.contact())
-        model_.contact()->commit();
+      if (model_.contactIterations())
+        model_.contactIterations()->commit();
       lambda_ = next;
       ++out.subincrements;
       continue;
     }
     model_.rollback();
-    if (model_.contact())
-      model_.contact()->rollback();
+    if (model_.contactIterations())
+      model_.contactIterations()->rollback();
+    if (out.subincrements == 0 && lambda_ == 0.0)
+      contactStarted_ = false; // back at the initial state: close the touching nodes again
     if (++out.cuts > options_.maxCuts) {
       std::ostringstream m;
       m << "load factor " << next << ": " << why << "; gave up after " << options_.maxCuts

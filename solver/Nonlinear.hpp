@@ -19,6 +19,9 @@
 namespace mixcon {
 
 class RigidContact;
+class SurfaceContact;
+class ContactIterations;
+struct MultiPointConstraints;
 
 enum class IterationMethod { Newton, ModifiedNewton, None };
 
@@ -66,6 +69,12 @@ public:
   /// Displacement model only in this version.
   virtual void setContact(RigidContact *contact);
   RigidContact *contact() const { return contact_; }
+  /// Elastic-elastic node-to-segment contact (not owned; nullptr: none); both models (the mixed
+  /// one with solver: direct). Not together with rigid obstacles in this version.
+  void setSurfaceContact(SurfaceContact *contact) { surface_ = contact; }
+  SurfaceContact *surfaceContact() const { return surface_; }
+  /// The contact enforcement the load stepper iterates (rigid or surface; nullptr: none).
+  ContactIterations *contactIterations() const;
   /// Host copy of the last residual G = f_int - f_ext (unknowns per node as the model's, the
   /// displacements first) and that count per node.
   virtual std::vector<double> residualVectorHost() const = 0;
@@ -114,6 +123,16 @@ protected:
       const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
       const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
       LinearSolver &solver, const Kokkos::View<double *, Memory> &dx);
+  /// Node-to-segment contact: the constraints of the closed pairs (`flags`: the Dirichlet flags,
+  /// `stride` per node), and the correction with them eliminated (x = T y + s).
+  void surfaceConstraints(int stride, const std::vector<int> &flags,
+                          MultiPointConstraints &c) const;
+  LinearSolveStats correctWithSurfaceContact(
+      double lambda, int stride, const CsrMatrix<Memory> &tangent,
+      const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
+      const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+      LinearSolver &solver, const Kokkos::View<double *, Memory> &dx);
+  bool surfaceClosed() const;
   /// The common end of evaluate(): contact detection at coordinates + x (`stride` unknowns per
   /// node), friction forces, and the relative residual of g over the free displacement unknowns
   /// (reference max(f_int, f_ext, force floor)); infinity when an element is inverted.
@@ -133,6 +152,8 @@ protected:
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
   RigidContact *contact_ = nullptr;
+  SurfaceContact *surface_ = nullptr;
+  CsrMatrix<Memory> surfaceWork_;        ///< the eliminated system (its own pattern)
   ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
   bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
 

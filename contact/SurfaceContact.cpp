@@ -1,0 +1,464 @@
+// SurfaceContact: node-to-segment search per iteration, statuses and the closed pairs.
+#include <contact/SegmentSearch.hpp>
+#include <contact/SurfaceContact.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace mixcon {
+
+namespace surface_detail {
+
+/// Current positions x = X + u of every node (u with `stride` unknowns per node).
+struct CurrentPositions {
+  Kokkos::View<const double *[2], DeviceSpace> coordinates;
+  Kokkos::View<const double *, DeviceSpace> u;
+  Kokkos::View<double *[2], DeviceSpace> x;
+  int stride;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex p) const {
+    x(p, 0) = coordinates(p, 0) + u(stride * p);
+    x(p, 1) = coordinates(p, 1) + u(stride * p + 1);
+  }
+};
+
+/// Queries: the positions of the contactor nodes.
+struct GatherPoints {
+  Kokkos::View<const double *[2], DeviceSpace> x;
+  Kokkos::View<const LocalIndex *, DeviceSpace> nodes;
+  Kokkos::View<double *[2], DeviceSpace> q;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex k) const {
+    q(k, 0) = x(nodes(k), 0);
+    q(k, 1) = x(nodes(k), 1);
+  }
+};
+
+/// Shape functions of a linear (count 2) or quadratic (count 3: ends, then middle) segment.
+void segmentWeights(double xi, bool quadratic, double (&w)[3]) {
+  if (quadratic) {
+    w[0] = 0.5 * xi * (xi - 1);
+    w[1] = 0.5 * xi * (xi + 1);
+    w[2] = 1 - xi * xi;
+  } else {
+    w[0] = 0.5 * (1 - xi);
+    w[1] = 0.5 * (1 + xi);
+    w[2] = 0.0;
+  }
+}
+
+} // namespace surface_detail
+
+using namespace surface_detail;
+
+std::vector<std::array<LocalIndex, 3>> boundarySegments(const Mesh &mesh, const std::string &name) {
+  const auto b = mesh.boundaries.find(name);
+  if (b == mesh.boundaries.end())
+    throw InputError(mesh.source + ": no boundary named '" + name +
+                     "' (known: " + mesh.namedSets() + ")");
+  std::vector<std::array<LocalIndex, 3>> segs;
+  for (const BoundaryEdge &e : b->second)
+    segs.push_back({mesh.edgeNode(e, 0), mesh.edgeNode(e, 1),
+                    mesh.nodesPerEdge() == 3 ? mesh.edgeNode(e, 2) : -1});
+  return segs;
+}
+
+SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs)
+    : specs_(std::move(specs)), numNodes_(numNodes) {
+  std::set<LocalIndex> contactors, targets;
+  for (std::size_t s = 0; s < specs_.size(); ++s) {
+    const auto &sp = specs_[s];
+    if (sp.contactor.empty() || sp.target.empty())
+      throw InputError("contact '" + sp.name + "': the contactor or the target surface is empty");
+    std::set<LocalIndex> unique(sp.contactor.begin(), sp.contactor.end());
+    for (LocalIndex n : unique) {
+      node_.push_back(n);
+      spec_.push_back(static_cast<int>(s));
+      contactors.insert(n);
+    }
+    for (const auto &seg : sp.target)
+      for (LocalIndex n : seg)
+        if (n >= 0)
+          targets.insert(n);
+  }
+  for (LocalIndex n : contactors)
+    if (targets.count(n))
+      throw InputError("node " + std::to_string(n + 1) +
+                       " is both a contactor and a target node; the surfaces of a "
+                       "node_to_segment contact must not share nodes");
+  const std::size_t m = node_.size();
+  status_.assign(m, ContactStatus::Open);
+  segment_.assign(m, -1);
+  anchorSegment_.assign(m, -1);
+  committedSegment_.assign(m, -1);
+  xi_.assign(m, 0.0);
+  anchorXi_.assign(m, 0.0);
+  committedXi_.assign(m, 0.0);
+  gap_.assign(m, 0.0);
+  normal_.assign(2 * m, 0.0);
+  normalForce_.assign(m, 0.0);
+  tangentForce_.assign(m, 0.0);
+  friction_.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
+  prescribed_.assign(2 * static_cast<std::size_t>(numNodes_), 0);
+}
+
+void SurfaceContact::targetPoint(int s, int segment, double xi, double (&x)[2],
+                                 LocalIndex (&nodes)[3], double (&w)[3], int &count) const {
+  const auto &seg = specs_[s].target[segment];
+  const bool quadratic = seg[2] >= 0;
+  segmentWeights(xi, quadratic, w);
+  count = quadratic ? 3 : 2;
+  x[0] = x[1] = 0.0;
+  for (int a = 0; a < count; ++a) {
+    nodes[a] = seg[a];
+    x[0] += w[a] * position_[2 * static_cast<std::size_t>(seg[a])];
+    x[1] += w[a] * position_[2 * static_cast<std::size_t>(seg[a]) + 1];
+  }
+}
+
+LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+                                  const Kokkos::View<const double *, DeviceSpace> &u, int stride) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const LocalIndex nn = static_cast<LocalIndex>(coordinates.extent(0));
+  Kokkos::View<double *[2], DeviceSpace> x("mixcon::surface::positions", nn);
+  Kokkos::parallel_for("mixcon::surface::positions", Kokkos::RangePolicy<Exec>(0, nn),
+                       CurrentPositions{coordinates, u, x, stride});
+  {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
+    position_.assign(2 * static_cast<std::size_t>(nn), 0.0);
+    for (LocalIndex p = 0; p < nn; ++p) {
+      position_[2 * p] = h(p, 0);
+      position_[2 * p + 1] = h(p, 1);
+    }
+  }
+  if (meanLength_.empty()) { // reference lengths, from the first detection
+    for (const auto &sp : specs_) {
+      double total = 0.0, longest = 0.0;
+      std::vector<double> start;
+      for (const auto &seg : sp.target) {
+        start.push_back(total);
+        const double l = std::hypot(position_[2 * seg[1]] - position_[2 * seg[0]],
+                                    position_[2 * seg[1] + 1] - position_[2 * seg[0] + 1]);
+        total += l;
+        longest = std::max(longest, l);
+      }
+      arcStart_.push_back(start);
+      meanLength_.push_back(total / static_cast<double>(sp.target.size()));
+      extent_.push_back(std::max(total, longest));
+    }
+  }
+  LocalIndex penetrating = 0;
+  for (std::size_t s = 0; s < specs_.size(); ++s) {
+    const auto &sp = specs_[s];
+    std::vector<std::size_t> members;
+    for (std::size_t k = 0; k < node_.size(); ++k)
+      if (spec_[k] == static_cast<int>(s))
+        members.push_back(k);
+    const LocalIndex ns = static_cast<LocalIndex>(sp.target.size());
+    const LocalIndex nq = static_cast<LocalIndex>(members.size());
+    Kokkos::View<int *[3], DeviceSpace> segs("mixcon::surface::segments", ns);
+    Kokkos::View<LocalIndex *, DeviceSpace> qn("mixcon::surface::contactors", nq);
+    auto hs = Kokkos::create_mirror_view(segs);
+    auto hq = Kokkos::create_mirror_view(qn);
+    for (LocalIndex j = 0; j < ns; ++j)
+      for (int a = 0; a < 3; ++a)
+        hs(j, a) = sp.target[j][a];
+    for (LocalIndex k = 0; k < nq; ++k)
+      hq(k) = node_[members[k]];
+    Kokkos::deep_copy(segs, hs);
+    Kokkos::deep_copy(qn, hq);
+    Kokkos::View<double *[2], DeviceSpace> queries("mixcon::surface::queries", nq);
+    Kokkos::parallel_for("mixcon::surface::gather", Kokkos::RangePolicy<Exec>(0, nq),
+                         GatherPoints{x, qn, queries});
+    const SegmentSet<DeviceSpace> set{x, segs};
+    SegmentGrid<Exec> grid;
+    grid.build(Exec(), set, 2.0 * meanLength_[s] + 1e-300);
+    SearchResults<DeviceSpace> found(nq);
+    grid.query(Exec(), queries, found);
+    const auto seg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.segment);
+    const auto xi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.xi);
+    const auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.normal);
+    const auto cp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.closest);
+    // A continuous normal field: at each target node the average of its segments' unit
+    // normals there; along a segment its own normal plus the linear blend of the differences
+    // at its ends. Without it a contactor on a vertex where two segments meet at an angle has
+    // no equilibrium direction (the force would jump between the two segment normals) and the
+    // iterations drift.
+    std::vector<double> nodal(2 * static_cast<std::size_t>(numNodes_), 0.0), ends(4 * ns, 0.0);
+    for (LocalIndex j = 0; j < ns; ++j)
+      for (int e = 0; e < 2; ++e) {
+        double a[2], b[2], mid[2] = {0.0, 0.0};
+        const auto &sg = sp.target[j];
+        for (int i = 0; i < 2; ++i) {
+          a[i] = position_[2 * static_cast<std::size_t>(sg[0]) + i];
+          b[i] = position_[2 * static_cast<std::size_t>(sg[1]) + i];
+          if (sg[2] >= 0)
+            mid[i] = position_[2 * static_cast<std::size_t>(sg[2]) + i];
+        }
+        const SegmentProjection pr = projectionAt(a, a, b, mid, sg[2] >= 0, e == 0 ? -1.0 : 1.0);
+        ends[4 * j + 2 * e] = pr.normal[0];
+        ends[4 * j + 2 * e + 1] = pr.normal[1];
+        nodal[2 * static_cast<std::size_t>(sg[e])] += pr.normal[0];
+        nodal[2 * static_cast<std::size_t>(sg[e]) + 1] += pr.normal[1];
+      }
+    for (std::size_t p = 0; p < nodal.size() / 2; ++p) {
+      const double l = std::hypot(nodal[2 * p], nodal[2 * p + 1]);
+      if (l > 0.0) {
+        nodal[2 * p] /= l;
+        nodal[2 * p + 1] /= l;
+      }
+    }
+    for (LocalIndex q = 0; q < nq; ++q) {
+      const std::size_t k = members[q];
+      segment_[k] = seg(q);
+      xi_[k] = xi(q);
+      const double *xq = &position_[2 * static_cast<std::size_t>(node_[k])];
+      if (seg(q) < 0) { // no segment within the radius: far away (open)
+        gap_[k] = 2.0 * meanLength_[s];
+        normal_[2 * k] = nrm(q, 0);
+        normal_[2 * k + 1] = nrm(q, 1);
+        continue;
+      }
+      const auto &sg = sp.target[seg(q)];
+      const double wa = 0.5 * (1 - xi(q)), wb = 0.5 * (1 + xi(q));
+      double n[2];
+      for (int i = 0; i < 2; ++i)
+        n[i] = nrm(q, i) +
+               wa * (nodal[2 * static_cast<std::size_t>(sg[0]) + i] - ends[4 * seg(q) + i]) +
+               wb * (nodal[2 * static_cast<std::size_t>(sg[1]) + i] - ends[4 * seg(q) + 2 + i]);
+      const double l = std::hypot(n[0], n[1]);
+      normal_[2 * k] = n[0] / l;
+      normal_[2 * k + 1] = n[1] / l;
+      // The gap along that normal (beyond a segment's end too, where the search's signed
+      // distance would include the tangential offset).
+      gap_[k] = (xq[0] - cp(q, 0)) * normal_[2 * k] + (xq[1] - cp(q, 1)) * normal_[2 * k + 1];
+      penetrating += gap_[k] < 0.0;
+    }
+  }
+  buildPairs();
+  return penetrating;
+}
+
+void SurfaceContact::buildPairs() {
+  pairs_.clear();
+  std::fill(friction_.begin(), friction_.end(), 0.0);
+  if (position_.empty())
+    return;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    if (status_[k] == ContactStatus::Open || segment_[k] < 0)
+      continue;
+    const int s = spec_[k];
+    SurfacePair p;
+    p.node = node_[k];
+    p.normal[0] = normal_[2 * k];
+    p.normal[1] = normal_[2 * k + 1];
+    p.tangent[0] = -p.normal[1];
+    p.tangent[1] = p.normal[0];
+    double xt[2];
+    targetPoint(s, segment_[k], xi_[k], xt, p.normalNodes, p.normalWeights, p.normalCount);
+    p.normalStep = -gap_[k];
+    const double *xc = &position_[2 * static_cast<std::size_t>(p.node)];
+    if (status_[k] == ContactStatus::Stick && anchorSegment_[k] >= 0) {
+      p.stick = true;
+      double xa[2];
+      targetPoint(s, anchorSegment_[k], anchorXi_[k], xa, p.tangentNodes, p.tangentWeights,
+                  p.tangentCount);
+      p.tangentStep = -(p.tangent[0] * (xc[0] - xa[0]) + p.tangent[1] * (xc[1] - xa[1]));
+    } else if (status_[k] == ContactStatus::Slip) {
+      // Friction mu N against the slip (sign kept from the tangential force that started it),
+      // on the contactor, and equal and opposite on the target nodes.
+      const double f = specs_[s].friction * std::max(normalForce_[k], 0.0) *
+                       (tangentForce_[k] > 0 ? 1.0 : (tangentForce_[k] < 0 ? -1.0 : 0.0));
+      for (int i = 0; i < 2; ++i) {
+        friction_[2 * static_cast<std::size_t>(p.node) + i] += f * p.tangent[i];
+        for (int a = 0; a < p.normalCount; ++a)
+          friction_[2 * static_cast<std::size_t>(p.normalNodes[a]) + i] -=
+              p.normalWeights[a] * f * p.tangent[i];
+      }
+    }
+    pairs_.push_back(p);
+  }
+}
+
+int SurfaceContact::closeTouching(double tolerance) {
+  int closed = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k)
+    if (status_[k] == ContactStatus::Open && segment_[k] >= 0 &&
+        gap_[k] <= tolerance * meanLength_[spec_[k]]) {
+      status_[k] = specs_[spec_[k]].friction > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
+      anchorSegment_[k] = committedSegment_[k] = segment_[k];
+      anchorXi_[k] = committedXi_[k] = xi_[k];
+      ++closed;
+    }
+  buildPairs();
+  return closed;
+}
+
+int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::string &log,
+                                 const std::vector<double> *, bool frozen) {
+  std::ostringstream out;
+  int changes = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    const LocalIndex p = node_[k];
+    const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+    // The multipliers: the contactor's contact force, its residual without the friction force
+    // already applied. With one component held by a Dirichlet condition the other carries the
+    // normal force alone (a symmetry line); there is then no tangential multiplier.
+    const double gx = g[stride * p] + friction_[2 * p];
+    const double gy = g[stride * p + 1] + friction_[2 * p + 1];
+    const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
+    double nForce = gx * n0 + gy * n1, tForce = -gx * n1 + gy * n0;
+    if (hx != hy) {
+      const int other = hx ? 1 : 0;
+      nForce = (other == 0 ? gx : gy) / (other == 0 ? n0 : n1);
+      tForce = 0.0;
+    }
+    const double mu = specs_[spec_[k]].friction;
+    const ContactStatus before = status_[k];
+    if (frozen) {
+      if (status_[k] == ContactStatus::Slip && mu > 0.0 &&
+          std::abs(mu * nForce - std::abs(tangentForce_[k])) >
+              1e-3 * mu * std::max(nForce, 1e-300)) {
+        ++changes;
+        out << "    contact: node " << p + 1 << " friction " << tangentForce_[k] << " -> "
+            << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
+      }
+      const bool closed = status_[k] != ContactStatus::Open;
+      normalForce_[k] = closed ? nForce : 0.0;
+      tangentForce_[k] = status_[k] == ContactStatus::Slip
+                             ? (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce
+                             : (closed ? tForce : 0.0);
+      continue;
+    }
+    switch (status_[k]) {
+    case ContactStatus::Open:
+      if (segment_[k] >= 0 && gap_[k] < 0.0) {
+        status_[k] = mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
+        anchorSegment_[k] = committedSegment_[k] = segment_[k];
+        anchorXi_[k] = committedXi_[k] = xi_[k];
+        normalForce_[k] = tangentForce_[k] = 0.0;
+      }
+      break;
+    case ContactStatus::Stick:
+    case ContactStatus::Slip:
+      if (nForce < 0.0 || segment_[k] < 0) {
+        status_[k] = ContactStatus::Open;
+        normalForce_[k] = tangentForce_[k] = 0.0;
+        break;
+      }
+      if (status_[k] == ContactStatus::Stick && std::abs(tForce) > mu * nForce * (1 + 1e-9)) {
+        status_[k] = ContactStatus::Slip;
+      } else if (status_[k] == ContactStatus::Slip && mu > 0.0) {
+        // Stick again when the node moves along its friction force (the slip reversed):
+        // relative tangential motion since the last commit, measured on the target.
+        double xc[2];
+        LocalIndex nodes[3];
+        double w[3];
+        int count = 0;
+        targetPoint(spec_[k], committedSegment_[k] >= 0 ? committedSegment_[k] : segment_[k],
+                    committedXi_[k], xc, nodes, w, count);
+        const double *x = &position_[2 * static_cast<std::size_t>(p)];
+        const double moved = -n1 * (x[0] - xc[0]) + n0 * (x[1] - xc[1]);
+        if (moved * tangentForce_[k] > 1e-12 * meanLength_[spec_[k]] * std::abs(tangentForce_[k])) {
+          status_[k] = ContactStatus::Stick;
+          anchorSegment_[k] = segment_[k];
+          anchorXi_[k] = xi_[k];
+        } else if (std::abs(mu * nForce - std::abs(tangentForce_[k])) >
+                   1e-3 * mu * std::max(nForce, 1e-300)) {
+          ++changes; // friction force not yet consistent with the normal force: iterate
+          out << "    contact: node " << p + 1 << " friction " << tangentForce_[k] << " -> "
+              << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
+        }
+      }
+      normalForce_[k] = nForce;
+      if (status_[k] == ContactStatus::Stick || before == ContactStatus::Stick)
+        tangentForce_[k] = tForce;
+      else if (status_[k] == ContactStatus::Slip)
+        tangentForce_[k] = (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce;
+      break;
+    }
+    if (status_[k] != before) {
+      ++changes;
+      out << "    contact '" << specs_[spec_[k]].name << "': node " << p + 1 << " "
+          << contactStatusName(before) << " -> " << contactStatusName(status_[k]) << " (gap "
+          << gap_[k] << ", N " << nForce << ", T " << tForce << ")\n";
+    }
+  }
+  buildPairs();
+  log = out.str();
+  return changes;
+}
+
+bool SurfaceContact::penetrationWithin(double relative, std::string &where) const {
+  double worst = 0.0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    if (status_[k] == ContactStatus::Open)
+      continue;
+    const double ratio = -gap_[k] / std::max(extent_[spec_[k]], 1e-300);
+    if (ratio > worst) {
+      worst = ratio;
+      at = k;
+    }
+  }
+  if (worst <= relative)
+    return true;
+  std::ostringstream m;
+  m << "contactor node " << node_[at] + 1 << " of '" << specs_[spec_[at]].name
+    << "' penetrates its target by " << -gap_[at] << " (" << worst
+    << " of the target surface's length)";
+  where = m.str();
+  return false;
+}
+
+void SurfaceContact::commit() {
+  committedSegment_ = segment_;
+  committedXi_ = xi_;
+  saved_ = {status_,      anchorSegment_, committedSegment_, anchorXi_,
+            committedXi_, normalForce_,   tangentForce_};
+}
+
+void SurfaceContact::rollback() {
+  if (saved_.status.empty()) {
+    std::fill(status_.begin(), status_.end(), ContactStatus::Open);
+    std::fill(normalForce_.begin(), normalForce_.end(), 0.0);
+    std::fill(tangentForce_.begin(), tangentForce_.end(), 0.0);
+  } else {
+    status_ = saved_.status;
+    anchorSegment_ = saved_.anchorSegment;
+    committedSegment_ = saved_.committedSegment;
+    anchorXi_ = saved_.anchorXi;
+    committedXi_ = saved_.committedXi;
+    normalForce_ = saved_.normalForce;
+    tangentForce_ = saved_.tangentForce;
+  }
+  buildPairs();
+}
+
+std::string SurfaceContact::signature() const {
+  std::string s(status_.size(), 'o');
+  for (std::size_t k = 0; k < status_.size(); ++k)
+    s[k] =
+        status_[k] == ContactStatus::Open ? 'o' : (status_[k] == ContactStatus::Stick ? 's' : 'l');
+  return s;
+}
+
+LocalIndex SurfaceContact::numClosed() const {
+  LocalIndex n = 0;
+  for (auto s : status_)
+    n += s != ContactStatus::Open;
+  return n;
+}
+
+double SurfaceContact::arcCoordinate(LocalIndex k) const {
+  if (segment_[k] < 0 || arcStart_.empty())
+    return 0.0;
+  const int s = spec_[k];
+  const auto &seg = specs_[s].target;
+  const double start = arcStart_[s][segment_[k]];
+  const double end =
+      segment_[k] + 1 < static_cast<int>(seg.size()) ? arcStart_[s][segment_[k] + 1] : extent_[s];
+  return start + 0.5 * (xi_[k] + 1) * (end - start);
+}
+
+} // namespace mixcon

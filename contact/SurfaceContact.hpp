@@ -1,0 +1,131 @@
+// Elastic-elastic node-to-segment contact with Coulomb friction (the report's "elastic pin"
+// algorithm after Bathe and Chaudhary): the nodes of a contactor surface against the segments of
+// a target surface of another body (or another part of the mesh). Each iteration the contactor
+// nodes are projected onto the target (contact/SegmentSearch.hpp, on the device); a node that
+// penetrates closes, a closed node carries a normal multiplier N (compressive >= 0) and, in
+// stick, a tangential multiplier T; it is released when N turns tensile, slips when
+// |T| > mu N (then the friction force mu N acts against the slip on the contactor and, through
+// the segment's shape functions, back on the target nodes), and sticks again when its slip
+// reverses. The multipliers are the contactor's nodal contact forces: the constraints are
+// eliminated from the linear systems (solver/MultiPointConstraints.hpp; the contactor's normal
+// and in stick tangential displacement follow the target segment), which keeps the systems
+// symmetric positive definite for CG + BoomerAMG, and the multipliers are recovered exactly as
+// the contactor's reactions (docs/contact.md, "Elastic-elastic contact"). Host orchestration;
+// the search runs on the device. Data flow: solver -> contact.
+#pragma once
+
+#include <contact/RigidContact.hpp>
+#include <solver/ContactIterations.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+/// One contactor surface against one target surface.
+struct SurfaceContactSpec {
+  std::vector<LocalIndex> contactor; ///< contactor nodes
+  /// Target segments: the two end nodes and the middle node (Quad8 edge) or -1; the target body
+  /// lies on the left of the direction end 0 -> end 1 (mixcon's boundary edges).
+  std::vector<std::array<LocalIndex, 3>> target;
+  double friction = 0.0; ///< Coulomb coefficient mu
+  std::string name;      ///< for messages ("contactor -> target")
+};
+
+/// A closed contactor node's constraint for one correction: its displacement along n follows
+/// the target point (weights of the target nodes at the projection), moved by normalStep; in
+/// stick its tangential displacement follows the anchor point, moved by tangentStep.
+struct SurfacePair {
+  LocalIndex node = -1;
+  double normal[2] = {0.0, 0.0};  ///< target's outward normal at the projection
+  double tangent[2] = {0.0, 0.0}; ///< (-n_y, n_x)
+  int normalCount = 0;
+  LocalIndex normalNodes[3] = {-1, -1, -1};
+  double normalWeights[3] = {0.0, 0.0, 0.0};
+  double normalStep = 0.0; ///< -gap
+  bool stick = false;
+  int tangentCount = 0;
+  LocalIndex tangentNodes[3] = {-1, -1, -1};
+  double tangentWeights[3] = {0.0, 0.0, 0.0};
+  double tangentStep = 0.0; ///< -t . (x - x_anchor)
+};
+
+/// The segments of a named boundary (its edges in element order: the body on their left);
+/// throws InputError naming the boundary when the mesh has none of that name.
+std::vector<std::array<LocalIndex, 3>> boundarySegments(const Mesh &mesh, const std::string &name);
+
+class SurfaceContact final : public ContactIterations {
+public:
+  /// Throws InputError when a node is both contactor and target (in any pair) or a surface is
+  /// empty.
+  SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs);
+
+  /// Projects every contactor node at the current positions (coordinates + u, `stride`
+  /// unknowns per node, displacements first) onto its target; returns the number penetrating.
+  LocalIndex detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+                    const Kokkos::View<const double *, DeviceSpace> &u, int stride);
+  /// Which displacement components carry Dirichlet conditions (2 per node): a contactor node
+  /// with one of them held takes the contact condition on the other.
+  void setPrescribed(std::vector<int> flags) { prescribed_ = std::move(flags); }
+  const std::vector<int> &prescribed() const { return prescribed_; }
+
+  /// The closed pairs at the last detection, and the friction forces of slip pairs on the
+  /// bodies (2 per node, global components; equal and opposite on contactor and target).
+  const std::vector<SurfacePair> &closedPairs() const { return pairs_; }
+  const std::vector<double> &frictionForces() const { return friction_; }
+
+  void setLoadFactor(double) override {}
+  int closeTouching(double tolerance) override;
+  int updateStatus(const std::vector<double> &g, int stride, std::string &log,
+                   const std::vector<double> *stress, bool frozen) override;
+  bool penetrationWithin(double relative, std::string &where) const override;
+  void commit() override;
+  void rollback() override;
+  std::string signature() const override;
+
+  LocalIndex numCandidates() const { return static_cast<LocalIndex>(node_.size()); }
+  LocalIndex candidateNode(LocalIndex k) const { return node_[k]; }
+  int pairOf(LocalIndex k) const { return spec_[k]; }
+  ContactStatus status(LocalIndex k) const { return status_[k]; }
+  double gap(LocalIndex k) const { return gap_[k]; }
+  /// Target segment (index within its spec, -1: none within the search radius) and parameter.
+  int segment(LocalIndex k) const { return segment_[k]; }
+  double xi(LocalIndex k) const { return xi_[k]; }
+  /// Target's outward normal at the projection (points to the contactor), 2 components.
+  const double *normal(LocalIndex k) const { return &normal_[2 * static_cast<std::size_t>(k)]; }
+  double normalForce(LocalIndex k) const { return normalForce_[k]; }
+  double tangentForce(LocalIndex k) const { return tangentForce_[k]; }
+  /// Reference arc length along the target (segments in their given order) of the projection.
+  double arcCoordinate(LocalIndex k) const;
+  LocalIndex numClosed() const;
+  const std::vector<SurfaceContactSpec> &specs() const { return specs_; }
+  /// Mean reference length of spec s's target segments.
+  double segmentLength(int s) const { return meanLength_[s]; }
+
+private:
+  void buildPairs();
+  /// Current position of the target point (spec s, segment, xi) and its node weights.
+  void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
+                   double (&w)[3], int &count) const;
+  std::vector<SurfaceContactSpec> specs_;
+  LocalIndex numNodes_;
+  std::vector<LocalIndex> node_; ///< candidate k -> node
+  std::vector<int> spec_;        ///< candidate k -> spec index
+  std::vector<ContactStatus> status_;
+  std::vector<int> segment_, anchorSegment_, committedSegment_;
+  std::vector<double> xi_, anchorXi_, committedXi_, gap_, normal_, normalForce_, tangentForce_;
+  std::vector<double> meanLength_, extent_;
+  std::vector<std::vector<double>> arcStart_; ///< per spec: reference arc at each segment start
+  std::vector<double> position_;              ///< current node positions (host, 2 per node)
+  std::vector<int> prescribed_;
+  std::vector<SurfacePair> pairs_;
+  std::vector<double> friction_;
+  struct Saved {
+    std::vector<ContactStatus> status;
+    std::vector<int> anchorSegment, committedSegment;
+    std::vector<double> anchorXi, committedXi, normalForce, tangentForce;
+  } saved_;
+};
+
+} // namespace mixcon
