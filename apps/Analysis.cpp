@@ -2,6 +2,7 @@
 // factors, prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
 #include <contact/RigidContact.hpp>
+#include <contact/SurfaceContact.hpp>
 #include <io/Measurements.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <solver/Environment.hpp>
@@ -207,6 +208,52 @@ void hybridFields(const Problem &p, const BoundaryValues &b, const std::vector<d
 }
 
 /// The geometrically nonlinear analysis: load stepping with equilibrium iterations.
+/// Per-candidate contact output of one step (rigid obstacles or node-to-segment pairs): status,
+/// gap, multipliers, tractions (forces over the node's share of its boundary), the nodal stress
+/// rotated to the contact frame, angle and arc coordinate, current position; and the counts.
+template <class Contact>
+void contactFields(const Contact &contact, const Problem &p, const std::vector<double> &u,
+                   StepFields &f, StepRecord &r) {
+  r.contactClosed = contact.numClosed();
+  bool first = true;
+  std::vector<std::vector<double>> shares;
+  for (const auto &spec : p.contact)
+    shares.push_back(boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary),
+                                    p.model.geometricNonlinearity ? &u : nullptr,
+                                    p.model.thickness));
+  auto &c = f.contact;
+  for (LocalIndex k = 0; k < contact.numCandidates(); ++k) {
+    const LocalIndex n = contact.candidateNode(k);
+    const ContactStatus st = contact.status(k);
+    c.obstacle.push_back(contact.obstacleOf(k));
+    c.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
+    c.status.push_back(static_cast<int>(st));
+    c.gap.push_back(contact.gap(k));
+    c.normalForce.push_back(st == ContactStatus::Open ? 0.0 : contact.normalForce(k));
+    c.tangentForce.push_back(st == ContactStatus::Open ? 0.0 : contact.tangentForce(k));
+    const double share = shares[contact.obstacleOf(k)][n];
+    c.normalStress.push_back(share > 0.0 ? c.normalForce.back() / share : 0.0);
+    c.tangentStress.push_back(share > 0.0 ? c.tangentForce.back() / share : 0.0);
+    const double n0 = contact.normal(k)[0], n1 = contact.normal(k)[1];
+    double snn = 0.0, snt = 0.0;
+    surfaceStress(&f.stress[3 * n], n0, n1, snn, snt);
+    c.sigmaNN.push_back(snn);
+    c.tauNT.push_back(snt);
+    c.angle.push_back(contact.angle(k));
+    c.arc.push_back(contact.arcCoordinate(k));
+    c.x.push_back(p.mesh.x(n) + u[2 * n]);
+    c.y.push_back(p.mesh.y(n) + u[2 * n + 1]);
+    r.contactStick += st == ContactStatus::Stick;
+    r.contactSlip += st == ContactStatus::Slip;
+    if (st != ContactStatus::Open) {
+      const double a = contact.arcCoordinate(k);
+      r.contactArcMin = first ? a : std::min(r.contactArcMin, a);
+      r.contactArcMax = first ? a : std::max(r.contactArcMax, a);
+      first = false;
+    }
+  }
+}
+
 RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm comm,
                        const std::vector<int> &elementMaterial,
                        const std::vector<PlaneMatrix> &stiffness, RunResult result) {
@@ -233,7 +280,20 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   NonlinearModel &model = *owner;
   applyConditions(p, model, p.model.geometricNonlinearity ? &model : nullptr);
   std::unique_ptr<RigidContact> contact;
-  if (!p.contact.empty()) {
+  std::unique_ptr<SurfaceContact> surface;
+  if (!p.contact.empty() && p.contact.front().type == "node_to_segment") {
+    std::vector<SurfaceContactSpec> specs;
+    for (const auto &c : p.contact) {
+      SurfaceContactSpec s;
+      s.contactor = p.mesh.nodesOf(c.boundary);
+      s.target = boundarySegments(p.mesh, c.target);
+      s.friction = c.friction;
+      s.name = c.boundary + " -> " + c.target;
+      specs.push_back(s);
+    }
+    surface = std::make_unique<SurfaceContact>(p.mesh.numNodes(), specs);
+    model.setSurfaceContact(surface.get());
+  } else if (!p.contact.empty()) {
     std::vector<RigidContactSpec> specs;
     for (const auto &c : p.contact) {
       RigidContactSpec s;
@@ -354,52 +414,16 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       f.gaussInterpolatedStress =
           static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();
     if (contact) {
-      r.contactClosed = contact->numClosed();
+      contactFields(*contact, p, model.displacementHost(), f, r);
+      for (std::size_t sp = 0; sp < contact->specs().size(); ++sp)
+        for (int i = 0; i < 2; ++i)
+          r.obstacleMotion.push_back(contact->obstacleMotion(static_cast<int>(sp))[i]);
+    }
+    if (surface)
+      contactFields(*surface, p, model.displacementHost(), f, r);
+    if (contact || surface) {
       r.contactIterations = o.contactIterations;
       r.contactCycled = o.contactCycled;
-      for (std::size_t s = 0; s < contact->specs().size(); ++s)
-        for (int i = 0; i < 2; ++i)
-          r.obstacleMotion.push_back(contact->obstacleMotion(static_cast<int>(s))[i]);
-      bool first = true;
-      const auto u = model.displacementHost();
-      std::vector<std::vector<double>> shares;
-      for (const auto &spec : p.contact)
-        shares.push_back(boundaryShares(p.mesh, p.mesh.boundaries.at(spec.boundary),
-                                        p.model.geometricNonlinearity ? &u : nullptr,
-                                        p.model.thickness));
-      auto &c = f.contact;
-      for (LocalIndex k = 0; k < contact->numCandidates(); ++k) {
-        const LocalIndex n = contact->candidateNode(k);
-        const ContactStatus st = contact->status(k);
-        c.obstacle.push_back(contact->obstacleOf(k));
-        c.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
-        c.status.push_back(static_cast<int>(st));
-        c.gap.push_back(contact->gap(k));
-        c.normalForce.push_back(st == ContactStatus::Open ? 0.0 : contact->normalForce(k));
-        c.tangentForce.push_back(st == ContactStatus::Open ? 0.0 : contact->tangentForce(k));
-        // Contact tractions: the nodal forces over the node's share of the contact boundary;
-        // and the nodal stress rotated to the obstacle's frame (the mixed model's measure).
-        const double share = shares[contact->obstacleOf(k)][n];
-        c.normalStress.push_back(share > 0.0 ? c.normalForce.back() / share : 0.0);
-        c.tangentStress.push_back(share > 0.0 ? c.tangentForce.back() / share : 0.0);
-        const double n0 = contact->normal(k)[0], n1 = contact->normal(k)[1];
-        double snn = 0.0, snt = 0.0;
-        surfaceStress(&f.stress[3 * n], n0, n1, snn, snt);
-        c.sigmaNN.push_back(snn);
-        c.tauNT.push_back(snt);
-        c.angle.push_back(contact->angle(k));
-        c.arc.push_back(contact->arcCoordinate(k));
-        c.x.push_back(p.mesh.x(n) + u[2 * n]);
-        c.y.push_back(p.mesh.y(n) + u[2 * n + 1]);
-        r.contactStick += st == ContactStatus::Stick;
-        r.contactSlip += st == ContactStatus::Slip;
-        if (st != ContactStatus::Open) {
-          const double a = contact->arcCoordinate(k);
-          r.contactArcMin = first ? a : std::min(r.contactArcMin, a);
-          r.contactArcMax = first ? a : std::max(r.contactArcMax, a);
-          first = false;
-        }
-      }
     }
     if (p.hybrid)
       hybridFields(p, measured[k], model.displacementHost(), f, r);
@@ -417,8 +441,9 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   writer.finish(true, "");
   if (log)
     *log << "mixcon: wrote " << result.outputDirectory << "/{"
-         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "") << (contact ? "contact.csv, " : "")
-         << (p.hybrid ? "hybrid.csv, " : "") << "summary.json}\n";
+         << (p.writeHdf5 ? "results.h5, results.xdmf, " : "")
+         << (contact || surface ? "contact.csv, " : "") << (p.hybrid ? "hybrid.csv, " : "")
+         << "summary.json}\n";
   return result;
 }
 

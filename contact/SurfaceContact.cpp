@@ -202,6 +202,12 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
         nodal[2 * static_cast<std::size_t>(sg[e]) + 1] += pr.normal[1];
       }
     for (std::size_t p = 0; p < nodal.size() / 2; ++p) {
+      // A target node held in one direction only lies on a symmetry line: the surface meets
+      // the line at right angles, so the normal has no component along the held direction
+      // (the mirrored segment's normal would cancel it).
+      const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
+      if (hx != hy)
+        nodal[2 * p + (hx ? 0 : 1)] = 0.0;
       const double l = std::hypot(nodal[2 * p], nodal[2 * p + 1]);
       if (l > 0.0) {
         nodal[2 * p] /= l;
@@ -448,6 +454,10 @@ LocalIndex SurfaceContact::numClosed() const {
   for (auto s : status_)
     n += s != ContactStatus::Open;
   return n;
+}
+
+double SurfaceContact::angle(LocalIndex k) const {
+  return std::atan2(normal_[2 * k + 1], normal_[2 * k]);
 }
 
 double SurfaceContact::arcCoordinate(LocalIndex k) const {

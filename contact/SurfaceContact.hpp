@@ -87,6 +87,10 @@ public:
   LocalIndex numCandidates() const { return static_cast<LocalIndex>(node_.size()); }
   LocalIndex candidateNode(LocalIndex k) const { return node_[k]; }
   int pairOf(LocalIndex k) const { return spec_[k]; }
+  int obstacleOf(LocalIndex k) const { return spec_[k]; } ///< the pair (output's "obstacle")
+  /// Polar angle (radians) of the target's outward normal at the projection: on a circular
+  /// target (a pin) the angle of the contact point about its centre, as for a rigid pin.
+  double angle(LocalIndex k) const;
   ContactStatus status(LocalIndex k) const { return status_[k]; }
   double gap(LocalIndex k) const { return gap_[k]; }
   /// Target segment (index within its spec, -1: none within the search radius) and parameter.

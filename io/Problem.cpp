@@ -143,10 +143,46 @@ std::string joinPath(const std::string &base, const std::string &file) {
   return base + "/" + file;
 }
 
-Mesh readMesh(const Item &m, const std::string &baseDir) {
-  m.allowOnly({"file", "generator", "element"});
+Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
+  if (!body && m.has("bodies")) {
+    // Several bodies, each a mesh of its own (file or generator) moved by its offset.
+    m.allowOnly({"bodies"});
+    const Item list = m["bodies"];
+    list.requireSequence();
+    if (list.node.size() == 0)
+      list.fail("expected at least one body");
+    std::vector<MeshBody> bodies;
+    for (std::size_t i = 0; i < list.node.size(); ++i) {
+      const Item b = list.at(i);
+      b.requireMap();
+      MeshBody mb;
+      mb.name = b.required("name").string();
+      if (mb.name.empty() || mb.name.find('.') != std::string::npos)
+        b["name"].fail("a body name must be non-empty and contain no '.'");
+      for (const auto &o : bodies)
+        if (o.name == mb.name)
+          b["name"].fail("the body name '" + mb.name + "' is used twice");
+      if (b.has("offset")) {
+        const auto off = b["offset"].pair();
+        mb.offset[0] = off[0];
+        mb.offset[1] = off[1];
+      }
+      mb.mesh = readMesh(b, baseDir, true);
+      if (!bodies.empty() && mb.mesh.elementType != bodies.front().mesh.elementType)
+        b.fail("every body needs the same element type as the first one");
+      bodies.push_back(std::move(mb));
+    }
+    Mesh mesh = mergeMeshes(bodies);
+    validateMesh(mesh);
+    return mesh;
+  }
+  if (body)
+    m.allowOnly({"name", "offset", "file", "generator", "element"});
+  else
+    m.allowOnly({"file", "generator", "element", "bodies"});
   if (m.has("file") == m.has("generator"))
-    m.fail("give exactly one of 'file' or 'generator'");
+    m.fail("give exactly one of 'file' or 'generator'" +
+           std::string(body ? "" : " (or a list of 'bodies')"));
   Mesh mesh;
   if (m.has("file")) {
     const std::string path = joinPath(baseDir, m["file"].string());
@@ -166,16 +202,20 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
       m["element"].fail("for a generator, give 'element' inside 'generator'");
     const Item g = m["generator"];
     g.requireMap();
-    const std::string type = g.required("type").choice(
-        {"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk", "pinned_plate"});
+    const std::string type =
+        g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole",
+                                   "quarter_disk", "half_disk", "pinned_plate"});
     const ElementType et = g.has("element") ? elementType(g["element"]) : ElementType::Quad4;
     try {
       if (type == "rectangle") {
-        g.allowOnly({"type", "element", "size", "divisions", "origin"});
+        g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
         const auto size = g.required("size").pair();
         const auto div = g.required("divisions").intPair();
         const auto origin = g.has("origin") ? g["origin"].pair() : std::array<double, 2>{0, 0};
-        mesh = rectangleMesh(size[0], size[1], div[0], div[1], et, origin[0], origin[1]);
+        const auto grading =
+            g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
+        mesh = rectangleMesh(size[0], size[1], div[0], div[1], et, origin[0], origin[1], grading[0],
+                             grading[1]);
       } else if (type == "quarter_annulus") {
         g.allowOnly({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
@@ -188,6 +228,10 @@ Mesh readMesh(const Item &m, const std::string &baseDir) {
         mesh = plateWithHoleMesh(g.required("hole_radius").number(), g.required("width").number(),
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
+      } else if (type == "half_disk") {
+        g.allowOnly({"type", "element", "radius", "divisions"});
+        const auto div = g.required("divisions").intPair();
+        mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et);
       } else if (type == "pinned_plate") {
         g.allowOnly({"type", "element", "hole_radius", "half_width", "end_distance", "length",
                      "divisions", "grading"});
@@ -485,7 +529,34 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       const Item c = list.at(i);
       ContactSpec s;
       s.line = c.line();
-      s.type = c.required("type").choice({"rigid_circle", "rigid_half_plane"});
+      s.type = c.required("type").choice({"rigid_circle", "rigid_half_plane", "node_to_segment"});
+      if (s.type == "node_to_segment") {
+        c.allowOnly({"type", "contactor", "target", "friction"});
+        for (const char *key : {"contactor", "target"}) {
+          const Item b = c.required(key);
+          if (!p.mesh.hasBoundary(b.string()))
+            b.fail("unknown boundary '" + b.string() + "' (mesh has: " + p.mesh.namedSets() + ")");
+        }
+        s.boundary = c["contactor"].string();
+        s.target = c["target"].string();
+        if (s.boundary == s.target)
+          c["target"].fail("the contactor and the target must be different boundaries");
+        if (c.has("friction")) {
+          s.friction = c["friction"].number();
+          if (!(s.friction >= 0.0))
+            c["friction"].fail("the friction coefficient must be 0 or positive");
+        }
+        for (const auto &o : p.contact)
+          if ((o.type == "node_to_segment") != (s.type == "node_to_segment"))
+            c.fail("node_to_segment contact and rigid obstacles in one problem are not supported "
+                   "in this version");
+        p.contact.push_back(s);
+        continue;
+      }
+      for (const auto &o : p.contact)
+        if (o.type == "node_to_segment")
+          c.fail("node_to_segment contact and rigid obstacles in one problem are not supported in "
+                 "this version");
       if (s.type == "rigid_circle")
         c.allowOnly({"type", "boundary", "center", "radius", "friction", "drive", "status_from"});
       else

@@ -63,10 +63,12 @@ struct LoadSpec {
   int line = 0;
 };
 
-/// A rigid obstacle in contact with the nodes of a boundary (`contact:` list).
+/// A rigid obstacle in contact with the nodes of a boundary, or (node_to_segment) the nodes of a
+/// contactor boundary against the segments of a target boundary (`contact:` list).
 struct ContactSpec {
-  std::string type;                       ///< rigid_circle | rigid_half_plane
-  std::string boundary;                   ///< the contacting boundary of the body
+  std::string type;     ///< rigid_circle | rigid_half_plane | node_to_segment
+  std::string boundary; ///< the contacting boundary of the body (node_to_segment: the contactor)
+  std::string target;   ///< node_to_segment: the target boundary
   std::array<double, 2> point{0.0, 0.0};  ///< circle centre / a point on the plane
   double radius = 0.0;                    ///< circle
   std::array<double, 2> normal{0.0, 1.0}; ///< half-plane: unit normal into the body

@@ -148,8 +148,18 @@ Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, doubl
   requirePositive("divisions[1]", ny, "rectangle");
   requirePositive("grading[0]", gx, "rectangle");
   requirePositive("grading[1]", gy, "rectangle");
+  // Power grading at the grid lines, linear in between: straight-sided elements keep their
+  // Quad8 mid-side nodes at the edge midpoints (a power map would move them toward the quarter
+  // point, where the Jacobian vanishes).
+  const auto grade = [](double u, int n, double g) {
+    const double s = u * n;
+    const int i = std::min(static_cast<int>(s), n - 1);
+    const double a = std::pow(static_cast<double>(i) / n, g);
+    const double b = std::pow(static_cast<double>(i + 1) / n, g);
+    return a + (s - i) * (b - a);
+  };
   Patch p{[=](double u, double v) {
-            return std::array<double, 2>{x0 + std::pow(u, gx) * lx, y0 + std::pow(v, gy) * ly};
+            return std::array<double, 2>{x0 + grade(u, nx, gx) * lx, y0 + grade(v, ny, gy) * ly};
           },
           nx,
           ny,
@@ -253,6 +263,49 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGra
   mesh.nodeSets["center"] = {closestNode(mesh, 0.0, 0.0)};
   mesh.nodeSets["arc_bottom"] = {closestNode(mesh, r, 0.0)};
   mesh.nodeSets["arc_left"] = {closestNode(mesh, 0.0, r)};
+  return mesh;
+}
+
+Mesh halfDiskMesh(double r, int n, int m, ElementType type) {
+  requirePositive("radius", r, "half_disk");
+  requirePositive("divisions[0]", n, "half_disk");
+  requirePositive("divisions[1]", m, "half_disk");
+  const double c = 0.5 * r; // core: [-c, c] x [0, c]
+  Patch core{[=](double u, double v) {
+               return std::array<double, 2>{(2 * u - 1) * c, v * c};
+             },
+             2 * n,
+             n,
+             {"bottom", "", "", ""}};
+  // Right block: u from the core edge x = c to the arc, v counter-clockwise from 0 to 45 deg.
+  Patch right{[=](double u, double v) {
+                const double t = v * M_PI / 4;
+                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, u);
+              },
+              m,
+              n,
+              {"bottom", "arc", "", ""}};
+  // Top block: u along the core's top edge (x from -c to c) and the arc from 135 down to 45
+  // deg, v from the core to the arc (counter-clockwise (u, v)).
+  Patch top{[=](double u, double v) {
+              const double t = 3 * M_PI / 4 - u * M_PI / 2;
+              return lerp({(2 * u - 1) * c, c}, {r * std::cos(t), r * std::sin(t)}, v);
+            },
+            2 * n,
+            m,
+            {"", "", "arc", ""}};
+  // Left block: u from the core edge x = -c to the arc, v counter-clockwise from 135 to 180 deg.
+  Patch left{[=](double u, double v) {
+               const double t = 3 * M_PI / 4 + v * M_PI / 4;
+               return lerp({-c, (1 - v) * c}, {r * std::cos(t), r * std::sin(t)}, u);
+             },
+             m,
+             n,
+             {"", "arc", "bottom", ""}};
+  Mesh mesh = buildPatches({core, right, top, left}, type, "generator half_disk");
+  mesh.nodeSets["center"] = {closestNode(mesh, 0.0, 0.0)};
+  mesh.nodeSets["arc_right"] = {closestNode(mesh, r, 0.0)};
+  mesh.nodeSets["arc_left"] = {closestNode(mesh, -r, 0.0)};
   return mesh;
 }
 

@@ -50,6 +50,13 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
 Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGrading = 1.0,
                      double radialGrading = 1.0);
 
+/// Half disk of radius r centred at the origin (y >= 0) as an O-grid: a core [-r/2, r/2] x
+/// [0, r/2] of 2n x n elements and three curved blocks (0-45, 45-135, 135-180 degrees) m
+/// elements deep, so 4 n arc segments spaced every 45 / n degrees (a pin in a half model).
+/// Region "body"; boundaries "arc", "bottom" (y = 0); node sets "center", "arc_right" (r, 0),
+/// "arc_left" (-r, 0).
+Mesh halfDiskMesh(double r, int n, int m, ElementType type);
+
 /// Half of a pin-loaded plate (y >= 0, symmetric about y = 0): a strip -e <= x <= l,
 /// 0 <= y <= b with a hole of radius r at the origin. An O-grid of three sectors of 60 degrees
 /// around the hole (n elements each along the hole, m radially, geometric growth `ratio` away

@@ -310,3 +310,54 @@ TEST_P(GeneratorTest, GmshRoundTripKeepsGeometryTopologyAndGroups) {
   }
   EXPECT_NO_THROW(validateMesh(r));
 }
+
+TEST_P(GeneratorTest, HalfDiskAndMergedBodies) {
+  const bool q8 = GetParam() == ElementType::Quad8;
+  const Mesh pin = halfDiskMesh(0.5, 3, 2, GetParam());
+  EXPECT_NO_THROW(validateMesh(pin));
+  EXPECT_EQ(pin.numElements(), 2 * 3 * 3 + 4 * 3 * 2);
+  EXPECT_NEAR(meshArea(pin), M_PI * 0.25 / 2, q8 ? 1e-4 : 2e-2);
+  EXPECT_EQ(pin.boundaries.at("arc").size(), 12u); // every 15 degrees, like the report's hole
+  std::vector<double> angles;
+  for (LocalIndex n : pin.nodesOf("arc")) {
+    EXPECT_NEAR(std::hypot(pin.x(n), pin.y(n)), 0.5, 1e-12);
+    angles.push_back(std::atan2(pin.y(n), pin.x(n)) * 180.0 / M_PI);
+  }
+  std::sort(angles.begin(), angles.end());
+  ASSERT_EQ(angles.size(), q8 ? 25u : 13u);
+  for (std::size_t k = 0; k < angles.size(); ++k)
+    EXPECT_NEAR(angles[k], k * (q8 ? 7.5 : 15.0), 1e-9);
+  for (LocalIndex n : pin.nodesOf("bottom"))
+    EXPECT_NEAR(pin.y(n), 0.0, 1e-12);
+  // Two bodies: nodes and elements concatenated, names prefixed, the second body moved.
+  const Mesh block = rectangleMesh(2.0, 1.0, 4, 2, GetParam(), 0.0, 0.0, 1.5, 2.0);
+  const Mesh merged = mergeMeshes({{"pin", pin, {0.0, 0.0}}, {"block", block, {-1.0, 0.5}}});
+  EXPECT_NO_THROW(validateMesh(merged));
+  EXPECT_EQ(merged.numNodes(), pin.numNodes() + block.numNodes());
+  EXPECT_EQ(merged.numElements(), pin.numElements() + block.numElements());
+  EXPECT_NEAR(meshArea(merged), meshArea(pin) + 2.0, 1e-10);
+  EXPECT_EQ(merged.regionNames, (std::vector<std::string>{"pin", "block"}));
+  EXPECT_EQ(merged.boundaries.at("block.top").size(), 4u);
+  for (LocalIndex n : merged.nodesOf("block.top"))
+    EXPECT_NEAR(merged.y(n), 1.5, 1e-14);
+  for (LocalIndex n : merged.nodesOf("pin.arc"))
+    EXPECT_LT(n, pin.numNodes());
+  // Grading 1.5 along x: the first column is (1/4)^1.5 of the width.
+  const LocalIndex corner = merged.nodeSets.at("block.bottom_left").front();
+  EXPECT_NEAR(merged.x(corner), -1.0, 1e-14);
+  double next = 1e9;
+  for (LocalIndex n : merged.nodesOf("block.bottom"))
+    if (merged.x(n) > -1.0 + 1e-12)
+      next = std::min(next, merged.x(n) + 1.0);
+  // (the Quad8 mid-side node halfway)
+  EXPECT_NEAR(next, (q8 ? 0.5 : 1.0) * 2.0 * std::pow(0.25, 1.5), 1e-12);
+  EXPECT_NE(expectInputError([&] {
+              mergeMeshes({{"a", pin, {0, 0}}, {"a", block, {0, 0}}});
+            }).find("used twice"),
+            std::string::npos);
+  const Mesh other = rectangleMesh(1, 1, 1, 1, q8 ? ElementType::Quad4 : ElementType::Quad8);
+  EXPECT_NE(expectInputError([&] {
+              mergeMeshes({{"a", pin, {0, 0}}, {"b", other, {0, 0}}});
+            }).find("element type"),
+            std::string::npos);
+}

@@ -620,3 +620,60 @@ TEST(Cli, HybridRunWritesStressesAndFrictionPerStep) {
     H5Dclose(d);
   H5Fclose(f);
 }
+
+// Several bodies and node-to-segment contact: names, offsets, materials per body; errors for a
+// repeated body name, an unknown contact boundary, the same surface twice and rigid obstacles
+// mixed with node-to-segment contact.
+TEST(Problem, ParsesBodiesAndNodeToSegmentContact) {
+  const std::string bodies = R"(mesh:
+  bodies:
+    - {name: lower, generator: {type: rectangle, size: [2, 1], divisions: [4, 2]}}
+    - {name: upper, generator: {type: rectangle, size: [1, 1], divisions: [3, 2]}, offset: [0.5, 1]}
+model: {formulation: displacement, analysis: plane_stress, thickness: 1.0}
+materials:
+  - {region: lower, type: isotropic, E: 1000, nu: 0.3}
+  - {region: upper, type: isotropic, E: 2000, nu: 0.3}
+boundary_conditions:
+  - {boundary: lower.bottom, ux: 0, uy: 0}
+  - {boundary: upper.top, ux: 0, uy: -0.001}
+contact:
+  - {type: node_to_segment, contactor: upper.bottom, target: lower.top, friction: 0.3}
+solver: {type: direct}
+output: {directory: somewhere}
+)";
+  const Problem p = parseProblem(bodies, "bodies.yaml", "");
+  EXPECT_EQ(p.mesh.numElements(), 8 + 6);
+  EXPECT_EQ(p.mesh.numNodes(), 15 + 12);
+  EXPECT_EQ(p.mesh.regionNames, (std::vector<std::string>{"lower", "upper"}));
+  for (LocalIndex n : p.mesh.nodesOf("upper.bottom")) {
+    EXPECT_NEAR(p.mesh.y(n), 1.0, 1e-14);
+    EXPECT_GE(p.mesh.x(n), 0.5 - 1e-14);
+  }
+  ASSERT_EQ(p.contact.size(), 1u);
+  EXPECT_EQ(p.contact[0].type, "node_to_segment");
+  EXPECT_EQ(p.contact[0].boundary, "upper.bottom");
+  EXPECT_EQ(p.contact[0].target, "lower.top");
+  EXPECT_DOUBLE_EQ(p.contact[0].friction, 0.3);
+  struct Bad {
+    std::string from, to, expected;
+  };
+  const std::string rigid =
+      "  - {type: rigid_half_plane, boundary: lower.bottom, point: [0, 0], normal: [0, 1]}\n";
+  for (const Bad &b :
+       {Bad{"name: upper,", "name: lower,", "the body name 'lower' is used twice"},
+        Bad{"name: upper,", "name: up.per,", "contain no '.'"},
+        Bad{"target: lower.top", "target: lower.roof", "unknown boundary 'lower.roof'"},
+        Bad{"target: lower.top", "target: upper.bottom", "must be different boundaries"},
+        Bad{"friction: 0.3}\n", "friction: 0.3}\n" + rigid, "not supported in this version"},
+        Bad{"{boundary: lower.bottom, ux: 0, uy: 0}", "{boundary: bottom, ux: 0, uy: 0}",
+            "bottom"}}) {
+    const std::string text = replace(bodies, b.from, b.to);
+    try {
+      parseProblem(text, "bodies.yaml", "");
+      ADD_FAILURE() << b.to << ": no error";
+    } catch (const InputError &e) {
+      EXPECT_NE(std::string(e.what()).find(b.expected), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("bodies.yaml:", 0), 0u) << e.what();
+    }
+  }
+}
