@@ -9,18 +9,6 @@
 
 namespace mixcon {
 
-const char *contactStatusName(ContactStatus s) {
-  switch (s) {
-  case ContactStatus::Stick:
-    return "stick";
-  case ContactStatus::Slip:
-    return "slip";
-  case ContactStatus::Open:
-  default:
-    return "open";
-  }
-}
-
 RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs)
     : specs_(std::move(specs)), numNodes_(numNodes) {
   for (std::size_t s = 0; s < specs_.size(); ++s) {
@@ -217,65 +205,32 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
       compression = -nn;
     }
     const ContactStatus before = status_[k];
-    if (frozen) {
-      // Statuses kept; a slip node's friction force follows mu N.
-      if (status_[k] == ContactStatus::Slip && mu > 0.0 &&
-          std::abs(mu * nForce - std::abs(tangentForce_[k])) >
-              1e-3 * mu * std::max(nForce, 1e-300)) {
-        ++changes;
-        out << "    contact: node " << p << " friction " << tangentForce_[k] << " -> "
-            << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
-      }
-      const bool closed = status_[k] != ContactStatus::Open;
-      normalForce_[k] = closed ? nForce : 0.0;
-      tangentForce_[k] = status_[k] == ContactStatus::Slip
-                             ? (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce
-                             : (closed ? tForce : 0.0);
-      continue;
-    }
-    switch (status_[k]) {
-    case ContactStatus::Open:
-      if (gap_[k] < 0.0) {
-        status_[k] = mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
-        anchorArc_[k] = arc_[k];
+    CoulombInput in{
+        nForce,
+        tForce,
+        compression,
+        shear,
+        mu,
+        gap_[k]<0.0,
+                // Stick again when the node moves along its friction force (slip reversed).
+                (arc_[k] - committedArc_[k]) * tangentForce_[k]> 0.0};
+    const CoulombOutcome r =
+        updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
+    if (r.anchor) {
+      anchorArc_[k] = arc_[k];
+      if (before == ContactStatus::Open)
         committedArc_[k] = arc_[k]; // slip is measured from where the node closed
-        normalForce_[k] = tangentForce_[k] = 0.0;
-      }
-      break;
-    case ContactStatus::Stick:
-    case ContactStatus::Slip:
-      if (compression < 0.0) {
-        status_[k] = ContactStatus::Open;
-        break;
-      }
-      if (status_[k] == ContactStatus::Stick && std::abs(shear) > mu * compression * (1 + 1e-9)) {
-        status_[k] = ContactStatus::Slip;
-      } else if (status_[k] == ContactStatus::Slip && mu > 0.0) {
-        // Stick again when the node moves along its friction force (the slip reversed).
-        const double moved = arc_[k] - committedArc_[k];
-        if (moved * tangentForce_[k] > 0.0) {
-          status_[k] = ContactStatus::Stick;
-          anchorArc_[k] = arc_[k];
-        } else if (std::abs(mu * nForce - std::abs(tangentForce_[k])) >
-                   1e-3 * mu * std::max(nForce, 1e-300)) {
-          ++changes; // friction force not yet consistent with the normal force: iterate
-          out << "    contact: node " << p << " friction " << tangentForce_[k] << " -> "
-              << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
-        }
-      }
-      normalForce_[k] = nForce;
-      if (status_[k] == ContactStatus::Stick || before == ContactStatus::Stick)
-        tangentForce_[k] = tForce;
-      else if (status_[k] == ContactStatus::Slip)
-        tangentForce_[k] = (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce;
-      break;
     }
-    if (status_[k] != before) {
-      ++changes;
+    if (!r.changed)
+      continue;
+    ++changes;
+    if (r.friction)
+      out << "    contact: node " << p << " friction " << r.previousFriction << " -> "
+          << tangentForce_[k] << "\n";
+    else
       out << "    contact: node " << p << " " << contactStatusName(before) << " -> "
           << contactStatusName(status_[k]) << " (gap " << gap_[k] << ", N " << nForce << ", T "
           << tForce << ")\n";
-    }
   }
   buildConstraints();
   log = out.str();
@@ -344,19 +299,8 @@ void RigidContact::rollback() {
   buildConstraints();
 }
 
-std::string RigidContact::signature() const {
-  std::string s(status_.size(), 'o');
-  for (std::size_t k = 0; k < status_.size(); ++k)
-    s[k] =
-        status_[k] == ContactStatus::Open ? 'o' : (status_[k] == ContactStatus::Stick ? 's' : 'l');
-  return s;
-}
+std::string RigidContact::signature() const { return statusSignature(status_); }
 
-LocalIndex RigidContact::numClosed() const {
-  LocalIndex n = 0;
-  for (auto s : status_)
-    n += s != ContactStatus::Open;
-  return n;
-}
+LocalIndex RigidContact::numClosed() const { return countClosed(status_); }
 
 } // namespace mixcon

@@ -10,6 +10,7 @@
 // Host orchestration; detection runs as a batched device kernel. Data flow: solver -> contact.
 #pragma once
 
+#include <contact/ContactStatus.hpp>
 #include <contact/RigidObstacle.hpp>
 #include <solver/ContactIterations.hpp>
 #include <solver/LinearSolver.hpp>
@@ -18,11 +19,6 @@
 #include <vector>
 
 namespace mixcon {
-
-enum class ContactStatus : int { Open = 0, Stick = 1, Slip = 2 };
-
-/// "open" | "stick" | "slip".
-const char *contactStatusName(ContactStatus s);
 
 /// One obstacle and the boundary nodes checked against it.
 struct RigidContactSpec {

@@ -321,74 +321,44 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
     }
     const double mu = specs_[spec_[k]].friction;
     const ContactStatus before = status_[k];
-    if (frozen) {
-      if (status_[k] == ContactStatus::Slip && mu > 0.0 &&
-          std::abs(mu * nForce - std::abs(tangentForce_[k])) >
-              1e-3 * mu * std::max(nForce, 1e-300)) {
-        ++changes;
-        out << "    contact: node " << p + 1 << " friction " << tangentForce_[k] << " -> "
-            << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
+    // Stick again when the node moves along its friction force (the slip reversed): relative
+    // tangential motion since the last commit, measured on the target.
+    bool reversed = false;
+    if (status_[k] == ContactStatus::Slip && segment_[k] >= 0) {
+      double xc[2], w[3];
+      LocalIndex nodes[3];
+      int count = 0;
+      targetPoint(spec_[k], committedSegment_[k] >= 0 ? committedSegment_[k] : segment_[k],
+                  committedXi_[k], xc, nodes, w, count);
+      const double *x = &position_[2 * static_cast<std::size_t>(p)];
+      const double moved = -n1 * (x[0] - xc[0]) + n0 * (x[1] - xc[1]);
+      reversed =
+          moved * tangentForce_[k] > 1e-12 * meanLength_[spec_[k]] * std::abs(tangentForce_[k]);
+    }
+    // A closed node that lost its target segment (moved beyond the search radius) opens.
+    const double compression = segment_[k] >= 0 ? nForce : -1.0;
+    CoulombInput in{nForce,  tForce, compression, tForce, mu, segment_[k] >= 0 && gap_[k] < 0.0,
+                    reversed};
+    const CoulombOutcome r =
+        updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
+    if (r.anchor) {
+      anchorSegment_[k] = segment_[k];
+      anchorXi_[k] = xi_[k];
+      if (before == ContactStatus::Open) {
+        committedSegment_[k] = segment_[k];
+        committedXi_[k] = xi_[k];
       }
-      const bool closed = status_[k] != ContactStatus::Open;
-      normalForce_[k] = closed ? nForce : 0.0;
-      tangentForce_[k] = status_[k] == ContactStatus::Slip
-                             ? (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce
-                             : (closed ? tForce : 0.0);
+    }
+    if (!r.changed)
       continue;
-    }
-    switch (status_[k]) {
-    case ContactStatus::Open:
-      if (segment_[k] >= 0 && gap_[k] < 0.0) {
-        status_[k] = mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip;
-        anchorSegment_[k] = committedSegment_[k] = segment_[k];
-        anchorXi_[k] = committedXi_[k] = xi_[k];
-        normalForce_[k] = tangentForce_[k] = 0.0;
-      }
-      break;
-    case ContactStatus::Stick:
-    case ContactStatus::Slip:
-      if (nForce < 0.0 || segment_[k] < 0) {
-        status_[k] = ContactStatus::Open;
-        normalForce_[k] = tangentForce_[k] = 0.0;
-        break;
-      }
-      if (status_[k] == ContactStatus::Stick && std::abs(tForce) > mu * nForce * (1 + 1e-9)) {
-        status_[k] = ContactStatus::Slip;
-      } else if (status_[k] == ContactStatus::Slip && mu > 0.0) {
-        // Stick again when the node moves along its friction force (the slip reversed):
-        // relative tangential motion since the last commit, measured on the target.
-        double xc[2];
-        LocalIndex nodes[3];
-        double w[3];
-        int count = 0;
-        targetPoint(spec_[k], committedSegment_[k] >= 0 ? committedSegment_[k] : segment_[k],
-                    committedXi_[k], xc, nodes, w, count);
-        const double *x = &position_[2 * static_cast<std::size_t>(p)];
-        const double moved = -n1 * (x[0] - xc[0]) + n0 * (x[1] - xc[1]);
-        if (moved * tangentForce_[k] > 1e-12 * meanLength_[spec_[k]] * std::abs(tangentForce_[k])) {
-          status_[k] = ContactStatus::Stick;
-          anchorSegment_[k] = segment_[k];
-          anchorXi_[k] = xi_[k];
-        } else if (std::abs(mu * nForce - std::abs(tangentForce_[k])) >
-                   1e-3 * mu * std::max(nForce, 1e-300)) {
-          ++changes; // friction force not yet consistent with the normal force: iterate
-          out << "    contact: node " << p + 1 << " friction " << tangentForce_[k] << " -> "
-              << (tangentForce_[k] >= 0 ? 1 : -1) * mu * nForce << "\n";
-        }
-      }
-      normalForce_[k] = nForce;
-      if (status_[k] == ContactStatus::Stick || before == ContactStatus::Stick)
-        tangentForce_[k] = tForce;
-      else if (status_[k] == ContactStatus::Slip)
-        tangentForce_[k] = (tangentForce_[k] >= 0 ? 1.0 : -1.0) * mu * nForce;
-      break;
-    }
-    if (status_[k] != before) {
-      ++changes;
+    ++changes;
+    if (r.friction)
+      out << "    contact: node " << p + 1 << " friction " << r.previousFriction << " -> "
+          << tangentForce_[k] << "\n";
+    else
       out << "    contact '" << specs_[spec_[k]].name << "': node " << p + 1 << " "
           << contactStatusName(before) << " -> " << contactStatusName(status_[k]) << " (gap "
           << gap_[k] << ", N " << nForce << ", T " << tForce << ")\n";
-    }
   }
   buildPairs();
   log = out.str();
@@ -441,20 +411,9 @@ void SurfaceContact::rollback() {
   buildPairs();
 }
 
-std::string SurfaceContact::signature() const {
-  std::string s(status_.size(), 'o');
-  for (std::size_t k = 0; k < status_.size(); ++k)
-    s[k] =
-        status_[k] == ContactStatus::Open ? 'o' : (status_[k] == ContactStatus::Stick ? 's' : 'l');
-  return s;
-}
+std::string SurfaceContact::signature() const { return statusSignature(status_); }
 
-LocalIndex SurfaceContact::numClosed() const {
-  LocalIndex n = 0;
-  for (auto s : status_)
-    n += s != ContactStatus::Open;
-  return n;
-}
+LocalIndex SurfaceContact::numClosed() const { return countClosed(status_); }
 
 double SurfaceContact::angle(LocalIndex k) const {
   return std::atan2(normal_[2 * k + 1], normal_[2 * k]);
