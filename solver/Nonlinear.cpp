@@ -249,7 +249,7 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
   double free = 0.0;
   if (contact_) {
     contact_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x, stride);
-    subtractFrictionForces(g, stride);
+    subtractFrictionForces(g, stride, contact_->constraints().force);
     free = contactFreeResidualNorm(g, flags, stride);
   } else if (surface_) {
     // Node-to-segment contact: the residual the constrained system balances, T^T G, over the
@@ -261,15 +261,7 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
         held[2 * p + i] = fl[stride * p + i];
     surface_->setPrescribed(held);
     surface_->detect(Kokkos::View<const double *[2], Memory>(coordinates), x, stride);
-    const auto &f = surface_->frictionForces();
-    Vec fd("mixcon::nonlinear::friction", f.size());
-    auto hfd = Kokkos::create_mirror_view(fd);
-    for (std::size_t i = 0; i < f.size(); ++i)
-      hfd(i) = f[i];
-    Kokkos::deep_copy(fd, hfd);
-    Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
-    scatter<double>(fd, stride, 0, 2, spread, true);
-    axpby(-1.0, spread, 1.0, g);
+    subtractFrictionForces(g, stride, surface_->frictionForces());
     MultiPointConstraints c;
     surfaceConstraints(stride, fl, c);
     std::vector<double> gh = toHost(g);
@@ -789,8 +781,8 @@ bool NonlinearModel::contactFramed() const {
   return false;
 }
 
-void NonlinearModel::subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride) {
-  const auto &f = contact_->constraints().force;
+void NonlinearModel::subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride,
+                                            const std::vector<double> &f) {
   Vec fd("mixcon::nonlinear::friction", f.size());
   auto h = Kokkos::create_mirror_view(fd);
   for (std::size_t i = 0; i < f.size(); ++i)

@@ -111,11 +111,13 @@ protected:
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
   /// Contact helpers shared by both models (`stride` unknowns per node, displacements first):
-  /// whether any node is held in its local frame, the friction forces subtracted from G, the
+  /// whether any node is held in its local frame, the friction forces (2 per node) subtracted
+  /// from G, the
   /// residual norm over the unknowns held by neither Dirichlet nor contact conditions, and the
   /// correction solved in local frames with the contact conditions prescribed.
   bool contactFramed() const;
-  void subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride);
+  void subtractFrictionForces(const Kokkos::View<double *, Memory> &g, int stride,
+                              const std::vector<double> &force);
   double contactFreeResidualNorm(const Kokkos::View<const double *, Memory> &g,
                                  const Kokkos::View<const int *, Memory> &flags, int stride) const;
   LinearSolveStats correctWithContact(

@@ -34,6 +34,17 @@ struct Stack {
   std::unique_ptr<SurfaceContact> contact;
 };
 
+/// The mixed model (finite kinematics) or the displacement model with small displacements.
+std::unique_ptr<NonlinearModel> makeModel(const Mesh &mesh, bool mixed) {
+  const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStress)};
+  const std::vector<int> material(mesh.numElements(), 0);
+  if (mixed)
+    return std::make_unique<NonlinearMixedModel>(mesh, material, c, 1.0);
+  auto d = std::make_unique<NonlinearDisplacementModel>(mesh, material, c, 1.0);
+  d->setSmallDisplacements(true);
+  return d;
+}
+
 /// Upper block (nxUpper x 2) on the lower one (nxLower x 2); pressure kP on the top (dead load)
 /// unless `slide` > 0: then the top also moves horizontally by `slide` at load factor 1 while
 /// the pressure stays (applied as a prescribed top displacement ramp in a second stage).
@@ -42,15 +53,7 @@ Stack makeStack(int nxLower, int nxUpper, ElementType type, double friction, boo
   MeshBody lower{"lower", rectangleMesh(kW, kH, nxLower, 2, type), {0.0, 0.0}};
   MeshBody upper{"upper", rectangleMesh(kW, kH, nxUpper, 2, type), {0.0, kH}};
   s.mesh = mergeMeshes({lower, upper});
-  const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStress)};
-  const std::vector<int> material(s.mesh.numElements(), 0);
-  if (mixed) {
-    s.model = std::make_unique<NonlinearMixedModel>(s.mesh, material, c, 1.0);
-  } else {
-    auto d = std::make_unique<NonlinearDisplacementModel>(s.mesh, material, c, 1.0);
-    d->setSmallDisplacements(true);
-    s.model = std::move(d);
-  }
+  s.model = makeModel(s.mesh, mixed);
   for (LocalIndex n : s.mesh.nodesOf("lower.bottom"))
     s.model->prescribe(n, 1, 0.0);
   SurfaceContactSpec spec;
@@ -157,15 +160,7 @@ std::vector<Slide> slide(double mu, int steps, double delta, double travel, bool
   MeshBody upper{"upper", rectangleMesh(1.0, kH, 3, 2, ElementType::Quad4), {0.5, kH}};
   Stack s;
   s.mesh = mergeMeshes({lower, upper});
-  const std::vector<PlaneMatrix> c{isotropicStiffness(kE, kNu, PlaneAnalysis::PlaneStress)};
-  const std::vector<int> material(s.mesh.numElements(), 0);
-  if (mixed) {
-    s.model = std::make_unique<NonlinearMixedModel>(s.mesh, material, c, 1.0);
-  } else {
-    auto d = std::make_unique<NonlinearDisplacementModel>(s.mesh, material, c, 1.0);
-    d->setSmallDisplacements(true);
-    s.model = std::move(d);
-  }
+  s.model = makeModel(s.mesh, mixed);
   const auto base = s.mesh.nodesOf("lower.bottom"), top = s.mesh.nodesOf("upper.top");
   for (LocalIndex n : base)
     for (int i = 0; i < 2; ++i)
