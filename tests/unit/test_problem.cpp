@@ -677,3 +677,52 @@ output: {directory: somewhere}
     }
   }
 }
+
+// Node-to-segment contact through the program: two blocks with matching meshes pressed by a top
+// displacement; every contactor node of the upper block closes and carries the uniform contact
+// traction E delta / (2 H (1 - nu^2)) (two blocks of height H in series, plane strain).
+TEST(Cli, NodeToSegmentRunWritesTheMultipliers) {
+  TempDir dir;
+  const fs::path problem = dir.path() / "stack.yaml";
+  std::ofstream(problem)
+      << "mesh:\n  bodies:\n"
+         "    - {name: lower, generator: {type: rectangle, size: [2, 1], divisions: [4, 2]}}\n"
+         "    - {name: upper, generator: {type: rectangle, size: [2, 1], divisions: [4, 2]}, "
+         "offset: [0, 1]}\n"
+         "model: {analysis: plane_strain}\n"
+         "materials:\n  - {region: lower, type: isotropic, E: 21000, nu: 0.3}\n"
+         "  - {region: upper, type: isotropic, E: 21000, nu: 0.3}\n"
+         "boundary_conditions:\n  - {boundary: lower.left, ux: 0}\n"
+         "  - {boundary: upper.left, ux: 0}\n"
+         "  - {boundary: lower.bottom, uy: 0}\n"
+         "  - {boundary: upper.top, uy: -0.01}\n"
+         "contact:\n  - {type: node_to_segment, contactor: upper.bottom, target: lower.top}\n"
+         "steps: {increments: 1}\n"
+         "solver: {type: amg}\n"
+         "output: {directory: stack, hdf5: false}\n";
+  std::string out;
+  ASSERT_EQ(runMixcon("run " + problem.string() + " --output " + (dir.path() / "stack").string(),
+                      out, dir.path()),
+            0)
+      << out;
+  EXPECT_NE(out.find("contact.csv"), std::string::npos) << out;
+  std::ifstream csv(dir.path() / "stack" / "contact.csv");
+  std::string line;
+  std::getline(csv, line);
+  const double expected = 21000.0 * 0.01 / (2.0 * (1.0 - 0.09));
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');)
+      cells.push_back(c);
+    ASSERT_EQ(cells.size(), 16u) << line;
+    EXPECT_EQ(cells[2], "0") << line; // the pair
+    EXPECT_EQ(cells[4], "slip") << line;
+    EXPECT_NEAR(std::stod(cells[11]), 1.0 - 0.005, 1e-6) << line; // current y of the interface
+    EXPECT_NEAR(std::stod(cells[12]), expected, 1e-5 * expected) << line;
+    EXPECT_NEAR(std::stod(cells[14]), -expected, 1e-5 * expected) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 5); // the upper block's 5 base nodes
+}
