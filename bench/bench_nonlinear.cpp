@@ -11,8 +11,11 @@
 
 #include <benchmark/benchmark.h>
 
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 using namespace mixcon;
 using Exec = Kokkos::DefaultExecutionSpace;
@@ -143,6 +146,57 @@ void newtonIteration(benchmark::State &state) {
   state.counters["gmres_its"] = linear;
 }
 
+/// Peak resident memory of the process so far (MB).
+double peakMegabytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;
+}
+
+/// One Newton step of the nonlinear mixed model (current form, 5 unknowns per node) with its
+/// iterative solver (solver: amg: flexible GMRES on the Schur complement, inner block-Jacobi CG on
+/// the stress block, BoomerAMG on K^L of the current configuration): setup included once (pattern,
+/// AMG preconditioner), then residual + Jacobian, the solve and the new residual, timed from the
+/// undeformed state. Clamped left edge, a follower pressure on the top. Peak memory: the
+/// process's resident maximum (run the large case alone, as bench/report --full does).
+void mixedNewtonStep(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  NonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
+  model.setStabilization(state.range(2) / 100.0);
+  for (LocalIndex n : mesh.nodesOf("left")) {
+    model.prescribe(n, 0, 0.0);
+    model.prescribe(n, 1, 0.0);
+  }
+  model.addFollowerPressure(mesh.boundaries.at("top"), 2e3);
+  LinearSolverOptions o; // amg
+  o.tolerance = 1e-6;
+  Timer setup;
+  model.setup(o, MPI_COMM_WORLD);
+  const double setupSeconds = setup.seconds();
+  int linear = 0;
+  long inner = 0;
+  for (auto _ : state) {
+    model.rollback();
+    Timer t;
+    model.evaluate(1.0, true);
+    double inc = 0.0;
+    const LinearSolveStats s = model.correct(1.0, inc);
+    model.evaluate(1.0, false);
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+    linear = s.iterations;
+    inner = model.innerIterations();
+  }
+  state.counters["elements"] = static_cast<double>(mesh.numElements());
+  state.counters["DOF"] = 5.0 * mesh.numNodes();
+  state.counters["DOF/s"] =
+      benchmark::Counter(5.0 * mesh.numNodes(), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fgmres_its"] = linear;
+  state.counters["inner_cg_its"] = static_cast<double>(inner);
+  state.counters["setup_s"] = setupSeconds;
+  state.counters["peak_MB"] = peakMegabytes();
+}
+
 } // namespace
 
 BENCHMARK(linearBaseline)
@@ -168,6 +222,19 @@ BENCHMARK(newtonIteration)
     ->ArgsProduct({{4, 8}, {128, 256}})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+// The 1e6-element step (n = 1000) only with MIXCON_BENCH_FULL=1 (bench/report --full): about
+// a minute and several GB.
+const bool kFull = std::getenv("MIXCON_BENCH_FULL") != nullptr;
+BENCHMARK(mixedNewtonStep)
+    ->Name("NL/mixed/newtonStep")
+    ->ArgsProduct({{4},
+                   kFull ? std::vector<int64_t>{128, 256, 1000} : std::vector<int64_t>{128, 256},
+                   {0, 5}})
+    ->ArgNames({"nodes", "n", "a_percent"})
+    ->UseManualTime()
+    ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
 int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }

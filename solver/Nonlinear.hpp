@@ -245,8 +245,8 @@ public:
 
   /// solver: direct — sparse LU of the 5-per-node Jacobian; amg — flexible GMRES on the Schur
   /// complement A + B M^-1 C on the displacements (matrix-free through the assembled Jacobian,
-  /// inner Jacobi-CG on the stress block M), preconditioned by one BoomerAMG V-cycle on K^L of
-  /// the current configuration.
+  /// inner block-Jacobi CG on the stress block M), preconditioned by one BoomerAMG V-cycle on K^L
+  /// of the current configuration.
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
   /// Inner CG iterations on the stress block in the last correction (solver: amg).
   long innerIterations() const { return innerIterations_; }
@@ -290,11 +290,14 @@ private:
   void projectStress(const Kokkos::View<double *, Memory> &load);
   void setupSchurPreconditioner();
   LinearSolveStats solveSchur();
-  /// z = M^-1 w on the stress block of the Jacobian; returns the CG iterations.
+  /// z = M^-1 w on the stress block of the Jacobian (nodal block-Jacobi CG); returns the CG
+  /// iterations.
   long solveStressBlock(const Kokkos::View<const double *, Memory> &w,
                         const Kokkos::View<double *, Memory> &z, double tolerance);
   CsrMatrix<Memory> precMatrix_;
   Kokkos::View<double *, Memory> precDiag_;
+  CsrMatrix<Memory> stressBlock_;                        ///< M = -J_tau,tau (solver: amg)
+  Kokkos::View<double *[9], Memory> stressBlockInverse_; ///< its 3 x 3 nodal inverses
   long innerIterations_ = 0;
   MixedElementData<Memory> reference_; ///< reference geometry (form Current)
   MixedElementData<Memory> current_;   ///< c1: last converged configuration (form Incremental)
