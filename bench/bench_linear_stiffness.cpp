@@ -1,11 +1,14 @@
 // Google Benchmark: the batched K^L kernel (element matrices, elements/s and GB/s of element-matrix
 // output), fused compute + atomic CSR scatter (elements/s, GB/s of CSR traffic), the same kernel on
-// Kokkos::Serial as the single-thread baseline (the STREAM triad, the bandwidth roofline, is in
-// bench_machine.cpp; bench/report runs both in one go).
+// Kokkos::Serial as the single-thread baseline, and the plain host reference implementation of the
+// tests (tests/support/Reference.hpp: explicit B, Eigen dynamic matrices, one element at a time),
+// against which bench/report gives the batched kernel's speed-up (the STREAM triad, the bandwidth
+// roofline, is in bench_machine.cpp; bench/report runs both in one go).
 #include <bench/BenchMain.hpp>
 #include <kernels/LinearElasticity.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/LinearSolver.hpp>
+#include <support/Reference.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -62,6 +65,28 @@ template <class Exec> void elementMatrices(benchmark::State &state) {
   });
 }
 
+/// The host reference implementation of the tests: K^L = t sum B^T C B w with B built
+/// explicitly, Eigen dynamic matrices, one element after another on one thread.
+void hostReference(benchmark::State &state) {
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.data.stiffness);
+  Eigen::Matrix3d c;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      c(i, j) = hc(0).m[i][j];
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e)
+      sum += test::referenceStiffness(test::elementCoordinates(s.mesh, e), c, 1.0)(0, 0);
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void assembleCsr(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
@@ -110,6 +135,12 @@ BENCHMARK(elementMatrices<Kokkos::Serial>)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 #endif
+BENCHMARK(hostReference)
+    ->Name("KL/elementMatrices/host-reference")
+    ->ArgsProduct({{4, 8}, {64, 256}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(assembleCsr)
     ->Name("KL/assembleCsr/threads")
     ->ArgsProduct({{4, 8}, {64, 256, 512}})
