@@ -6,6 +6,7 @@
 // roofline, is in bench_machine.cpp; bench/report runs both in one go).
 #include <bench/BenchMain.hpp>
 #include <kernels/LinearElasticity.hpp>
+#include <kernels/MixedElasticity.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/LinearSolver.hpp>
 #include <support/Reference.hpp>
@@ -99,6 +100,87 @@ void hostReference(benchmark::State &state) {
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// Floating-point operations of one mixed element (kernels/MixedElasticity.hpp,
+/// computeMixedElementMatrices), counted from the code: per quadrature point the Jacobian, its
+/// inverse and the gradients (14n + 8), the weight (2) and the three scalar integrals gx, gy, m
+/// (9 per node pair); then K22 = m D (9 per node pair), the lumped K22 (9 per node) and the
+/// lumping (about n^2). Shape functions not counted.
+constexpr double mixedFlops(int n, int quadraturePoints) {
+  return quadraturePoints * (9.0 * n * n + 14.0 * n + 10.0) + 10.0 * n * n + 9.0 * n;
+}
+
+MixedElementData<Memory> mixedData(const Setup &s) {
+  MixedElementData<Memory> m;
+  static_cast<ElementData<Memory> &>(m) = s.data;
+  m.compliance = Kokkos::View<PlaneMatrix *, Memory>("compliance", 1);
+  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.data.stiffness);
+  Eigen::Matrix3d c;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      c(i, j) = hc(0).m[i][j];
+  const Eigen::Matrix3d d = c.inverse();
+  auto h = Kokkos::create_mirror_view(m.compliance);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      h(0).m[i][j] = d(i, j);
+  Kokkos::deep_copy(m.compliance, h);
+  return m;
+}
+
+/// The mixed element matrices K12 (2n x 3n), K22 consistent and lumped (3n x 3n) of every
+/// element, batched (the linear mixed model's kernel).
+void mixedElementMatrices(benchmark::State &state) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  const MixedElementData<Memory> md = mixedData(s);
+  dispatchElement(typeOf(state), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int n = Elem::kNumNodes;
+    const LocalIndex ne = s.mesh.numElements();
+    Kokkos::View<double ***, Memory> k12("k12", ne, 2 * n, 3 * n), k22("k22", ne, 3 * n, 3 * n),
+        k22l("k22l", ne, 3 * n, 3 * n);
+    for (auto _ : state) {
+      const auto t0 = std::chrono::steady_clock::now();
+      computeMixedElementMatrices<Elem>(Exec(), md, k12, k22, k22l);
+      Exec().fence();
+      state.SetIterationTime(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    const double bytes = 8.0 * (2 * n * 3 * n + 2 * 9 * n * n);
+    state.counters["elem/s"] =
+        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s"] =
+        benchmark::Counter(ne * bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GFLOP/s"] = benchmark::Counter(ne * mixedFlops(n, Elem::kNumQp) / 1e9,
+                                                   benchmark::Counter::kIsIterationInvariantRate);
+  });
+}
+
+/// The tests' host reference of the mixed blocks (explicit B and Psi, Eigen dynamic matrices).
+void mixedHostReference(benchmark::State &state) {
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  const MixedElementData<Memory> md = mixedData(s);
+  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), md.compliance);
+  Eigen::Matrix3d d;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      d(i, j) = hd(0).m[i][j];
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Eigen::MatrixXd k12, k22;
+    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e) {
+      test::referenceMixed(test::elementCoordinates(s.mesh, e), d, 1.0, k12, k22);
+      sum += k12(0, 0) + k22(0, 0);
+    }
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void assembleCsr(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
@@ -149,6 +231,18 @@ BENCHMARK(elementMatrices<Kokkos::Serial>)
 #endif
 BENCHMARK(hostReference)
     ->Name("KL/elementMatrices/host-reference")
+    ->ArgsProduct({{4, 8}, {64, 256}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(mixedElementMatrices)
+    ->Name("mixed/elementMatrices/threads")
+    ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(mixedHostReference)
+    ->Name("mixed/elementMatrices/host-reference")
     ->ArgsProduct({{4, 8}, {64, 256}})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
