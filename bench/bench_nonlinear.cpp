@@ -115,31 +115,42 @@ void mixedAssembly(benchmark::State &state) {
   state.counters["DOF"] = 5.0 * mesh.numNodes();
 }
 
+/// The unit square clamped on its left edge under a follower pressure on the top.
+void clampUnderPressure(NonlinearModel &model, const Mesh &mesh) {
+  for (LocalIndex n : mesh.nodesOf("left")) {
+    model.prescribe(n, 0, 0.0);
+    model.prescribe(n, 1, 0.0);
+  }
+  model.addFollowerPressure(mesh.boundaries.at("top"), 2e3);
+}
+
+/// Times one Newton iteration from the undeformed state per benchmark iteration: residual and
+/// tangent, the correction, the new residual. Returns the last correction's solver statistics.
+LinearSolveStats timeNewtonIterations(NonlinearModel &model, benchmark::State &state) {
+  LinearSolveStats last;
+  for (auto _ : state) {
+    model.rollback(); // the same iteration each time: from the undeformed state
+    Timer t;
+    model.evaluate(1.0, true);
+    double inc = 0.0;
+    last = model.correct(1.0, inc);
+    model.evaluate(1.0, false);
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+  }
+  return last;
+}
+
 /// One Newton iteration of the displacement model: residual + tangent assembly, BoomerAMG setup
 /// on the (nonsymmetric) tangent, GMRES to 1e-8, update, residual. Clamped left edge, a
 /// follower pressure on the top edge.
 void newtonIteration(benchmark::State &state) {
   const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
   NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
-  for (LocalIndex n : mesh.nodesOf("left")) {
-    model.prescribe(n, 0, 0.0);
-    model.prescribe(n, 1, 0.0);
-  }
-  model.addFollowerPressure(mesh.boundaries.at("top"), 2e3);
+  clampUnderPressure(model, mesh);
   LinearSolverOptions o; // amg
   model.setup(o, MPI_COMM_WORLD);
-  int linear = 0;
-  for (auto _ : state) {
-    model.rollback(); // the same iteration each time: from the undeformed state
-    Timer t;
-    model.evaluate(1.0, true);
-    double inc = 0.0;
-    const LinearSolveStats s = model.correct(1.0, inc);
-    model.evaluate(1.0, false);
-    Exec().fence();
-    state.SetIterationTime(t.seconds());
-    linear = s.iterations;
-  }
+  const int linear = timeNewtonIterations(model, state).iterations;
   state.counters["DOF/s"] =
       benchmark::Counter(2.0 * mesh.numNodes(), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["DOF"] = 2.0 * mesh.numNodes();
@@ -163,30 +174,14 @@ void mixedNewtonStep(benchmark::State &state) {
   const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
   NonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
   model.setStabilization(state.range(2) / 100.0);
-  for (LocalIndex n : mesh.nodesOf("left")) {
-    model.prescribe(n, 0, 0.0);
-    model.prescribe(n, 1, 0.0);
-  }
-  model.addFollowerPressure(mesh.boundaries.at("top"), 2e3);
+  clampUnderPressure(model, mesh);
   LinearSolverOptions o; // amg
   o.tolerance = 1e-6;
   Timer setup;
   model.setup(o, MPI_COMM_WORLD);
   const double setupSeconds = setup.seconds();
-  int linear = 0;
-  long inner = 0;
-  for (auto _ : state) {
-    model.rollback();
-    Timer t;
-    model.evaluate(1.0, true);
-    double inc = 0.0;
-    const LinearSolveStats s = model.correct(1.0, inc);
-    model.evaluate(1.0, false);
-    Exec().fence();
-    state.SetIterationTime(t.seconds());
-    linear = s.iterations;
-    inner = model.innerIterations();
-  }
+  const int linear = timeNewtonIterations(model, state).iterations;
+  const long inner = model.innerIterations();
   state.counters["elements"] = static_cast<double>(mesh.numElements());
   state.counters["DOF"] = 5.0 * mesh.numNodes();
   state.counters["DOF/s"] =
