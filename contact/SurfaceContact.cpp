@@ -81,6 +81,26 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
         if (n >= 0)
           targets.insert(n);
   }
+  for (std::size_t s = 0, first = 0; s < specs_.size(); ++s) {
+    DeviceSurface d;
+    d.first = first;
+    const auto &sp = specs_[s];
+    d.segments = Kokkos::View<int *[3], DeviceSpace>("mixcon::surface::segments", sp.target.size());
+    auto hs = Kokkos::create_mirror_view(d.segments);
+    for (std::size_t j = 0; j < sp.target.size(); ++j)
+      for (int a = 0; a < 3; ++a)
+        hs(j, a) = sp.target[j][a];
+    Kokkos::deep_copy(d.segments, hs);
+    while (first < node_.size() && spec_[first] == static_cast<int>(s))
+      ++first;
+    d.contactors =
+        Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::contactors", first - d.first);
+    auto hq = Kokkos::create_mirror_view(d.contactors);
+    for (std::size_t k = d.first; k < first; ++k)
+      hq(k - d.first) = node_[k];
+    Kokkos::deep_copy(d.contactors, hq);
+    device_.push_back(d);
+  }
   for (LocalIndex n : contactors)
     if (targets.count(n))
       throw InputError("node " + std::to_string(n + 1) +
@@ -150,27 +170,13 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
   LocalIndex penetrating = 0;
   for (std::size_t s = 0; s < specs_.size(); ++s) {
     const auto &sp = specs_[s];
-    std::vector<std::size_t> members;
-    for (std::size_t k = 0; k < node_.size(); ++k)
-      if (spec_[k] == static_cast<int>(s))
-        members.push_back(k);
+    const DeviceSurface &dev = device_[s];
     const LocalIndex ns = static_cast<LocalIndex>(sp.target.size());
-    const LocalIndex nq = static_cast<LocalIndex>(members.size());
-    Kokkos::View<int *[3], DeviceSpace> segs("mixcon::surface::segments", ns);
-    Kokkos::View<LocalIndex *, DeviceSpace> qn("mixcon::surface::contactors", nq);
-    auto hs = Kokkos::create_mirror_view(segs);
-    auto hq = Kokkos::create_mirror_view(qn);
-    for (LocalIndex j = 0; j < ns; ++j)
-      for (int a = 0; a < 3; ++a)
-        hs(j, a) = sp.target[j][a];
-    for (LocalIndex k = 0; k < nq; ++k)
-      hq(k) = node_[members[k]];
-    Kokkos::deep_copy(segs, hs);
-    Kokkos::deep_copy(qn, hq);
+    const LocalIndex nq = static_cast<LocalIndex>(dev.contactors.extent(0));
     Kokkos::View<double *[2], DeviceSpace> queries("mixcon::surface::queries", nq);
     Kokkos::parallel_for("mixcon::surface::gather", Kokkos::RangePolicy<Exec>(0, nq),
-                         GatherPoints{x, qn, queries});
-    const SegmentSet<DeviceSpace> set{x, segs};
+                         GatherPoints{x, dev.contactors, queries});
+    const SegmentSet<DeviceSpace> set{x, dev.segments};
     SegmentGrid<Exec> grid;
     grid.build(Exec(), set, 2.0 * meanLength_[s] + 1e-300);
     SearchResults<DeviceSpace> found(nq);
@@ -215,7 +221,7 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
       }
     }
     for (LocalIndex q = 0; q < nq; ++q) {
-      const std::size_t k = members[q];
+      const std::size_t k = dev.first + q;
       segment_[k] = seg(q);
       xi_[k] = xi(q);
       const double *xq = &position_[2 * static_cast<std::size_t>(node_[k])];

@@ -113,6 +113,14 @@ private:
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;
   std::vector<SurfaceContactSpec> specs_;
+  /// Per spec, on the device once: its target segments and its contactor nodes (the candidates
+  /// first(s) ... first(s) + count - 1, contiguous in node_).
+  struct DeviceSurface {
+    Kokkos::View<int *[3], DeviceSpace> segments;
+    Kokkos::View<LocalIndex *, DeviceSpace> contactors;
+    std::size_t first = 0;
+  };
+  std::vector<DeviceSurface> device_;
   LocalIndex numNodes_;
   std::vector<LocalIndex> node_; ///< candidate k -> node
   std::vector<int> spec_;        ///< candidate k -> spec index

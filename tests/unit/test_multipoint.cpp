@@ -3,6 +3,7 @@
 // [A C^T; C 0] [x; lambda] = [b; d] solved with Eigen. Both give the same x, the condensed
 // residual T^T (A x - b) vanishes, and the eliminated matrix stays symmetric positive definite.
 #include <solver/MultiPointConstraints.hpp>
+#include <support/KernelFixture.hpp>
 
 #include <gtest/gtest.h>
 
@@ -37,17 +38,6 @@ CsrMatrix<Memory> toCsr(const Eigen::MatrixXd &a) {
   Kokkos::deep_copy(m.columns, co);
   Kokkos::deep_copy(m.values, va);
   return m;
-}
-
-Eigen::MatrixXd toDense(const CsrMatrix<Memory> &m) {
-  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.rowOffsets);
-  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.columns);
-  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), m.values);
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m.numRows, m.numColumns);
-  for (LocalIndex i = 0; i < m.numRows; ++i)
-    for (Offset k = ro(i); k < ro(i + 1); ++k)
-      a(i, co(k)) += va(k);
-  return a;
 }
 
 } // namespace multipoint_tests
@@ -100,7 +90,7 @@ TEST(MultiPointConstraints, EliminationEqualsTheLagrangeMultiplierSolution) {
     hb(i) = b(i);
   Kokkos::deep_copy(bv, hb);
   const auto reduced = eliminateConstraints(toCsr(a), c, 3.0, bv);
-  const Eigen::MatrixXd ad = toDense(reduced);
+  const Eigen::MatrixXd ad = test::toDense(reduced);
   EXPECT_LT((ad - ad.transpose()).norm(), 1e-12 * ad.norm());        // symmetric
   EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(ad).info(), Eigen::Success); // positive definite
   EXPECT_DOUBLE_EQ(ad(2, 2), 3.0);
