@@ -268,6 +268,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     m->setForm(p.model.mixedForm);
     m->setStressUpdate(p.model.stressUpdate);
     m->setStabilization(p.model.mixed.stabilization);
+    m->setIterativeSolver(p.model.mixedNewton);
     owner = std::move(m);
   } else {
     auto d = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,

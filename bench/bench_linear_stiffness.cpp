@@ -5,6 +5,7 @@
 // against which bench/report gives the batched kernel's speed-up (the STREAM triad, the bandwidth
 // roofline, is in bench_machine.cpp; bench/report runs both in one go).
 #include <bench/BenchMain.hpp>
+#include <kernels/GeometricStiffness.hpp>
 #include <kernels/LinearElasticity.hpp>
 #include <kernels/MixedElasticity.hpp>
 #include <mesh/Generators.hpp>
@@ -181,6 +182,89 @@ void mixedHostReference(benchmark::State &state) {
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// Floating-point operations of one K^sigma element (kernels/GeometricStiffness.hpp,
+/// geometricStiffness with nodal stresses), counted from the code: per quadrature point the
+/// Jacobian, its inverse, the gradients and the weight (14n + 10, as for K^L), tau interpolated
+/// from the nodes (6n), tau g_a for every node (8n) and the scalar products g_a^T tau g_b for
+/// a <= b added to both diagonal entries of the 2 x 2 block (5 per node pair, n(n+1)/2 pairs).
+/// Shape functions and the mirror copy not counted.
+constexpr double geometricFlops(int n, int quadraturePoints) {
+  return quadraturePoints * (2.5 * n * (n + 1.0) + 28.0 * n + 10.0);
+}
+
+/// A smooth nodal stress field (3 per node), the same for the kernel and the reference.
+Kokkos::View<double *, Memory> nodalStress(const Mesh &mesh) {
+  Kokkos::View<double *, Memory> s("stress", 3 * mesh.numNodes());
+  auto h = Kokkos::create_mirror_view(s);
+  for (LocalIndex k = 0; k < mesh.numNodes(); ++k) {
+    h(3 * k) = 1e3 * (1.0 + mesh.x(k));
+    h(3 * k + 1) = -2e3 * mesh.y(k);
+    h(3 * k + 2) = 5e2 * mesh.x(k) * mesh.y(k);
+  }
+  Kokkos::deep_copy(s, h);
+  return s;
+}
+
+/// The geometric stiffness K^sigma (2n x 2n) of every element from nodal stresses, batched (the
+/// mixed model's K11 and, with stresses at the quadrature points, the displacement model's).
+void geometricElementMatrices(benchmark::State &state) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  const NodalStressField<Memory> field{s.data.mesh, nodalStress(s.mesh)};
+  dispatchElement(typeOf(state), [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 2 * Elem::kNumNodes;
+    const LocalIndex ne = s.mesh.numElements();
+    Kokkos::View<double ***, Memory> kg("kg", ne, nd, nd);
+    for (auto _ : state) {
+      const auto t0 = std::chrono::steady_clock::now();
+      computeGeometricStiffness<Elem>(Exec(), s.data, field, kg);
+      Exec().fence();
+      state.SetIterationTime(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    state.counters["elem/s"] =
+        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["GB/s"] =
+        benchmark::Counter(ne * nd * nd * 8.0 / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["elements"] = ne;
+    state.counters["GFLOP/s"] =
+        benchmark::Counter(ne * geometricFlops(Elem::kNumNodes, Elem::kNumQp) / 1e9,
+                           benchmark::Counter::kIsIterationInvariantRate);
+  });
+}
+
+/// The tests' host reference of K^sigma (the 4 x 2n [B^sigma] and 4 x 4 [tau] of Eq. (25)
+/// multiplied as matrices, Eigen dynamic matrices, one element at a time). It also forms the
+/// stress force F^sigma (2n entries, a small part of its work).
+void geometricHostReference(benchmark::State &state) {
+  const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
+  const auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nodalStress(s.mesh));
+  const int n = s.mesh.nodesPerElement;
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Eigen::MatrixXd kg;
+    Eigen::VectorXd fnl;
+    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e) {
+      const auto tauAt = [&](int, const Eigen::VectorXd &sh) {
+        Eigen::Vector3d tau = Eigen::Vector3d::Zero();
+        for (int b = 0; b < n; ++b)
+          for (int c = 0; c < 3; ++c)
+            tau(c) += sh(b) * hs(3 * s.mesh.node(e, b) + c);
+        return tau;
+      };
+      test::referenceGeometricAt(test::elementCoordinates(s.mesh, e), tauAt, 1.0, kg, fnl);
+      sum += kg(0, 0);
+    }
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void assembleCsr(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
@@ -243,6 +327,18 @@ BENCHMARK(mixedElementMatrices)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(mixedHostReference)
     ->Name("mixed/elementMatrices/host-reference")
+    ->ArgsProduct({{4, 8}, {64, 256}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(geometricElementMatrices)
+    ->Name("Ksigma/elementMatrices/threads")
+    ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(geometricHostReference)
+    ->Name("Ksigma/elementMatrices/host-reference")
     ->ArgsProduct({{4, 8}, {64, 256}})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()

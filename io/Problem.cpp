@@ -734,7 +734,18 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     const Item s = top["solver"];
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
                  "print_level", "krylov", "preconditioner", "inner_tolerance",
-                 "interpolation_max_elements", "nodal_coarsening"});
+                 "interpolation_max_elements", "nodal_coarsening", "method",
+                 "stress_block_tolerance"});
+    for (const char *key : {"method", "stress_block_tolerance"})
+      if (s.has(key) && !nonlinearMixed)
+        s[key].fail(std::string(key) +
+                    " applies to the geometrically nonlinear mixed model's solver: amg only");
+    if (s.has("method"))
+      p.model.mixedNewton.method = s["method"].choice({"block_triangular", "schur"}) == "schur"
+                                       ? MixedNewtonSolver::Schur
+                                       : MixedNewtonSolver::BlockTriangular;
+    if (s.has("stress_block_tolerance"))
+      p.model.mixedNewton.preconditionerTolerance = s["stress_block_tolerance"].positive();
     for (const char *key : {"krylov", "preconditioner", "inner_tolerance"}) {
       if (s.has(key) && p.model.formulation != Formulation::Mixed)
         s[key].fail(std::string(key) + " applies to formulation: mixed only");

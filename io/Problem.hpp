@@ -30,6 +30,8 @@ struct ModelSpec {
   /// Geometrically nonlinear mixed model: its form and (form incremental) stress update.
   MixedForm mixedForm = MixedForm::Current;
   StressUpdate stressUpdate = StressUpdate::Projected;
+  /// Geometrically nonlinear mixed model, solver: amg — the iterative solve of its Jacobian.
+  MixedNewtonSolverOptions mixedNewton;
   /// Geometrically nonlinear displacement model: elastic law.
   ElasticLaw elasticLaw = ElasticLaw::Almansi;
 };

@@ -58,13 +58,18 @@ geometricStiffness(const ElementData<MemorySpace> &d, const Field &field, LocalI
     for (int a = 0; a < n; ++a) {
       const double ta0 = (tau[0] * g[a][0] + tau[2] * g[a][1]) * f;
       const double ta1 = (tau[2] * g[a][0] + tau[1] * g[a][1]) * f;
-      for (int b = 0; b < n; ++b) {
+      for (int b = a; b < n; ++b) { // upper triangle; symmetric
         const double v = ta0 * g[b][0] + ta1 * g[b][1];
         kg[2 * a][2 * b] += v;
         kg[2 * a + 1][2 * b + 1] += v;
       }
     }
   }
+  for (int a = 1; a < n; ++a)
+    for (int b = 0; b < a; ++b) {
+      kg[2 * a][2 * b] = kg[2 * b][2 * a];
+      kg[2 * a + 1][2 * b + 1] = kg[2 * b + 1][2 * a + 1];
+    }
 }
 
 /// Element geometric stiffness matrices of all elements into kg(e, i, j) (E x 2n x 2n).

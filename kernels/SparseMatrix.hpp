@@ -33,14 +33,16 @@ NodeGraph secondNeighbourGraph(const NodeGraph &graph);
 /// For a symmetric graph: t[p] is the position of entry (j, i) for the entry p = (i, j).
 std::vector<Offset> transposePositions(const NodeGraph &graph);
 
-/// Expands the node graph to a CSR pattern with `dofsPerNode` interleaved unknowns per node,
-/// values zero-initialized, on `MemorySpace`.
+/// Expands the node graph to a CSR pattern with `rowDofs` interleaved unknowns per node in the
+/// rows and `columnDofs` in the columns (rectangular when they differ: a coupling block such as
+/// the stresses' rows against the displacements' columns), values zero-initialized.
 template <class MemorySpace>
-CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int dofsPerNode) {
+CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int rowDofs, int columnDofs) {
   const LocalIndex nn = graph.numNodes();
   CsrMatrix<MemorySpace> a;
-  a.numRows = a.numColumns = nn * dofsPerNode;
-  const Offset nnz = static_cast<Offset>(graph.columns.size()) * dofsPerNode * dofsPerNode;
+  a.numRows = nn * rowDofs;
+  a.numColumns = nn * columnDofs;
+  const Offset nnz = static_cast<Offset>(graph.columns.size()) * rowDofs * columnDofs;
   a.rowOffsets = Kokkos::View<Offset *, MemorySpace>("mixcon::csr::rowOffsets", a.numRows + 1);
   a.columns = Kokkos::View<LocalIndex *, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::columns"), nnz);
@@ -50,18 +52,24 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int dofsPerNode) {
   hr(0) = 0;
   for (LocalIndex n = 0; n < nn; ++n) {
     const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
-    for (int c = 0; c < dofsPerNode; ++c) {
-      const LocalIndex row = n * dofsPerNode + c;
+    for (int c = 0; c < rowDofs; ++c) {
+      const LocalIndex row = n * rowDofs + c;
       Offset k = hr(row);
       for (Offset j = 0; j < len; ++j)
-        for (int d = 0; d < dofsPerNode; ++d)
-          hc(k++) = graph.columns[begin + j] * dofsPerNode + d;
+        for (int d = 0; d < columnDofs; ++d)
+          hc(k++) = graph.columns[begin + j] * columnDofs + d;
       hr(row + 1) = k;
     }
   }
   Kokkos::deep_copy(a.rowOffsets, hr);
   Kokkos::deep_copy(a.columns, hc);
   return a;
+}
+
+/// The square pattern with `dofsPerNode` interleaved unknowns per node.
+template <class MemorySpace>
+CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int dofsPerNode) {
+  return expandGraph<MemorySpace>(graph, dofsPerNode, dofsPerNode);
 }
 
 /// Element-to-graph scatter map: map(e, a, b) is the position of node(e, b) within the graph row

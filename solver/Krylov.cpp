@@ -2,7 +2,6 @@
 #include <solver/Krylov.hpp>
 
 #include <cmath>
-#include <string>
 #include <vector>
 
 namespace mixcon {
@@ -23,13 +22,34 @@ void axpby(double alpha, const ConstDeviceVector &x, double beta, const DeviceVe
       KOKKOS_LAMBDA(LocalIndex i) { y(i) = alpha * x(i) + (beta == 0.0 ? 0.0 : beta * y(i)); });
 }
 
+DeviceVector KrylovWorkspace::get(std::size_t i, std::size_t n) {
+  if (vectors_.size() <= i)
+    vectors_.resize(i + 1);
+  if (vectors_[i].extent(0) != n)
+    vectors_[i] =
+        DeviceVector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::krylov::work"), n);
+  return vectors_[i];
+}
+
 namespace {
 
-/// Work vector; every one is fully written (by the operator, preconditioner or a copy) before it
-/// is read, so it is not zero-filled.
-DeviceVector vec(const std::string &label, std::size_t n) {
-  return DeviceVector(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), n);
-}
+/// Hands out work vectors in order, from a workspace when there is one. Every vector is fully
+/// written (by the operator, preconditioner or a copy) before it is read, so none is zero-filled.
+class Vectors {
+public:
+  Vectors(KrylovWorkspace *w, std::size_t n) : workspace_(w), n_(n) {}
+  DeviceVector next() {
+    if (workspace_)
+      return workspace_->get(count_++, n_);
+    return DeviceVector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::krylov::work"),
+                        n_);
+  }
+
+private:
+  KrylovWorkspace *workspace_;
+  std::size_t n_;
+  std::size_t count_ = 0;
+};
 
 /// r = b - A x; returns ||r||.
 double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVector &x,
@@ -40,11 +60,10 @@ double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVect
 }
 
 KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
-                       const ConstDeviceVector &b, double bnorm, const DeviceVector &x) {
-  const std::size_t n = b.extent(0);
+                       const ConstDeviceVector &b, double bnorm, const DeviceVector &x,
+                       Vectors work) {
   KrylovStats s;
-  auto r = vec("mixcon::cg::r", n), rOld = vec("mixcon::cg::rOld", n), z = vec("mixcon::cg::z", n),
-       d = vec("mixcon::cg::d", n), q = vec("mixcon::cg::q", n);
+  auto r = work.next(), rOld = work.next(), z = work.next(), d = work.next(), q = work.next();
   double rnorm = residual(a, b, x, r);
   // Restart from the true residual whenever the recursive one has converged but the true one
   // (operator applied with inner iterations) has not.
@@ -79,15 +98,13 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
 }
 
 KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
-                          const ConstDeviceVector &b, double bnorm, const DeviceVector &x) {
-  const std::size_t n = b.extent(0);
+                          const ConstDeviceVector &b, double bnorm, const DeviceVector &x,
+                          Vectors work) {
   const int m = o.restart;
   KrylovStats s;
-  std::vector<DeviceVector> v, z;
-  for (int j = 0; j <= m; ++j)
-    v.push_back(vec("mixcon::gmres::v", n));
-  for (int j = 0; j < m; ++j)
-    z.push_back(vec("mixcon::gmres::z", n));
+  // Basis vectors are allocated as the iterations reach them: memory follows the iterations
+  // taken, not the restart length.
+  std::vector<DeviceVector> v{work.next()}, z;
   std::vector<std::vector<double>> h(m + 1, std::vector<double>(m, 0.0));
   std::vector<double> cs(m), sn(m), g(m + 1);
   double rnorm = residual(a, b, x, v[0]);
@@ -97,6 +114,10 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
     g[0] = rnorm;
     int k = 0;
     for (; k < m && s.iterations < o.maxIterations; ++k) {
+      if (z.size() == static_cast<std::size_t>(k)) {
+        z.push_back(work.next());
+        v.push_back(work.next());
+      }
       p(v[k], z[k]);
       a(z[k], v[k + 1]);
       for (int i = 0; i <= k; ++i) { // modified Gram-Schmidt
@@ -144,7 +165,8 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
 } // namespace
 
 KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const LinearMap &p,
-                        const ConstDeviceVector &b, const DeviceVector &x) {
+                        const ConstDeviceVector &b, const DeviceVector &x,
+                        KrylovWorkspace *workspace) {
   const double bnorm = std::sqrt(dot(b, b));
   if (bnorm == 0.0) { // the answer is x = 0 (relative residuals are undefined)
     Kokkos::deep_copy(x, 0.0);
@@ -153,8 +175,8 @@ KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const 
     return s;
   }
   if (options.method == KrylovMethod::Cg)
-    return flexibleCg(options, a, p, b, bnorm, x);
-  return flexibleGmres(options, a, p, b, bnorm, x);
+    return flexibleCg(options, a, p, b, bnorm, x, Vectors(workspace, b.extent(0)));
+  return flexibleGmres(options, a, p, b, bnorm, x, Vectors(workspace, b.extent(0)));
 }
 
 } // namespace mixcon

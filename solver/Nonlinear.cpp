@@ -110,11 +110,12 @@ void fieldDiagonal(const CsrMatrix<Memory> &a, int stride, int offset, int width
       });
 }
 
-/// b <- sign * (the field block [offset, offset + width) x [offset, offset + width) of a), with a
-/// on expandGraph(graph, stride) and b on expandGraph(graph, width) of the same graph (both list
-/// a row's neighbour nodes in the same order).
-void extractFieldBlock(const CsrMatrix<Memory> &a, int stride, int offset, int width,
-                       const CsrMatrix<Memory> &b, double sign) {
+/// b <- sign * (the block of a's field rows [rowOffset, rowOffset + rowWidth) and field
+/// columns [columnOffset, columnOffset + columnWidth)), with a on expandGraph(graph, stride) and b
+/// on expandGraph(graph, rowWidth, columnWidth) of the same graph (both list a row's neighbour
+/// nodes in the same order).
+void extractFieldBlock(const CsrMatrix<Memory> &a, int stride, int rowOffset, int rowWidth,
+                       int columnOffset, int columnWidth, const CsrMatrix<Memory> &b, double sign) {
   auto ra = a.rowOffsets;
   auto va = a.values;
   auto rb = b.rowOffsets;
@@ -122,13 +123,42 @@ void extractFieldBlock(const CsrMatrix<Memory> &a, int stride, int offset, int w
   Kokkos::parallel_for(
       "mixcon::nonlinear::extractFieldBlock", Kokkos::RangePolicy<Exec>(0, b.numRows),
       KOKKOS_LAMBDA(LocalIndex r) {
-        const LocalIndex p = r / width, i = r % width;
+        const LocalIndex p = r / rowWidth, i = r % rowWidth;
         const Offset first = rb(r);
-        const LocalIndex neighbours = static_cast<LocalIndex>((rb(r + 1) - first) / width);
-        const Offset src = ra(stride * p + offset + i);
+        const LocalIndex neighbours = static_cast<LocalIndex>((rb(r + 1) - first) / columnWidth);
+        const Offset src = ra(stride * p + rowOffset + i);
         for (LocalIndex j = 0; j < neighbours; ++j)
-          for (int c = 0; c < width; ++c)
-            vb(first + width * j + c) = sign * va(src + stride * j + offset + c);
+          for (int c = 0; c < columnWidth; ++c)
+            vb(first + columnWidth * j + c) = sign * va(src + stride * j + columnOffset + c);
+      });
+}
+
+/// y(width p + c) = sum_k a(r, k) x(k), r = stride p + offset + c: the rows of one field of an
+/// interleaved CSR matrix times x, gathered (a product with [A B] or [C -M] of the mixed
+/// Jacobian that reads only those rows).
+void multiplyFieldRows(const CsrMatrix<Memory> &a, int stride, int offset, int width,
+                       const ConstVec &x, const Vec &y) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::multiplyFieldRows", Kokkos::RangePolicy<Exec>(0, y.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = stride * (i / width) + offset + i % width;
+        double s = 0.0;
+        for (Offset k = ro(r); k < ro(r + 1); ++k)
+          s += va(k) * x(co(k));
+        y(i) = s;
+      });
+}
+
+/// v(stride p + offset + c) *= s for c < width.
+void scaleField(const Vec &v, int stride, int offset, int width, double s) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::scaleField", Kokkos::RangePolicy<Exec>(0, v.extent(0) / stride),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        for (int c = 0; c < width; ++c)
+          v(stride * p + offset + c) *= s;
       });
 }
 
@@ -964,9 +994,14 @@ std::string NonlinearMixedModel::solverName() const {
     << " form, a = " << stabilization_ << ", ";
   if (linearOptions_.type == LinearSolverType::Direct)
     o << (solver_ ? solver_->name() : std::string("none"));
-  else
+  else if (mixedOptions_.method == MixedNewtonSolver::Schur)
     o << "flexible GMRES on the Schur complement (inner block-Jacobi CG on the stress block), one "
          "BoomerAMG V-cycle on K^L of the current configuration";
+  else
+    o << "flexible GMRES(" << mixedOptions_.restart
+      << ") on the Jacobian, block-triangular preconditioner: one BoomerAMG V-cycle on K^L of the "
+         "current configuration, block-Jacobi CG on the stress block to "
+      << mixedOptions_.preconditionerTolerance;
   return o.str();
 }
 
@@ -1033,7 +1068,8 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
           ? constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, work_,
                              constrained5_, g_, target_, rhs_, diag_, *solver_, dx_,
                              solverSetupSeconds_)
-          : solveSchur();
+      : mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur()
+                                                         : solveBlockTriangular();
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();
@@ -1068,7 +1104,7 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
                       precDiag_);
   // The stress block M = -J_tau,tau and its nodal 3 x 3 inverses for the inner CG.
-  extractFieldBlock(tangent_, 5, 2, 3, stressBlock_, -1.0);
+  extractFieldBlock(tangent_, 5, 2, 3, 2, 3, stressBlock_, -1.0);
   invertNodalBlocks(stressBlock_, stressBlockInverse_);
   Exec().fence();
   solver_->setup(precMatrix_);
@@ -1089,7 +1125,7 @@ long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, doub
   o.tolerance = tolerance;
   o.maxIterations = 2000;
   Kokkos::deep_copy(z, 0.0);
-  const KrylovStats st = krylovSolve(o, apply, jacobi, w, z);
+  const KrylovStats st = krylovSolve(o, apply, jacobi, w, z, &stressWork_);
   if (!st.converged)
     throw std::runtime_error("nonlinear mixed model: the CG on the stress block did not converge "
                              "(relative residual " +
@@ -1104,9 +1140,8 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   if (fresh_)
     setupSchurPreconditioner();
   const LocalIndex nn = mesh_.numNodes();
-  Vec in5("mixcon::nonlinear::in5", 5 * nn), out5("mixcon::nonlinear::out5", 5 * nn),
-      w("mixcon::nonlinear::w", 3 * nn), z("mixcon::nonlinear::z", 3 * nn),
-      masked("mixcon::nonlinear::masked", 2 * nn);
+  Vec in5("mixcon::nonlinear::in5", 5 * nn), w("mixcon::nonlinear::w", 3 * nn),
+      z("mixcon::nonlinear::z", 3 * nn), masked("mixcon::nonlinear::masked", 2 * nn);
   const auto flags = Kokkos::View<const int *, Memory>(isConstrained_);
   // Inner solves two orders tighter than the outer tolerance, so the outer Krylov sees a fixed
   // operator to its own accuracy.
@@ -1115,12 +1150,10 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   // y = (A + B M^-1 C) v for a displacement vector v (2 per node).
   const auto schur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
     scatter<double>(v, 5, 0, 2, in5, true);
-    multiply(Exec(), tangent_, ConstVec(in5), out5); // tau rows: C v
-    gather(out5, 5, 2, 3, w);
+    multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w); // tau rows: C v
     inner += solveStressBlock(w, z, innerTol);
     scatter<double>(z, 5, 2, 3, in5, false);
-    multiply(Exec(), tangent_, ConstVec(in5), out5); // u rows: A v + B z
-    gather(out5, 5, 0, 2, y);
+    multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), y); // u rows: A v + B z
   };
   const LinearMap constrainedSchur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
     maskConstrained(Exec(), flags, v, masked);
@@ -1137,10 +1170,9 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   gather(g_, 5, 2, 3, w);
   inner += solveStressBlock(w, mgs, innerTol);
   scatter<double>(mgs, 5, 2, 3, in5, true);
-  multiply(Exec(), tangent_, ConstVec(in5), out5); // u rows: B M^-1 G_S
-  gather(out5, 5, 0, 2, f, -1.0);
+  multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), f); // u rows: B M^-1 G_S
   gather(g_, 5, 0, 2, sg);
-  axpby(-1.0, sg, 1.0, f);
+  axpby(-1.0, sg, -1.0, f);
   gather(target_, 5, 0, 2, gc);
   schur(ConstVec(gc), sg);
   constrainedRhs(Exec(), flags, ConstVec(precDiag_), ConstVec(f), ConstVec(gc), ConstVec(sg), b);
@@ -1151,13 +1183,93 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
   // dtau = M^-1 (C du + G_S).
   scatter<double>(du, 5, 0, 2, in5, true);
-  multiply(Exec(), tangent_, ConstVec(in5), out5);
-  gather(out5, 5, 2, 3, w);
+  multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w);
   gather(g_, 5, 2, 3, mgs);
   axpby(1.0, mgs, 1.0, w);
   inner += solveStressBlock(w, z, innerTol);
   scatter<double>(du, 5, 0, 2, dx_, true);
   scatter<double>(z, 5, 2, 3, dx_, false);
+  innerIterations_ = inner;
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.solveSeconds = seconds(start);
+  return s;
+}
+
+LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
+  // Flexible GMRES on the whole Jacobian J = [A B; C -M] (prescribed du as P J P + D_c), right
+  // preconditioned by the block lower-triangular P = [S~ 0; C -M~]: S~^-1 one BoomerAMG V-cycle
+  // on K^L of the current configuration (as for the Schur complement A + B M^-1 C), M~^-1 a
+  // loose block-Jacobi CG on M. With M~ = M, J P^-1 = [S S~^-1, -B M^-1; 0, I] and the
+  // iterations are those of the Schur solve; a loose M~ costs a few more outer iterations but
+  // no tight inner solve per product. The stress rows are scaled by s = |diag A| / |diag M| so
+  // that the two-norm weighs both residuals alike.
+  const auto start = std::chrono::steady_clock::now();
+  if (fresh_) {
+    setupSchurPreconditioner();
+    const LocalIndex nn = mesh_.numNodes();
+    Vec da("mixcon::nonlinear::diagA", 2 * nn), dm("mixcon::nonlinear::diagM", 3 * nn);
+    fieldDiagonal(tangent_, 5, 0, 2, da, 1.0);
+    fieldDiagonal(tangent_, 5, 2, 3, dm, -1.0);
+    const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
+    stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * std::sqrt(3.0 / 2.0)) : 1.0;
+    precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", 5 * nn);
+    scatter<double>(ConstVec(precDiag_), 5, 0, 2, precDiag5_, true);
+    // C = J_tau,u on its own (6/25 of J's entries; the tau rows of J hold 15/25).
+    if (couplingBlock_.numRows == 0)
+      couplingBlock_ = expandGraph<Memory>(graph_, 3, 2);
+    extractFieldBlock(tangent_, 5, 2, 3, 0, 2, couplingBlock_, 1.0);
+  }
+  const LocalIndex nn = mesh_.numNodes();
+  const double scale = stressRowScale_;
+  const auto work = [](const char *label, std::size_t n) {
+    return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+  };
+  // Work vectors, each fully written before it is read.
+  Vec masked = work("mixcon::nonlinear::masked5", 5 * nn),
+      r2 = work("mixcon::nonlinear::r2", 2 * nn), y2 = work("mixcon::nonlinear::y2", 2 * nn),
+      w = work("mixcon::nonlinear::w", 3 * nn), t = work("mixcon::nonlinear::t", 3 * nn),
+      z = work("mixcon::nonlinear::z", 3 * nn);
+  const auto flags = Kokkos::View<const int *, Memory>(constrained5_);
+  const auto flags2 = Kokkos::View<const int *, Memory>(isConstrained_);
+  const auto diag = ConstVec(precDiag5_);
+  // y = D (P J P + D_c) v, D scaling the stress rows.
+  const LinearMap op = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    maskConstrained(Exec(), flags, v, masked);
+    multiply(Exec(), tangent_, ConstVec(masked), y);
+    finishConstrained(Exec(), flags, diag, v, y);
+    scaleField(y, 5, 2, 3, scale);
+  };
+  long inner = 0;
+  const double precTol = mixedOptions_.preconditionerTolerance;
+  // y = P^-1 D^-1 r: y_u = S~^-1 r_u, y_tau = M~^-1 (C P y_u - r_tau / s).
+  const LinearMap prec = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    gather(r, 5, 0, 2, r2);
+    solver_->precondition(r2, y2);
+    scatter<double>(y2, 5, 0, 2, y, true);
+    maskConstrained(Exec(), flags2, ConstVec(y2), r2);
+    multiply(Exec(), couplingBlock_, ConstVec(r2), w);
+    gather(r, 5, 2, 3, t, 1.0 / scale);
+    axpby(-1.0, t, 1.0, w);
+    inner += solveStressBlock(w, z, precTol);
+    scatter<double>(z, 5, 2, 3, y, false);
+  };
+  // b = D (P (-G - J g) + D_c g), g the remaining prescribed step.
+  Vec f = work("mixcon::nonlinear::negativeResidual", 5 * nn),
+      jg = work("mixcon::nonlinear::jg", 5 * nn), b = work("mixcon::nonlinear::rhs5", 5 * nn);
+  axpby(-1.0, g_, 0.0, f);
+  multiply(Exec(), tangent_, ConstVec(target_), jg);
+  constrainedRhs(Exec(), flags, diag, ConstVec(f), ConstVec(target_), ConstVec(jg), b);
+  scaleField(b, 5, 2, 3, scale);
+  KrylovOptions ko;
+  ko.method = KrylovMethod::Gmres;
+  ko.tolerance = linearOptions_.tolerance;
+  ko.maxIterations = linearOptions_.maxIterations;
+  ko.restart = mixedOptions_.restart;
+  Kokkos::deep_copy(dx_, 0.0);
+  const KrylovStats ks = krylovSolve(ko, op, prec, ConstVec(b), dx_, &outerWork_);
   innerIterations_ = inner;
   LinearSolveStats s;
   s.iterations = ks.iterations;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <kernels/MixedElasticity.hpp>
+#include <solver/Krylov.hpp>
 #include <solver/ModelBase.hpp>
 
 #include <chrono>
@@ -233,6 +234,24 @@ enum class MixedForm {
   Incremental
 };
 
+/// The iterative solve of the mixed Jacobian J = [A B; C -M] (solver: amg).
+enum class MixedNewtonSolver {
+  /// Default: flexible GMRES on J, right preconditioned by the block lower-triangular
+  /// [S~ 0; C -M~] (one BoomerAMG V-cycle on K^L; a loose block-Jacobi CG on M).
+  BlockTriangular,
+  /// Flexible GMRES on the Schur complement A + B M^-1 C, each product with a tight inner CG on M.
+  Schur
+};
+
+struct MixedNewtonSolverOptions {
+  MixedNewtonSolver method = MixedNewtonSolver::BlockTriangular;
+  /// BlockTriangular: relative tolerance of the CG on M inside the preconditioner (1e-2: 4-5
+  /// CG iterations; 1e-1 and 1e-3 measured slower, docs/performance.md).
+  double preconditionerTolerance = 1e-2;
+  /// BlockTriangular: GMRES restart (vectors of 5 unknowns per node: 2 x restart are stored).
+  int restart = 30;
+};
+
 /// The mixed model (Eq. (29)-(32) with (9), (5b)): per increment from the last converged
 /// configuration c1 with nodal Cauchy stress tau, unknowns the displacement increment u and the
 /// incremental 2nd Piola-Kirchhoff stress S (5 per node, interleaved u, v, Sxx, Syy, Sxy); at
@@ -243,11 +262,12 @@ public:
                       const std::vector<PlaneMatrix> &stiffness, double thickness);
   ~NonlinearMixedModel() override;
 
-  /// solver: direct — sparse LU of the 5-per-node Jacobian; amg — flexible GMRES on the Schur
-  /// complement A + B M^-1 C on the displacements (matrix-free through the assembled Jacobian,
-  /// inner block-Jacobi CG on the stress block M), preconditioned by one BoomerAMG V-cycle on K^L
-  /// of the current configuration.
+  /// solver: direct — sparse LU of the 5-per-node Jacobian; amg — see MixedNewtonSolver (both
+  /// use one BoomerAMG V-cycle on K^L of the current configuration and a block-Jacobi CG on the
+  /// stress block M).
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  /// Which iterative solve (solver: amg); call before the first correction.
+  void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
   /// Inner CG iterations on the stress block in the last correction (solver: amg).
   long innerIterations() const { return innerIterations_; }
   double evaluate(double lambda, bool tangent) override;
@@ -290,6 +310,12 @@ private:
   void projectStress(const Kokkos::View<double *, Memory> &load);
   void setupSchurPreconditioner();
   LinearSolveStats solveSchur();
+  LinearSolveStats solveBlockTriangular();
+  MixedNewtonSolverOptions mixedOptions_;
+  double stressRowScale_ = 1.0;              ///< s of solveBlockTriangular
+  Kokkos::View<double *, Memory> precDiag5_; ///< D_c on 5 unknowns per node
+  CsrMatrix<Memory> couplingBlock_;          ///< C = J_tau,u (solveBlockTriangular)
+  KrylovWorkspace stressWork_, outerWork_;   ///< kept between solves (solver: amg)
   /// z = M^-1 w on the stress block of the Jacobian (nodal block-Jacobi CG); returns the CG
   /// iterations.
   long solveStressBlock(const Kokkos::View<const double *, Memory> &w,

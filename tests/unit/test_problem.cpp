@@ -188,6 +188,9 @@ std::vector<BadCase> badCases() {
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
        "applies to the linear mixed model's Schur solver", 3},
+      {"mixed_newton_method_on_displacement",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, method: schur}"),
+       "applies to the geometrically nonlinear mixed model's solver: amg only", 14},
       {"stress_update_on_current_form",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, stress_update: projected"),
@@ -241,6 +244,20 @@ TEST(Problem, ParsesMixedFormulation) {
   EXPECT_EQ(p.model.mixed.preconditioner, SchurPreconditioner::Stiffness);
   EXPECT_DOUBLE_EQ(p.model.mixed.innerTolerance, 1e-9);
   EXPECT_EQ(p.solver.type, LinearSolverType::Amg);
+}
+
+TEST(Problem, ParsesNonlinearMixedSolver) {
+  std::string y = replace(kGood, "formulation: displacement",
+                          "formulation: mixed, geometric_nonlinearity: true");
+  y = replace(y, "solver: {type: direct}",
+              "solver: {type: amg, method: schur, stress_block_tolerance: 1e-3}");
+  Problem p = parseProblem(y, "mixed.yaml", "");
+  EXPECT_EQ(p.solver.type, LinearSolverType::Amg);
+  EXPECT_EQ(p.model.mixedNewton.method, MixedNewtonSolver::Schur);
+  EXPECT_DOUBLE_EQ(p.model.mixedNewton.preconditionerTolerance, 1e-3);
+  p = parseProblem(replace(y, ", method: schur, stress_block_tolerance: 1e-3", ""), "mixed.yaml",
+                   "");
+  EXPECT_EQ(p.model.mixedNewton.method, MixedNewtonSolver::BlockTriangular);
 }
 
 TEST(Problem, ParsesNonlinearSteps) {
