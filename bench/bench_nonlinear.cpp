@@ -8,6 +8,7 @@
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
+#include <support/NonlinearReference.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -16,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 
 using namespace mixcon;
 using Exec = Kokkos::DefaultExecutionSpace;
@@ -113,6 +115,71 @@ void mixedAssembly(benchmark::State &state) {
   state.counters["elem/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
                                                 benchmark::Counter::kIsIterationInvariantRate);
   state.counters["DOF"] = 5.0 * mesh.numNodes();
+}
+
+/// The residual alone (batched element kernel + atomic scatter, zeroing and norms included) of
+/// the displacement model (Almansi law) or the mixed model (current form, a = 0), in the
+/// deformed state of almansiAssembly / mixedAssembly; the tests' host reference of the same
+/// residual is residualHostReference.
+void residualOnly(benchmark::State &state) {
+  const Mesh mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  const bool mixed = state.range(2) != 0;
+  std::unique_ptr<NonlinearModel> model;
+  if (mixed)
+    model = std::make_unique<NonlinearMixedModel>(mesh, std::vector<int>(mesh.numElements(), 0),
+                                                  kMaterial, 1.0);
+  else
+    model = std::make_unique<NonlinearDisplacementModel>(
+        mesh, std::vector<int>(mesh.numElements(), 0), kMaterial, 1.0);
+  if (mixed)
+    static_cast<NonlinearMixedModel &>(*model).setStabilization(0.0);
+  model->prescribe(0, 0, 0.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model->setup(o, MPI_COMM_WORLD);
+  auto x = bentField(mesh, mixed ? 5 : 2);
+  if (mixed) {
+    for (std::size_t k = 0; k < x.size() / 5; ++k)
+      x[5 * k + 2] = 1e3; // a prestress
+    static_cast<NonlinearMixedModel &>(*model).setIncrement(x);
+  } else {
+    static_cast<NonlinearDisplacementModel &>(*model).setDisplacement(x);
+  }
+  for (auto _ : state) {
+    Timer t;
+    model->evaluate(1.0, false);
+    Exec().fence();
+    state.SetIterationTime(t.seconds());
+  }
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// The tests' host references of the same residuals (tests/support/NonlinearReference.hpp:
+/// F = dx/dX, b^-1 and explicit B matrices with Eigen dynamic matrices, one element at a time).
+void residualHostReference(benchmark::State &state) {
+  test::Fixture f;
+  f.mesh = rectangleMesh(1.0, 1.0, state.range(1), state.range(1), typeOf(state));
+  f.materials = kMaterial;
+  f.elementMaterial.assign(f.mesh.numElements(), 0);
+  f.data.thickness = 1.0;
+  const bool mixed = state.range(2) != 0;
+  auto xs = bentField(f.mesh, mixed ? 5 : 2);
+  if (mixed)
+    for (std::size_t k = 0; k < xs.size() / 5; ++k)
+      xs[5 * k + 2] = 1e3;
+  const Eigen::Map<const Eigen::VectorXd> x(xs.data(), static_cast<Eigen::Index>(xs.size()));
+  double sum = 0.0;
+  for (auto _ : state) {
+    Timer t;
+    const Eigen::VectorXd g =
+        mixed ? test::referenceMixedCurrent(f, x) : test::referenceAlmansiForce(f, x);
+    sum += g(0);
+    state.SetIterationTime(t.seconds());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(f.mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
 }
 
 /// The unit square clamped on its left edge under a follower pressure on the top.
@@ -235,6 +302,18 @@ BENCHMARK(mixedAssembly)
     ->Name("NL/mixed/residualAndJacobian")
     ->ArgsProduct({{4, 8}, {128, 512}})
     ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(residualOnly)
+    ->Name("NL/residual/threads")
+    ->ArgsProduct({{4, 8}, {64, 256}, {0, 1}})
+    ->ArgNames({"nodes", "n", "mixed"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(residualHostReference)
+    ->Name("NL/residual/host-reference")
+    ->ArgsProduct({{4, 8}, {64, 256}, {0, 1}})
+    ->ArgNames({"nodes", "n", "mixed"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(newtonIteration)

@@ -1204,14 +1204,16 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   // on K^L of the current configuration (as for the Schur complement A + B M^-1 C), M~^-1 a
   // loose block-Jacobi CG on M. With M~ = M, J P^-1 = [S S~^-1, -B M^-1; 0, I] and the
   // iterations are those of the Schur solve; a loose M~ costs a few more outer iterations but
-  // no tight inner solve per product. The stress rows are scaled by s = |diag A| / |diag M| so
-  // that the two-norm weighs both residuals alike.
+  // no tight inner solve per product. The stress rows are scaled by s = sqrt(rms diag K^L /
+  // rms diag M), which balances the two off-diagonal blocks of J P^-1 (s (I - M M~^-1) C S~^-1
+  // against B M^-1 / s): with |diag K^L| / |diag M| itself the residual of the loose M~ swamped
+  // the iteration (no convergence in 1000 iterations).
   const auto start = std::chrono::steady_clock::now();
   if (fresh_) {
     setupSchurPreconditioner();
     const LocalIndex nn = mesh_.numNodes();
     Vec da("mixcon::nonlinear::diagA", 2 * nn), dm("mixcon::nonlinear::diagM", 3 * nn);
-    fieldDiagonal(tangent_, 5, 0, 2, da, 1.0);
+    fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0); // K^L: A alone is 0 at a = 0 without stress
     fieldDiagonal(tangent_, 5, 2, 3, dm, -1.0);
     const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
     stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * std::sqrt(3.0 / 2.0)) : 1.0;

@@ -1,0 +1,91 @@
+// Plain host references of the geometrically nonlinear residuals (Eigen, one element after
+// another, written independently of the kernels): the displacement model's internal force through
+// F = dx/dX and b^-1, and the current-configuration mixed residual. Shared by the tests and the
+// benchmarks (speed-up of the batched kernels over them).
+#pragma once
+
+#include <support/KernelFixture.hpp>
+
+namespace mixcon::test {
+
+/// Almansi strain (I - b^-1) / 2 from F = dx/dX at a point with natural gradients dn, reference
+/// and current element coordinates xe0, xe.
+inline Eigen::Matrix2d referenceAlmansi(const Eigen::MatrixXd &xe0, const Eigen::MatrixXd &xe,
+                                        const Eigen::MatrixXd &dn) {
+  const Eigen::Matrix2d fgrad = (xe.transpose() * dn) * (xe0.transpose() * dn).inverse();
+  return 0.5 * (Eigen::Matrix2d::Identity() - (fgrad * fgrad.transpose()).inverse());
+}
+
+/// Host reference of the displacement model's internal force: F = dx/dX, b^-1 = (F F^T)^-1,
+/// e = (I - b^-1)/2, sigma = C e, f = t int B(x)^T sigma da over the current element.
+inline Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::VectorXd &u) {
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(2 * f.mesh.numNodes());
+  const int n = f.mesh.nodesPerElement;
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+    const Eigen::MatrixXd xe0 = elementCoordinates(f.mesh, e);
+    Eigen::MatrixXd xe = xe0;
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        xe(a, i) += u(2 * f.mesh.node(e, a) + i);
+    const Eigen::Matrix3d c = toEigen(f.materials[f.elementMaterial[e]]);
+    Eigen::VectorXd fe = Eigen::VectorXd::Zero(2 * n);
+    for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
+      Eigen::VectorXd sh;
+      Eigen::MatrixXd dn;
+      referenceShape(n, g[0], g[1], sh, dn);
+      const Eigen::Matrix2d j = xe.transpose() * dn;
+      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
+      const Eigen::Vector3d sigma =
+          c * Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1));
+      fe += referenceB(dn * j.inverse()).transpose() * sigma *
+            (g[2] * j.determinant() * f.data.thickness);
+    }
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        force(2 * f.mesh.node(e, a) + i) += fe(2 * a + i);
+  }
+  return force;
+}
+
+/// Host reference of the current-configuration mixed residual (a = 0): G_u = t int B(x)^T tau da,
+/// G_S = t int psi (e - D tau) da, e = (I - b^-1) / 2 from F = dx/dX.
+inline Eigen::VectorXd referenceMixedCurrent(const Fixture &f, const Eigen::VectorXd &x) {
+  const int n = f.mesh.nodesPerElement;
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(5 * f.mesh.numNodes());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+    const Eigen::MatrixXd xe0 = elementCoordinates(f.mesh, e);
+    Eigen::MatrixXd xe = xe0;
+    Eigen::VectorXd te(3 * n);
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = f.mesh.node(e, a);
+      xe.row(a) += x.segment<2>(5 * k).transpose();
+      te.segment<3>(3 * a) = x.segment<3>(5 * k + 2);
+    }
+    const Eigen::Matrix3d d = toEigen(f.materials[f.elementMaterial[e]]).inverse();
+    Eigen::VectorXd gu = Eigen::VectorXd::Zero(2 * n), gs = Eigen::VectorXd::Zero(3 * n);
+    for (const auto &q : referenceGauss(n == 4 ? 2 : 3)) {
+      Eigen::VectorXd sh;
+      Eigen::MatrixXd dn;
+      referenceShape(n, q[0], q[1], sh, dn);
+      const Eigen::Matrix2d j = xe.transpose() * dn;
+      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
+      Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
+      for (int a = 0; a < n; ++a)
+        for (int c = 0; c < 3; ++c)
+          psi(c, 3 * a + c) = sh(a);
+      const Eigen::Vector3d tau = psi * te;
+      const double da = q[2] * j.determinant() * f.data.thickness;
+      gu += referenceB(dn * j.inverse()).transpose() * tau * da;
+      gs += psi.transpose() *
+            (Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)) - d * tau) * da;
+    }
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = f.mesh.node(e, a);
+      g.segment<2>(5 * k) += gu.segment<2>(2 * a);
+      g.segment<3>(5 * k + 2) += gs.segment<3>(3 * a);
+    }
+  }
+  return g;
+}
+
+} // namespace mixcon::test
