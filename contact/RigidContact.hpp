@@ -122,6 +122,13 @@ public:
   double tangentForce(LocalIndex k) const { return tangentForce_[k]; }
   LocalIndex numClosed() const;
   const std::vector<RigidContactSpec> &specs() const { return specs_; }
+  /// Half-planes only (a circle's normal turns with the contact point).
+  bool linearConstraints() const override {
+    for (const auto &s : specs_)
+      if (s.obstacle.kind != ObstacleKind::HalfPlane)
+        return false;
+    return true;
+  }
   int obstacleOf(LocalIndex k) const { return obstacle_[k]; }
   double arcCoordinate(LocalIndex k) const { return arc_[k]; }
 

@@ -28,6 +28,9 @@ public:
   virtual void commit() = 0;
   virtual void rollback() = 0;
   virtual std::string signature() const = 0;
+  /// True when the linearized constraints of closed nodes are exact (flat rigid obstacles): with
+  /// a linear body, one converged linear solve then satisfies the equilibrium iterations.
+  virtual bool linearConstraints() const { return false; }
 };
 
 } // namespace mixcon

@@ -83,6 +83,9 @@ public:
   /// Nodal Cauchy stresses (3 per node) that decide stick, slip and release, or empty when the
   /// contact forces decide (displacement model).
   virtual std::vector<double> contactStressHost() const { return {}; }
+  /// True when the residual is linear in the unknowns (small displacements, dead loads): an
+  /// increment has then converged once the residual criterion holds, whatever |du|/|u|.
+  virtual bool linearResponse() const { return false; }
 
   /// One increment from the committed state straight to lambda with default NonlinearOptions.
   LinearSolveStats solve(double loadFactor) override;
@@ -196,6 +199,7 @@ public:
   /// Small-displacement kinematics (linear elasticity on the reference configuration, residual
   /// K u - f): the nonlinear machinery then serves contact on a linear body. Call before setup().
   void setSmallDisplacements(bool on) { small_ = on; }
+  bool linearResponse() const override { return small_ && follower_.edges.extent(0) == 0; }
   /// Elastic law (default Almansi; St. Venant-Kirchhoff needs the exact tangent).
   void setElasticLaw(ElasticLaw law) { law_ = law; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }

@@ -96,6 +96,29 @@ TEST(RigidContact, FrictionlessBlockTransmitsUniformCompression) {
     EXPECT_NEAR(u[2 * n], kNu / (1 - kNu) * kDelta * kW / kH, 1e-9);
 }
 
+// A linear body (small displacements) against a flat obstacle: the linearized constraints are
+// exact, so each contact iteration is one linear solve (the residual criterion alone decides);
+// with finite kinematics the equilibrium iterations go on until |du|/|u| is small as well.
+TEST(RigidContact, LinearBodyOnFlatObstacleSolvesOncePerContactIteration) {
+  Block linear = makeBlock(0.0);
+  EXPECT_TRUE(linear.model->linearResponse());
+  EXPECT_TRUE(linear.contact->linearConstraints());
+  LoadStepper stepper(*linear.model, NonlinearOptions{});
+  const IncrementOutcome o = stepper.advance(1.0);
+  ASSERT_TRUE(o.converged) << o.message;
+  // One solve before the first status update, one after each update that changed a status.
+  EXPECT_EQ(o.iterations, o.contactIterations);
+  const double expected = kE * kDelta / (kH * (1 - kNu * kNu)) * kW;
+  EXPECT_NEAR(topForce(linear), expected, 1e-8 * expected);
+
+  Block finite = makeBlock(0.0, Kinematics::FiniteDisplacement);
+  EXPECT_FALSE(finite.model->linearResponse());
+  LoadStepper fs(*finite.model, NonlinearOptions{});
+  const IncrementOutcome of = fs.advance(1.0);
+  ASSERT_TRUE(of.converged) << of.message;
+  EXPECT_GT(of.iterations, of.contactIterations);
+}
+
 TEST(RigidContact, LargeFrictionSticksTheBaseAndOpensOnUnloading) {
   Block b = makeBlock(1.0);
   LoadStepper stepper(*b.model, NonlinearOptions{});
