@@ -44,6 +44,27 @@ ElementType typeOf(const benchmark::State &state) {
   return state.range(0) == 8 ? ElementType::Quad8 : ElementType::Quad4;
 }
 
+/// Times `launch` (one batched element-matrix kernel over ne elements, fenced on `Exec`) and sets
+/// the counters: elements/s, GB/s of the element matrices written (`bytes` per element) and
+/// GFLOP/s (`flops` per element, counted from the kernel's code).
+template <class Exec, class Launch>
+void timeElementMatrices(benchmark::State &state, double ne, double bytes, double flops,
+                         Launch &&launch) {
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    launch();
+    Exec().fence();
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.counters["elem/s"] = benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["GB/s"] =
+      benchmark::Counter(ne * bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["elements"] = ne;
+  state.counters["GFLOP/s"] =
+      benchmark::Counter(ne * flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 /// Floating-point operations of one K^L element (kernels/LinearElasticity.hpp, linearStiffness),
 /// counted from the code, each multiply, add and divide one: per quadrature point the Jacobian
 /// (8n), its inverse (8), the physical gradients (6n), the weight (2), C B_b for every node (24n)
@@ -59,23 +80,10 @@ template <class Exec> void elementMatrices(benchmark::State &state) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     Kokkos::View<double ***, Memory> ke("ke", s.mesh.numElements(), nd, nd);
-    for (auto _ : state) {
-      const auto t0 = std::chrono::steady_clock::now();
-      computeLinearStiffness<Elem>(Exec(), s.data, ke);
-      Exec().fence();
-      state.SetIterationTime(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    const double ne = s.mesh.numElements();
-    state.counters["elem/s"] =
-        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
     // Output dominates the traffic: nd^2 doubles per element, written once.
-    state.counters["GB/s"] =
-        benchmark::Counter(ne * nd * nd * 8.0 / 1e9, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["elements"] = ne;
-    state.counters["GFLOP/s"] =
-        benchmark::Counter(ne * stiffnessFlops(Elem::kNumNodes, Elem::kNumQp) / 1e9,
-                           benchmark::Counter::kIsIterationInvariantRate);
+    timeElementMatrices<Exec>(state, s.mesh.numElements(), nd * nd * 8.0,
+                              stiffnessFlops(Elem::kNumNodes, Elem::kNumQp),
+                              [&] { computeLinearStiffness<Elem>(Exec(), s.data, ke); });
   });
 }
 
@@ -140,20 +148,9 @@ void mixedElementMatrices(benchmark::State &state) {
     const LocalIndex ne = s.mesh.numElements();
     Kokkos::View<double ***, Memory> k12("k12", ne, 2 * n, 3 * n), k22("k22", ne, 3 * n, 3 * n),
         k22l("k22l", ne, 3 * n, 3 * n);
-    for (auto _ : state) {
-      const auto t0 = std::chrono::steady_clock::now();
-      computeMixedElementMatrices<Elem>(Exec(), md, k12, k22, k22l);
-      Exec().fence();
-      state.SetIterationTime(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    const double bytes = 8.0 * (2 * n * 3 * n + 2 * 9 * n * n);
-    state.counters["elem/s"] =
-        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["GB/s"] =
-        benchmark::Counter(ne * bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["GFLOP/s"] = benchmark::Counter(ne * mixedFlops(n, Elem::kNumQp) / 1e9,
-                                                   benchmark::Counter::kIsIterationInvariantRate);
+    timeElementMatrices<Exec>(
+        state, ne, 8.0 * (2 * n * 3 * n + 2 * 9 * n * n), mixedFlops(n, Elem::kNumQp),
+        [&] { computeMixedElementMatrices<Elem>(Exec(), md, k12, k22, k22l); });
   });
 }
 
@@ -216,21 +213,9 @@ void geometricElementMatrices(benchmark::State &state) {
     constexpr int nd = 2 * Elem::kNumNodes;
     const LocalIndex ne = s.mesh.numElements();
     Kokkos::View<double ***, Memory> kg("kg", ne, nd, nd);
-    for (auto _ : state) {
-      const auto t0 = std::chrono::steady_clock::now();
-      computeGeometricStiffness<Elem>(Exec(), s.data, field, kg);
-      Exec().fence();
-      state.SetIterationTime(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    state.counters["elem/s"] =
-        benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["GB/s"] =
-        benchmark::Counter(ne * nd * nd * 8.0 / 1e9, benchmark::Counter::kIsIterationInvariantRate);
-    state.counters["elements"] = ne;
-    state.counters["GFLOP/s"] =
-        benchmark::Counter(ne * geometricFlops(Elem::kNumNodes, Elem::kNumQp) / 1e9,
-                           benchmark::Counter::kIsIterationInvariantRate);
+    timeElementMatrices<Exec>(state, ne, nd * nd * 8.0,
+                              geometricFlops(Elem::kNumNodes, Elem::kNumQp),
+                              [&] { computeGeometricStiffness<Elem>(Exec(), s.data, field, kg); });
   });
 }
 
