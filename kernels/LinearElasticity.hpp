@@ -88,19 +88,108 @@ linearStiffness(const ElementData<MemorySpace> &d, LocalIndex e,
           ke[2 * b + j][2 * a + i] = ke[2 * a + i][2 * b + j];
 }
 
+/// Elements per work item of the K^L kernels: a batch of consecutive elements computed in SIMD
+/// lanes on CPUs (every scalar of linearStiffness becomes an array over the lanes, and the lane
+/// loops are the innermost, unit-stride ones the compiler vectorizes); one element per thread
+/// on GPUs. 4 lanes measured 1.2-1.6x over 1 (2 threads, SSE2 code, bench_linear_stiffness);
+/// 2 and 8 were slower than 4.
+template <class ExecSpace>
+constexpr int kStiffnessLanes =
+    Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? 4 : 1;
+
+/// K^L of the W elements first, first + 1, ... (clamped to last: a short final batch repeats its
+/// last element), lane l of ke[i][j][l]. The same arithmetic as linearStiffness, lane by lane.
+template <class Elem, int W, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+linearStiffnessLanes(const ElementData<MemorySpace> &d, LocalIndex first, LocalIndex last,
+                     double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes][W]) {
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][2][W], c[3][3][W];
+  for (int l = 0; l < W; ++l) {
+    const LocalIndex e = first + l < last ? first + l : last;
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = d.mesh.connectivity(e, a);
+      xe[a][0][l] = d.mesh.coordinates(k, 0);
+      xe[a][1][l] = d.mesh.coordinates(k, 1);
+    }
+    const PlaneMatrix m = d.stiffness(d.material(e));
+    for (int r = 0; r < 3; ++r)
+      for (int s = 0; s < 3; ++s)
+        c[r][s][l] = m.m[r][s];
+  }
+  for (int i = 0; i < 2 * n; ++i)
+    for (int j = 0; j < 2 * n; ++j)
+      for (int l = 0; l < W; ++l)
+        ke[i][j][l] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, sh[n], dn[n][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, sh, dn); // shared by the lanes
+    double g[n][2][W], f[W];
+    double j00[W] = {}, j01[W] = {}, j10[W] = {}, j11[W] = {};
+    for (int a = 0; a < n; ++a)
+      for (int l = 0; l < W; ++l) {
+        j00[l] += xe[a][0][l] * dn[a][0];
+        j01[l] += xe[a][0][l] * dn[a][1];
+        j10[l] += xe[a][1][l] * dn[a][0];
+        j11[l] += xe[a][1][l] * dn[a][1];
+      }
+    double i00[W], i01[W], i10[W], i11[W];
+    for (int l = 0; l < W; ++l) {
+      const double det = j00[l] * j11[l] - j01[l] * j10[l];
+      const double inv = 1.0 / det;
+      i00[l] = j11[l] * inv;
+      i01[l] = -j01[l] * inv;
+      i10[l] = -j10[l] * inv;
+      i11[l] = j00[l] * inv;
+      f[l] = d.thickness * w * det;
+    }
+    for (int a = 0; a < n; ++a)
+      for (int l = 0; l < W; ++l) {
+        g[a][0][l] = dn[a][0] * i00[l] + dn[a][1] * i10[l];
+        g[a][1][l] = dn[a][0] * i01[l] + dn[a][1] * i11[l];
+      }
+    for (int b = 0; b < n; ++b) {
+      double cb[3][2][W];
+      for (int r = 0; r < 3; ++r)
+        for (int l = 0; l < W; ++l) {
+          cb[r][0][l] = (c[r][0][l] * g[b][0][l] + c[r][2][l] * g[b][1][l]) * f[l];
+          cb[r][1][l] = (c[r][1][l] * g[b][1][l] + c[r][2][l] * g[b][0][l]) * f[l];
+        }
+      for (int a = 0; a <= b; ++a)
+        for (int l = 0; l < W; ++l) {
+          ke[2 * a][2 * b][l] += g[a][0][l] * cb[0][0][l] + g[a][1][l] * cb[2][0][l];
+          ke[2 * a][2 * b + 1][l] += g[a][0][l] * cb[0][1][l] + g[a][1][l] * cb[2][1][l];
+          ke[2 * a + 1][2 * b][l] += g[a][1][l] * cb[1][0][l] + g[a][0][l] * cb[2][0][l];
+          ke[2 * a + 1][2 * b + 1][l] += g[a][1][l] * cb[1][1][l] + g[a][0][l] * cb[2][1][l];
+        }
+    }
+  }
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < b; ++a)
+      for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+          for (int l = 0; l < W; ++l)
+            ke[2 * b + j][2 * a + i][l] = ke[2 * a + i][2 * b + j][l];
+}
+
 /// Element stiffness matrices of all elements into ke(e, i, j) (extent E x 2n x 2n).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
 void computeLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                             const Kokkos::View<double ***, P...> &ke) {
   constexpr int nd = 2 * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(d.material.extent(0));
   Kokkos::parallel_for(
-      "mixcon::kernels::linearStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        double k[nd][nd];
-        linearStiffness<Elem>(d, e, k);
-        for (int i = 0; i < nd; ++i)
-          for (int j = 0; j < nd; ++j)
-            ke(e, i, j) = k[i][j];
+      "mixcon::kernels::linearStiffness", Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W),
+      KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double k[nd][nd][W];
+        linearStiffnessLanes<Elem, W>(d, first, ne - 1, k);
+        for (int l = 0; l < W && first + l < ne; ++l)
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              ke(first + l, i, j) = k[i][j][l];
       });
 }
 
@@ -131,16 +220,21 @@ template <class Elem, class ExecSpace, class MemorySpace, class Map>
 void assembleLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                              const Map &map, const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
   constexpr int nd = 2 * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(d.material.extent(0));
   Kokkos::parallel_for(
       "mixcon::kernels::assembleLinearStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        double k[nd][nd];
-        linearStiffness<Elem>(d, e, k);
-        if (scale != 1.0)
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double kw[nd][nd][W];
+        linearStiffnessLanes<Elem, W>(d, first, ne - 1, kw);
+        for (int l = 0; l < W && first + l < ne; ++l) {
+          double k[nd][nd];
           for (int i = 0; i < nd; ++i)
             for (int j = 0; j < nd; ++j)
-              k[i][j] *= scale;
-        scatterElementMatrix<Elem>(a, map, d.mesh, e, k);
+              k[i][j] = scale * kw[i][j][l];
+          scatterElementMatrix<Elem>(a, map, d.mesh, first + l, k);
+        }
       });
 }
 
