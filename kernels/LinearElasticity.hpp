@@ -48,46 +48,6 @@ KOKKOS_INLINE_FUNCTION void strainFromGradients(const double (&dndx)[Elem::kNumN
 
 } // namespace detail
 
-/// Element linear stiffness K^L of element e (Eq. (25)), dofs ordered (u_1, v_1, u_2, v_2, ...).
-template <class Elem, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void
-linearStiffness(const ElementData<MemorySpace> &d, LocalIndex e,
-                double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2];
-  detail::gatherCoordinates<Elem>(d.mesh, e, xe);
-  const PlaneMatrix c = d.stiffness(d.material(e));
-  for (int i = 0; i < 2 * n; ++i)
-    for (int j = 0; j < 2 * n; ++j)
-      ke[i][j] = 0.0;
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2], g[n][2];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn);
-    const double f = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
-    for (int b = 0; b < n; ++b) {
-      // C B_b (3 x 2): B_b = [g_x 0; 0 g_y; g_y g_x]
-      double cb[3][2];
-      for (int r = 0; r < 3; ++r) {
-        cb[r][0] = (c.m[r][0] * g[b][0] + c.m[r][2] * g[b][1]) * f;
-        cb[r][1] = (c.m[r][1] * g[b][1] + c.m[r][2] * g[b][0]) * f;
-      }
-      for (int a = 0; a <= b; ++a) {
-        ke[2 * a][2 * b] += g[a][0] * cb[0][0] + g[a][1] * cb[2][0];
-        ke[2 * a][2 * b + 1] += g[a][0] * cb[0][1] + g[a][1] * cb[2][1];
-        ke[2 * a + 1][2 * b] += g[a][1] * cb[1][0] + g[a][0] * cb[2][0];
-        ke[2 * a + 1][2 * b + 1] += g[a][1] * cb[1][1] + g[a][0] * cb[2][1];
-      }
-    }
-  }
-  // Mirror the upper node blocks (C is symmetric, so K^L is).
-  for (int b = 0; b < n; ++b)
-    for (int a = 0; a < b; ++a)
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j)
-          ke[2 * b + j][2 * a + i] = ke[2 * a + i][2 * b + j];
-}
-
 /// Elements per work item of the K^L kernels: a batch of consecutive elements computed in SIMD
 /// lanes on CPUs (every scalar of linearStiffness becomes an array over the lanes, and the lane
 /// loops are the innermost, unit-stride ones the compiler vectorizes); one element per thread
@@ -97,8 +57,10 @@ template <class ExecSpace>
 constexpr int kStiffnessLanes =
     Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? 4 : 1;
 
-/// K^L of the W elements first, first + 1, ... (clamped to last: a short final batch repeats its
-/// last element), lane l of ke[i][j][l]. The same arithmetic as linearStiffness, lane by lane.
+/// K^L (Eq. (25)) of the W elements first, first + 1, ... (clamped to last: a short final batch
+/// repeats its last element) into lane l of ke[i][j][l], dofs ordered (u_1, v_1, u_2, ...). Per
+/// quadrature point: the gradients, C B_b for every node, the 2 x 2 blocks B_a^T (C B_b) for
+/// a <= b; the lower blocks mirrored at the end (C is symmetric).
 template <class Elem, int W, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
 linearStiffnessLanes(const ElementData<MemorySpace> &d, LocalIndex first, LocalIndex last,
@@ -171,6 +133,20 @@ linearStiffnessLanes(const ElementData<MemorySpace> &d, LocalIndex first, LocalI
         for (int j = 0; j < 2; ++j)
           for (int l = 0; l < W; ++l)
             ke[2 * b + j][2 * a + i][l] = ke[2 * a + i][2 * b + j][l];
+}
+
+/// Element linear stiffness K^L of element e (Eq. (25)), dofs ordered (u_1, v_1, u_2, v_2, ...):
+/// one lane of linearStiffnessLanes (one arithmetic for both).
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+linearStiffness(const ElementData<MemorySpace> &d, LocalIndex e,
+                double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
+  constexpr int nd = 2 * Elem::kNumNodes;
+  double k[nd][nd][1];
+  linearStiffnessLanes<Elem, 1>(d, e, e, k);
+  for (int i = 0; i < nd; ++i)
+    for (int j = 0; j < nd; ++j)
+      ke[i][j] = k[i][j][0];
 }
 
 /// Element stiffness matrices of all elements into ke(e, i, j) (extent E x 2n x 2n).
