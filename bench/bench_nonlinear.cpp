@@ -82,8 +82,8 @@ void linearBaseline(benchmark::State &state) {
 void setAssemblyTraffic(benchmark::State &state, const Mesh &mesh, int d) {
   const double n = mesh.nodesPerElement;
   const double nnz = static_cast<double>(buildNodeGraph(mesh).columns.size()) * d * d;
-  const double bytes = nnz * 8.0 + mesh.numElements() * ((d * n) * (d * n) * 16.0 +
-                                                         d * n * 16.0 + n * n * 4.0);
+  const double bytes =
+      nnz * 8.0 + mesh.numElements() * ((d * n) * (d * n) * 16.0 + d * n * 16.0 + n * n * 4.0);
   state.counters["GB/s"] =
       benchmark::Counter(bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
 }

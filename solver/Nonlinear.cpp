@@ -37,6 +37,12 @@ double seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// The row (or entry) of the i-th unknown of one field of an interleaved vector or matrix: the
+/// `width` unknowns from `offset` of every `stride`.
+KOKKOS_INLINE_FUNCTION LocalIndex fieldRow(int stride, int offset, int width, LocalIndex i) {
+  return stride * (i / width) + offset + i % width;
+}
+
 /// Two-norm of the first `width` of every `stride` entries of v, restricted to entries whose
 /// flag is `flagged` (flags: nullptr-like empty view means all).
 double strideNorm(const ConstVec &v, int stride, int first, int width,
@@ -76,9 +82,7 @@ void gather(const ConstVec &src, int stride, int offset, int width, const Vec &d
             double scale = 1.0) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::gather", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        dst(i) = scale * src(stride * (i / width) + offset + i % width);
-      });
+      KOKKOS_LAMBDA(LocalIndex i) { dst(i) = scale * src(fieldRow(stride, offset, width, i)); });
 }
 
 /// dst(stride k + offset + c) = src(width k + c); other entries of dst set to zero when
@@ -90,7 +94,7 @@ void scatter(const Kokkos::View<const T *, Memory> &src, int stride, int offset,
     Kokkos::deep_copy(dst, T(0));
   Kokkos::parallel_for(
       "mixcon::nonlinear::scatter", Kokkos::RangePolicy<Exec>(0, src.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { dst(stride * (i / width) + offset + i % width) = src(i); });
+      KOKKOS_LAMBDA(LocalIndex i) { dst(fieldRow(stride, offset, width, i)) = src(i); });
 }
 
 /// dst(i) = sign a(r, r), r = stride (i / width) + offset + i % width: diagonal entries of the
@@ -103,7 +107,7 @@ void fieldDiagonal(const CsrMatrix<Memory> &a, int stride, int offset, int width
   Kokkos::parallel_for(
       "mixcon::nonlinear::fieldDiagonal", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex r = stride * (i / width) + offset + i % width;
+        const LocalIndex r = fieldRow(stride, offset, width, i);
         for (Offset k = ro(r); k < ro(r + 1); ++k)
           if (co(k) == r)
             dst(i) = sign * va(k);
@@ -144,7 +148,7 @@ void multiplyFieldRows(const CsrMatrix<Memory> &a, int stride, int offset, int w
   Kokkos::parallel_for(
       "mixcon::nonlinear::multiplyFieldRows", Kokkos::RangePolicy<Exec>(0, y.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex r = stride * (i / width) + offset + i % width;
+        const LocalIndex r = fieldRow(stride, offset, width, i);
         double s = 0.0;
         for (Offset k = ro(r); k < ro(r + 1); ++k)
           s += va(k) * x(co(k));

@@ -16,6 +16,23 @@ inline Eigen::Matrix2d referenceAlmansi(const Eigen::MatrixXd &xe0, const Eigen:
   return 0.5 * (Eigen::Matrix2d::Identity() - (fgrad * fgrad.transpose()).inverse());
 }
 
+/// Calls f(sh, bx, strain, da) at every Gauss point of an element with reference and current
+/// coordinates xe0, xe (n x 2): shape functions sh, the 3 x 2n [B] of the current configuration,
+/// the engineering Almansi strain (e_xx, e_yy, 2 e_xy) and the current area weight w det J t.
+template <class F>
+void forEachAlmansiPoint(const Eigen::MatrixXd &xe0, const Eigen::MatrixXd &xe, double t, F &&f) {
+  const int n = static_cast<int>(xe.rows());
+  for (const auto &q : referenceGauss(n == 4 ? 2 : 3)) {
+    Eigen::VectorXd sh;
+    Eigen::MatrixXd dn;
+    referenceShape(n, q[0], q[1], sh, dn);
+    const Eigen::Matrix2d j = xe.transpose() * dn;
+    const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
+    f(sh, referenceB(dn * j.inverse()),
+      Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)), q[2] * j.determinant() * t);
+  }
+}
+
 /// Host reference of the displacement model's internal force: F = dx/dX, b^-1 = (F F^T)^-1,
 /// e = (I - b^-1)/2, sigma = C e, f = t int B(x)^T sigma da over the current element.
 inline Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::VectorXd &u) {
@@ -25,24 +42,15 @@ inline Eigen::VectorXd referenceAlmansiForce(const Fixture &f, const Eigen::Vect
     const Eigen::MatrixXd xe0 = elementCoordinates(f.mesh, e);
     Eigen::MatrixXd xe = xe0;
     for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        xe(a, i) += u(2 * f.mesh.node(e, a) + i);
+      xe.row(a) += u.segment<2>(2 * f.mesh.node(e, a)).transpose();
     const Eigen::Matrix3d c = toEigen(f.materials[f.elementMaterial[e]]);
     Eigen::VectorXd fe = Eigen::VectorXd::Zero(2 * n);
-    for (const auto &g : referenceGauss(n == 4 ? 2 : 3)) {
-      Eigen::VectorXd sh;
-      Eigen::MatrixXd dn;
-      referenceShape(n, g[0], g[1], sh, dn);
-      const Eigen::Matrix2d j = xe.transpose() * dn;
-      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
-      const Eigen::Vector3d sigma =
-          c * Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1));
-      fe += referenceB(dn * j.inverse()).transpose() * sigma *
-            (g[2] * j.determinant() * f.data.thickness);
-    }
+    forEachAlmansiPoint(xe0, xe, f.data.thickness,
+                        [&](const Eigen::VectorXd &, const Eigen::MatrixXd &b,
+                            const Eigen::Vector3d &strain,
+                            double da) { fe += b.transpose() * (c * strain) * da; });
     for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        force(2 * f.mesh.node(e, a) + i) += fe(2 * a + i);
+      force.segment<2>(2 * f.mesh.node(e, a)) += fe.segment<2>(2 * a);
   }
   return force;
 }
@@ -63,22 +71,17 @@ inline Eigen::VectorXd referenceMixedCurrent(const Fixture &f, const Eigen::Vect
     }
     const Eigen::Matrix3d d = toEigen(f.materials[f.elementMaterial[e]]).inverse();
     Eigen::VectorXd gu = Eigen::VectorXd::Zero(2 * n), gs = Eigen::VectorXd::Zero(3 * n);
-    for (const auto &q : referenceGauss(n == 4 ? 2 : 3)) {
-      Eigen::VectorXd sh;
-      Eigen::MatrixXd dn;
-      referenceShape(n, q[0], q[1], sh, dn);
-      const Eigen::Matrix2d j = xe.transpose() * dn;
-      const Eigen::Matrix2d strain = referenceAlmansi(xe0, xe, dn);
-      Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
-      for (int a = 0; a < n; ++a)
-        for (int c = 0; c < 3; ++c)
-          psi(c, 3 * a + c) = sh(a);
-      const Eigen::Vector3d tau = psi * te;
-      const double da = q[2] * j.determinant() * f.data.thickness;
-      gu += referenceB(dn * j.inverse()).transpose() * tau * da;
-      gs += psi.transpose() *
-            (Eigen::Vector3d(strain(0, 0), strain(1, 1), 2 * strain(0, 1)) - d * tau) * da;
-    }
+    forEachAlmansiPoint(xe0, xe, f.data.thickness,
+                        [&](const Eigen::VectorXd &sh, const Eigen::MatrixXd &b,
+                            const Eigen::Vector3d &strain, double da) {
+                          Eigen::MatrixXd psi = Eigen::MatrixXd::Zero(3, 3 * n);
+                          for (int a = 0; a < n; ++a)
+                            for (int c = 0; c < 3; ++c)
+                              psi(c, 3 * a + c) = sh(a);
+                          const Eigen::Vector3d tau = psi * te;
+                          gu += b.transpose() * tau * da;
+                          gs += psi.transpose() * (strain - d * tau) * da;
+                        });
     for (int a = 0; a < n; ++a) {
       const LocalIndex k = f.mesh.node(e, a);
       g.segment<2>(5 * k) += gu.segment<2>(2 * a);
