@@ -33,20 +33,15 @@ DeviceVector KrylovWorkspace::get(std::size_t i, std::size_t n) {
 
 namespace {
 
-/// Hands out work vectors in order, from a workspace when there is one. Every vector is fully
-/// written (by the operator, preconditioner or a copy) before it is read, so none is zero-filled.
+/// Hands out the workspace's vectors in order. Every vector is fully written (by the operator,
+/// preconditioner or a copy) before it is read, so none is zero-filled.
 class Vectors {
 public:
-  Vectors(KrylovWorkspace *w, std::size_t n) : workspace_(w), n_(n) {}
-  DeviceVector next() {
-    if (workspace_)
-      return workspace_->get(count_++, n_);
-    return DeviceVector(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::krylov::work"),
-                        n_);
-  }
+  Vectors(KrylovWorkspace &w, std::size_t n) : workspace_(w), n_(n) {}
+  DeviceVector next() { return workspace_.get(count_++, n_); }
 
 private:
-  KrylovWorkspace *workspace_;
+  KrylovWorkspace &workspace_;
   std::size_t n_;
   std::size_t count_ = 0;
 };
@@ -174,9 +169,11 @@ KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const 
     s.converged = true;
     return s;
   }
+  KrylovWorkspace local; // this solve's own vectors when the caller keeps none
+  const Vectors work(workspace ? *workspace : local, b.extent(0));
   if (options.method == KrylovMethod::Cg)
-    return flexibleCg(options, a, p, b, bnorm, x, Vectors(workspace, b.extent(0)));
-  return flexibleGmres(options, a, p, b, bnorm, x, Vectors(workspace, b.extent(0)));
+    return flexibleCg(options, a, p, b, bnorm, x, work);
+  return flexibleGmres(options, a, p, b, bnorm, x, work);
 }
 
 } // namespace mixcon

@@ -41,7 +41,6 @@ class KrylovWorkspace {
 public:
   /// The i-th work vector, of length n (reallocated when n changes).
   DeviceVector get(std::size_t i, std::size_t n);
-  void clear() { vectors_.clear(); }
 
 private:
   std::vector<DeviceVector> vectors_;

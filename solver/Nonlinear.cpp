@@ -1213,22 +1213,22 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   // against B M^-1 / s): with |diag K^L| / |diag M| itself the residual of the loose M~ swamped
   // the iteration (no convergence in 1000 iterations).
   const auto start = std::chrono::steady_clock::now();
+  const LocalIndex nn = mesh_.numNodes();
   if (fresh_) {
     setupSchurPreconditioner();
-    const LocalIndex nn = mesh_.numNodes();
     Vec da("mixcon::nonlinear::diagA", 2 * nn), dm("mixcon::nonlinear::diagM", 3 * nn);
     fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0); // K^L: A alone is 0 at a = 0 without stress
     fieldDiagonal(tangent_, 5, 2, 3, dm, -1.0);
     const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
     stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * std::sqrt(3.0 / 2.0)) : 1.0;
-    precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", 5 * nn);
-    scatter<double>(ConstVec(precDiag_), 5, 0, 2, precDiag5_, true);
     // C = J_tau,u on its own (6/25 of J's entries; the tau rows of J hold 15/25).
-    if (couplingBlock_.numRows == 0)
+    if (couplingBlock_.numRows == 0) {
       couplingBlock_ = expandGraph<Memory>(graph_, 3, 2);
+      precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", 5 * nn);
+    }
+    scatter<double>(ConstVec(precDiag_), 5, 0, 2, precDiag5_, true);
     extractFieldBlock(tangent_, 5, 2, 3, 0, 2, couplingBlock_, 1.0);
   }
-  const LocalIndex nn = mesh_.numNodes();
   const double scale = stressRowScale_;
   const auto work = [](const char *label, std::size_t n) {
     return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
