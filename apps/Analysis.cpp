@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -110,10 +111,12 @@ std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   return s.str();
 }
 
-/// Writes a step, keeps its fields in the result and prints its progress line (with ETA).
+/// Writes a step (with the state a restart needs, if given), keeps its fields in the result and
+/// prints its progress line (with ETA from the steps this process ran after `firstStep`).
 void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, StepFields &f,
-                std::ostream *log, int nsteps, std::chrono::steady_clock::time_point start) {
-  writer.writeStep(r, f);
+                std::ostream *log, int nsteps, std::chrono::steady_clock::time_point start,
+                const Checkpoint *state = nullptr, int firstStep = 0) {
+  writer.writeStep(r, f, state);
   result.steps.push_back(r);
   result.displacement = std::move(f.displacement);
   result.stress = std::move(f.stress);
@@ -121,7 +124,7 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
     return;
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double eta = elapsed / r.step * (nsteps - r.step);
+  const double eta = elapsed / (r.step - firstStep) * (nsteps - r.step);
   char line[256];
   std::snprintf(line, sizeof line,
                 "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  residual "
@@ -254,6 +257,41 @@ void contactFields(const Contact &contact, const Problem &p, const std::vector<d
   }
 }
 
+/// The restart point in `directory`, checked against the problem: the same mesh and the same
+/// load factors up to the restart step (later steps may differ, e.g. smaller increments).
+RestartPoint restartPoint(const Problem &p, const std::string &directory) {
+  RestartPoint point = readRestart(directory);
+  const std::string from = directory + "/results.h5";
+  const Mesh &mesh = p.mesh;
+  bool same = point.numNodes == mesh.numNodes() && point.numElements == mesh.numElements() &&
+              point.nodes.size() == mesh.coordinates.size();
+  double scale = 1.0;
+  for (double x : mesh.coordinates)
+    scale = std::max(scale, std::abs(x));
+  for (std::size_t i = 0; same && i < point.nodes.size(); ++i)
+    same = std::abs(point.nodes[i] - mesh.coordinates[i]) <= 1e-12 * scale;
+  if (!same)
+    throw InputError(from + ": its mesh (" + std::to_string(point.numNodes) + " nodes, " +
+                     std::to_string(point.numElements) + " elements) is not the mesh of " + p.file +
+                     " (" + std::to_string(mesh.numNodes()) + " nodes, " +
+                     std::to_string(mesh.numElements()) + " elements)");
+  const int last = point.lastStep();
+  if (last >= static_cast<int>(p.loadFactors.size()))
+    throw InputError(from + ": the run already ended at step " + std::to_string(last) + " of " +
+                     std::to_string(p.loadFactors.size()) + "; nothing to restart");
+  for (int i = 0; i < last; ++i) {
+    const double saved = point.steps[i].loadFactor, now = p.loadFactors[i];
+    if (std::abs(saved - now) > 1e-12 * std::max(1.0, std::abs(now))) {
+      std::ostringstream m;
+      m << from << ": step " << i + 1 << " ran at load factor " << saved << ", but " << p.file
+        << " gives " << now << " for it; the steps up to the restart point (" << last
+        << ") must be the same";
+      throw InputError(m.str());
+    }
+  }
+  return point;
+}
+
 RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm comm,
                        const std::vector<int> &elementMaterial,
                        const std::vector<PlaneMatrix> &stiffness, RunResult result) {
@@ -351,7 +389,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         }
     }
   }
-  ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
+  std::optional<RestartPoint> restart;
+  if (!options.restartDirectory.empty())
+    restart = restartPoint(p, options.restartDirectory);
+  ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file,
+                       restart ? &*restart : nullptr);
   if (log)
     *log << modelLine(p, model, mixed);
   model.setup(p.solver, comm);
@@ -361,8 +403,24 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
          << ", linear solver " << model.solverName() << "\n";
   LoadStepper stepper(model, p.nonlinear, log);
   const int nsteps = static_cast<int>(p.loadFactors.size());
+  const int firstStep = restart ? restart->lastStep() : 0;
+  if (restart) {
+    const std::string from = restart->directory + "/results.h5";
+    try {
+      model.restoreCommitted(restart->state);
+      if (model.contactIterations())
+        model.contactIterations()->restoreCommitted(restart->state);
+      stepper.resume(restart->state.getScalar("stepper/load_factor"));
+    } catch (const std::runtime_error &e) {
+      throw InputError(from + ": " + e.what() + " (restart with the problem file of that run)");
+    }
+    result.steps = restart->steps;
+    if (log)
+      *log << "mixcon: restarting from step " << firstStep << " of " << from << " (load factor "
+           << stepper.loadFactor() << ")\n";
+  }
   result.converged = true;
-  for (int k = 0; k < nsteps; ++k) {
+  for (int k = firstStep; k < nsteps; ++k) {
     const auto stepStart = clock::now();
     const double lambda = p.loadFactors[k];
     const double setupBefore = model.solverSetupSeconds();
@@ -429,7 +487,14 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     if (p.hybrid)
       hybridFields(p, measured[k], model.displacementHost(), f, r);
     r.totalSeconds = std::chrono::duration<double>(clock::now() - stepStart).count();
-    recordStep(writer, result, r, f, log, nsteps, start);
+    Checkpoint state; // what a restart from this step needs
+    if (o.converged) {
+      model.saveCommitted(state);
+      if (model.contactIterations())
+        model.contactIterations()->saveCommitted(state);
+      state.putScalar("stepper/load_factor", stepper.loadFactor());
+    }
+    recordStep(writer, result, r, f, log, nsteps, start, o.converged ? &state : nullptr, firstStep);
     if (!o.converged) {
       result.converged = false;
       writer.finish(false, "step " + std::to_string(k + 1) + ": " + o.message +
@@ -471,6 +536,9 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
 
   if (p.model.geometricNonlinearity || !p.contact.empty() || p.hybrid)
     return runNonlinear(p, options, comm, elementMaterial, stiffness, std::move(result));
+  if (!options.restartDirectory.empty())
+    throw InputError(p.file + ": --restart continues a nonlinear or contact analysis; this one is "
+                              "linear without contact (its steps are independent: run it again)");
 
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<ModelBase> owner;

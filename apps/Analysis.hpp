@@ -15,6 +15,9 @@ namespace mixcon {
 struct RunOptions {
   std::string outputDirectory; ///< overrides the problem's output.directory when not empty
   std::ostream *log = nullptr; ///< progress lines; nullptr: silent
+  /// Continue the run whose output folder this is from its last converged step (nonlinear or
+  /// contact analyses; the results go on in outputDirectory, by default this folder).
+  std::string restartDirectory;
 };
 
 struct RunResult {

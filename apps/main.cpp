@@ -1,4 +1,4 @@
-// The `mixcon` command-line program: `mixcon run problem.yaml [--output DIR]`.
+// The `mixcon` command-line program: `mixcon run problem.yaml [--output DIR] [--restart DIR]`.
 // Exit codes: 0 success, 1 runtime failure or failed verification, 2 invalid input,
 // 3 non-convergence.
 #include <apps/Analysis.hpp>
@@ -21,6 +21,10 @@ int main(int argc, char **argv) {
   run->add_option("problem", problemFile, "Problem file (YAML), see docs/problem-format.md")
       ->required();
   run->add_option("-o,--output", output, "Output directory (overrides output.directory)");
+  std::string restart;
+  run->add_option("--restart", restart,
+                  "Continue the nonlinear or contact run whose output folder this is from its last "
+                  "converged step (the results go on there unless --output names another folder)");
   bool quiet = false;
   run->add_flag("-q,--quiet", quiet, "No progress lines");
   try {
@@ -34,7 +38,8 @@ int main(int argc, char **argv) {
   try {
     const mixcon::Problem problem = mixcon::readProblem(problemFile);
     mixcon::RunOptions options;
-    options.outputDirectory = output;
+    options.outputDirectory = output.empty() ? restart : output;
+    options.restartDirectory = restart;
     options.log = quiet ? nullptr : &std::cout;
     const auto result = mixcon::runAnalysis(problem, options, MPI_COMM_WORLD);
     if (!result.converged) {

@@ -301,6 +301,33 @@ void RigidContact::rollback() {
 
 std::string RigidContact::signature() const { return statusSignature(status_); }
 
+void RigidContact::saveCommitted(Checkpoint &state) const {
+  const std::size_t m = node_.size();
+  const bool none = saved_.status.empty(); // nothing committed yet: the initial state
+  const std::vector<double> zero(m, 0.0);
+  state.putIntegers("contact/status",
+                    none ? std::vector<ContactStatus>(m, ContactStatus::Open) : saved_.status);
+  state.put("contact/anchor_arc", none ? zero : saved_.anchorArc);
+  state.put("contact/committed_arc", none ? zero : saved_.committedArc);
+  state.put("contact/normal_force", none ? zero : saved_.normalForce);
+  state.put("contact/tangential_force", none ? zero : saved_.tangentForce);
+  state.put("contact/obstacle_motion",
+            none ? std::vector<double>(motion_.size(), 0.0) : saved_.motion);
+}
+
+void RigidContact::restoreCommitted(const Checkpoint &state) {
+  const std::size_t m = node_.size();
+  Saved s;
+  s.status = state.getIntegers<ContactStatus>("contact/status", m);
+  s.anchorArc = state.get("contact/anchor_arc", m);
+  s.committedArc = state.get("contact/committed_arc", m);
+  s.normalForce = state.get("contact/normal_force", m);
+  s.tangentForce = state.get("contact/tangential_force", m);
+  s.motion = state.get("contact/obstacle_motion", motion_.size());
+  saved_ = std::move(s);
+  rollback();
+}
+
 LocalIndex RigidContact::numClosed() const { return countClosed(status_); }
 
 } // namespace mixcon

@@ -108,6 +108,8 @@ public:
   /// Accept the current state as converged; rollback() returns to the last commit.
   void commit() override;
   void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
   /// A string of the statuses (cycle detection).
   std::string signature() const override;
 

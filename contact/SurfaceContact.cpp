@@ -419,6 +419,35 @@ void SurfaceContact::rollback() {
 
 std::string SurfaceContact::signature() const { return statusSignature(status_); }
 
+void SurfaceContact::saveCommitted(Checkpoint &state) const {
+  const std::size_t m = node_.size();
+  const bool none = saved_.status.empty(); // nothing committed yet: the initial state
+  const std::vector<double> zero(m, 0.0);
+  const std::vector<int> noSegment(m, -1);
+  state.putIntegers("contact/status",
+                    none ? std::vector<ContactStatus>(m, ContactStatus::Open) : saved_.status);
+  state.putIntegers("contact/anchor_segment", none ? noSegment : saved_.anchorSegment);
+  state.putIntegers("contact/committed_segment", none ? noSegment : saved_.committedSegment);
+  state.put("contact/anchor_xi", none ? zero : saved_.anchorXi);
+  state.put("contact/committed_xi", none ? zero : saved_.committedXi);
+  state.put("contact/normal_force", none ? zero : saved_.normalForce);
+  state.put("contact/tangential_force", none ? zero : saved_.tangentForce);
+}
+
+void SurfaceContact::restoreCommitted(const Checkpoint &state) {
+  const std::size_t m = node_.size();
+  Saved s;
+  s.status = state.getIntegers<ContactStatus>("contact/status", m);
+  s.anchorSegment = state.getIntegers<int>("contact/anchor_segment", m);
+  s.committedSegment = state.getIntegers<int>("contact/committed_segment", m);
+  s.anchorXi = state.get("contact/anchor_xi", m);
+  s.committedXi = state.get("contact/committed_xi", m);
+  s.normalForce = state.get("contact/normal_force", m);
+  s.tangentForce = state.get("contact/tangential_force", m);
+  saved_ = std::move(s);
+  rollback();
+}
+
 LocalIndex SurfaceContact::numClosed() const { return countClosed(status_); }
 
 double SurfaceContact::angle(LocalIndex k) const {

@@ -82,6 +82,8 @@ public:
   bool penetrationWithin(double relative, std::string &where) const override;
   void commit() override;
   void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
   std::string signature() const override;
 
   LocalIndex numCandidates() const { return static_cast<LocalIndex>(node_.size()); }

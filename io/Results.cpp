@@ -6,7 +6,14 @@
 
 #include <hdf5.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -17,21 +24,103 @@ namespace mixcon {
 
 namespace {
 
+namespace fs = std::filesystem;
+
+/// The system's reason for the last failed call ("No space left on device", ...).
+std::string systemReason() { return errno != 0 ? std::strerror(errno) : "unknown reason"; }
+
 void writeDataset(hid_t loc, const std::string &name, const void *data, hid_t type, hsize_t rows,
                   hsize_t cols) {
   const hsize_t dims[2] = {rows, cols};
   const hid_t space = H5Screate_simple(cols > 0 ? 2 : 1, dims, nullptr);
+  errno = 0;
   const hid_t set =
       H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) {
     H5Sclose(space);
-    throw std::runtime_error("HDF5: cannot create dataset " + name);
+    throw std::runtime_error("HDF5: cannot create dataset " + name + ": " + systemReason());
   }
-  if (rows > 0)
-    H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-  H5Dclose(set);
+  const herr_t written = rows > 0 ? H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+  const herr_t closed = H5Dclose(set);
   H5Sclose(space);
+  if (written < 0 || closed < 0)
+    throw std::runtime_error("HDF5: cannot write dataset " + name + ": " + systemReason());
 }
+
+/// An HDF5 file created at `path` (truncated); close() reports a failed flush, the destructor
+/// closes silently (after an error, with every object still open in it).
+class NewH5File {
+public:
+  explicit NewH5File(const std::string &path) : path_(path) {
+    const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG);
+    errno = 0;
+    id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    H5Pclose(fapl);
+    if (id_ < 0)
+      throw std::runtime_error("cannot create " + path + ": " + systemReason());
+  }
+  ~NewH5File() {
+    if (id_ >= 0)
+      H5Fclose(id_);
+  }
+  NewH5File(const NewH5File &) = delete;
+  NewH5File &operator=(const NewH5File &) = delete;
+  hid_t id() const { return id_; }
+  void close() {
+    errno = 0;
+    const herr_t rc = H5Fclose(id_);
+    id_ = -1;
+    if (rc < 0)
+      throw std::runtime_error("cannot write " + path_ + ": " + systemReason());
+  }
+
+private:
+  std::string path_;
+  hid_t id_ = -1;
+};
+
+/// Moves a completely written temporary file into place (atomic on one file system).
+void replaceFile(const std::string &tmp, const std::string &path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec)
+    throw std::runtime_error("cannot write " + path + ": " + ec.message());
+}
+
+/// Flushes and closes a written stream; throws naming `path` and the system's reason when any
+/// write failed (full device, I/O error).
+void closeChecked(std::ofstream &out, const std::string &path) {
+  errno = 0;
+  out.flush();
+  const bool good = static_cast<bool>(out);
+  out.close();
+  if (!good || !out)
+    throw std::runtime_error("cannot write " + path + ": " + systemReason());
+}
+
+/// Writes `text` to `path` through a temporary file: a reader never sees a half-written file,
+/// and a failed write (full device, a directory in the way) is reported, not ignored.
+void writeTextFile(const std::string &path, const std::string &text) {
+  const std::string tmp = path + ".tmp";
+  errno = 0;
+  std::ofstream out(tmp, std::ios::trunc);
+  if (!out)
+    throw std::runtime_error("cannot write " + path + ": " + systemReason());
+  out << text;
+  closeChecked(out, path);
+  replaceFile(tmp, path);
+}
+
+/// The file of one step's HDF5 data, relative to the output folder.
+std::string stepFileName(int step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "results.d/step-%06d.h5", step);
+  return name;
+}
+
+constexpr const char *kOutputFiles[] = {"results.h5", "results.xdmf", "summary.json", "contact.csv",
+                                        "hybrid.csv"};
 
 template <class T> void writeAttribute(hid_t loc, const char *name, T value, hid_t type) {
   const hid_t space = H5Screate(H5S_SCALAR);
@@ -58,6 +147,45 @@ std::string number(double v) {
   std::ostringstream s;
   s << std::setprecision(10) << v;
   return s.str();
+}
+
+/// One step's entry of summary.json (also kept in the step's HDF5 group for a restart).
+std::string stepSummary(const StepRecord &s) {
+  std::ostringstream j;
+  j << "{\"step\": " << s.step << ", \"load_factor\": " << number(s.loadFactor)
+    << ", \"iterations\": " << s.iterations << ", \"linear_iterations\": " << s.linearIterations
+    << ", \"residual\": " << number(s.residual) << ", \"setup_seconds\": " << number(s.setupSeconds)
+    << ", \"solve_seconds\": " << number(s.solveSeconds)
+    << ", \"total_seconds\": " << number(s.totalSeconds)
+    << ", \"converged\": " << (s.converged ? "true" : "false");
+  if (!s.residualHistory.empty()) {
+    auto list = [&](const char *key, const std::vector<double> &v) {
+      j << ", \"" << key << "\": [";
+      for (std::size_t k = 0; k < v.size(); ++k)
+        j << (k ? ", " : "") << number(v[k]);
+      j << "]";
+    };
+    list("residuals", s.residualHistory);
+    list("increments", s.incrementHistory);
+    list("convergence_orders", convergenceOrders(s.residualHistory));
+    j << ", \"cuts\": " << s.cuts;
+  }
+  if (!std::isnan(s.measuredLoad))
+    j << ", \"hybrid\": {\"measured_load\": " << number(s.measuredLoad)
+      << ", \"asymmetry\": " << number(s.asymmetry) << "}";
+  if (s.contactClosed >= 0) {
+    j << ", \"contact\": {\"closed\": " << s.contactClosed << ", \"stick\": " << s.contactStick
+      << ", \"slip\": " << s.contactSlip << ", \"status_updates\": " << s.contactIterations
+      << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
+      << ", \"arc_min\": " << number(s.contactArcMin)
+      << ", \"arc_max\": " << number(s.contactArcMax) << ", \"obstacle_motion\": [";
+    for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o)
+      j << (o ? ", " : "") << "[" << number(s.obstacleMotion[2 * o]) << ", "
+        << number(s.obstacleMotion[2 * o + 1]) << "]";
+    j << "]}";
+  }
+  j << "}";
+  return j.str();
 }
 
 } // namespace
@@ -91,52 +219,127 @@ std::string jsonString(const std::string &s) {
   return out + "\"";
 }
 
+namespace {
+
+/// Takes the folder's lock (a file `.mixcon.lock` holding the owner's pid) or throws naming the
+/// run that holds it. The lock ends with the process, however it ends.
+int lockFolder(const std::string &directory) {
+  const std::string path = directory + "/.mixcon.lock";
+  errno = 0;
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error("cannot create " + path + ": " + systemReason());
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    char pid[32] = {};
+    const ssize_t n = ::pread(fd, pid, sizeof pid - 1, 0);
+    ::close(fd);
+    throw std::runtime_error(
+        "the output folder '" + directory + "' is in use by another mixcon run" +
+        (n > 0 ? " (process " + std::string(pid, static_cast<std::size_t>(n)) + ")"
+               : std::string()) +
+        "; choose another folder with --output");
+  }
+  const std::string pid = std::to_string(::getpid());
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
+    // The lock holds without the pid; the pid only makes the message of a second run clearer.
+  }
+  return fd;
+}
+
+} // namespace
+
 ResultsWriter::ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5,
-                             std::string problemFile)
+                             std::string problemFile, const RestartPoint *resume)
     : directory_(std::move(directory)), problemFile_(std::move(problemFile)), mesh_(mesh),
       hdf5_(hdf5) {
   std::error_code ec;
-  std::filesystem::create_directories(directory_, ec);
+  fs::create_directories(directory_, ec);
   if (ec)
     throw std::runtime_error("cannot create output directory '" + directory_ +
                              "': " + ec.message());
-  if (hdf5_) {
+  lock_ = lockFolder(directory_);
+  try {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // errors are reported by return codes
-    const std::string path = directory_ + "/results.h5";
-    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (f < 0)
-      throw std::runtime_error("cannot create " + path);
-    file_ = f;
-    const hid_t m = H5Gcreate2(f, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
-    writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
-                 mesh.nodesPerElement);
-    writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
-                 0);
-    writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
-    writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
-    writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
-    H5Gclose(m);
-    const hid_t s = H5Gcreate2(f, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    H5Gclose(s);
-    H5Fflush(f, H5F_SCOPE_GLOBAL);
+    if (resume) {
+      resumeFrom(*resume);
+    } else {
+      // A new run: nothing of an earlier run stays beside its results (no stale contact.csv).
+      for (const char *name : kOutputFiles)
+        fs::remove(directory_ + "/" + name, ec);
+      fs::remove_all(directory_ + "/results.d", ec);
+      if (hdf5_) {
+        fs::create_directories(directory_ + "/results.d", ec);
+        if (ec)
+          throw std::runtime_error("cannot create '" + directory_ + "/results.d': " + ec.message());
+        writeMesh();
+        writeIndex();
+      }
+    }
+    writeSummary();
+  } catch (...) {
+    ::close(lock_);
+    throw;
   }
-  writeSummary();
 }
 
 ResultsWriter::~ResultsWriter() {
-  if (file_ >= 0)
-    H5Fclose(static_cast<hid_t>(file_));
+  if (lock_ >= 0)
+    ::close(lock_);
 }
 
-void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
+void ResultsWriter::writeMesh() const {
+  const std::string path = directory_ + "/results.d/mesh.h5", tmp = path + ".tmp";
+  NewH5File file(tmp);
+  const Mesh &mesh = mesh_;
+  const hid_t m = H5Gcreate2(file.id(), "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
+  writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
+               mesh.nodesPerElement);
+  writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
+               0);
+  writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
+  writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
+  writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
+  H5Gclose(m);
+  file.close();
+  replaceFile(tmp, path);
+}
+
+void ResultsWriter::writeIndex() const {
+  const std::string path = directory_ + "/results.h5", tmp = path + ".tmp";
+  NewH5File file(tmp);
+  const hid_t root = file.id();
+  writeStringAttribute(root, "mixcon_version", MIXCON_VERSION_STRING);
+  writeStringAttribute(root, "layout",
+                       "/mesh and /steps/<k> are links into results.d/ (docs/output-format.md)");
+  if (H5Lcreate_external("results.d/mesh.h5", "/mesh", root, "mesh", H5P_DEFAULT, H5P_DEFAULT) < 0)
+    throw std::runtime_error("HDF5: cannot link the mesh in " + path);
+  const hid_t steps = H5Gcreate2(root, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  for (const auto &r : steps_) {
+    const std::string name = std::to_string(r.step), target = "/steps/" + name;
+    if (H5Lcreate_external(stepFileName(r.step).c_str(), target.c_str(), steps, name.c_str(),
+                           H5P_DEFAULT, H5P_DEFAULT) < 0)
+      throw std::runtime_error("HDF5: cannot link step " + name + " in " + path);
+  }
+  H5Gclose(steps);
+  file.close();
+  replaceFile(tmp, path);
+}
+
+void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Checkpoint *state) {
   steps_.push_back(r);
+  stepSummaries_.push_back(stepSummary(r));
   if (hdf5_) {
-    const hid_t file = static_cast<hid_t>(file_);
+    // The step's own file, complete before it is renamed into place and linked from results.h5.
+    const std::string path = directory_ + "/" + stepFileName(r.step), tmp = path + ".tmp";
+    NewH5File file(tmp);
     const std::string name = "/steps/" + std::to_string(r.step);
-    const hid_t g = H5Gcreate2(file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    const hid_t g = H5Gcreate2(file.id(), name.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    H5Pclose(lcpl);
     if (g < 0)
-      throw std::runtime_error("HDF5: cannot create group " + name);
+      throw std::runtime_error("HDF5: cannot create group " + name + " in " + tmp);
     const hsize_t nn = mesh_.numNodes();
     writeDataset(g, "displacement", f.displacement.data(), H5T_NATIVE_DOUBLE, nn, 2);
     writeDataset(g, "stress", f.stress.data(), H5T_NATIVE_DOUBLE, nn, 3);
@@ -171,8 +374,14 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
     writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
     writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
     writeAttribute(g, "converged", static_cast<int>(r.converged), H5T_NATIVE_INT);
+    writeAttribute(g, "contact_closed", r.contactClosed, H5T_NATIVE_INT);
+    writeStringAttribute(g, "summary", stepSummaries_.back());
+    if (state)
+      writeState(g, *state);
     H5Gclose(g);
-    H5Fflush(file, H5F_SCOPE_GLOBAL);
+    file.close();
+    replaceFile(tmp, path);
+    writeIndex();
     writeXdmf();
   } else {
     if (!f.contact.node.empty())
@@ -185,7 +394,11 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f) {
 
 std::ofstream ResultsWriter::appendCsv(const std::string &name, bool &started,
                                        const char *header) const {
-  std::ofstream csv(directory_ + "/" + name, started ? std::ios::app : std::ios::trunc);
+  const std::string path = directory_ + "/" + name;
+  errno = 0;
+  std::ofstream csv(path, started ? std::ios::app : std::ios::trunc);
+  if (!csv)
+    throw std::runtime_error("cannot write " + path + ": " + systemReason());
   if (!started)
     csv << header << "\n";
   started = true;
@@ -227,6 +440,7 @@ void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const Hybr
         << "," << h.ux[k] << "," << h.uy[k] << "," << h.sigmaRR[k] << "," << h.tauRT[k] << ","
         << h.muStress[k] << "," << h.tractionN[k] << "," << h.tractionT[k] << "," << h.muForce[k]
         << "\n";
+  closeChecked(csv, directory_ + "/hybrid.csv");
 }
 
 void ResultsWriter::writeContact(long long group, const StepRecord &r, const ContactFields &c) {
@@ -264,6 +478,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
         << c.tangentForce[k] << "," << c.angle[k] * 180.0 / M_PI << "," << c.arc[k] << "," << c.x[k]
         << "," << c.y[k] << "," << c.normalStress[k] << "," << c.tangentStress[k] << ","
         << c.sigmaNN[k] << "," << c.tauNT[k] << "\n";
+  closeChecked(csv, directory_ + "/contact.csv");
 }
 
 void ResultsWriter::setSummaryExtra(const std::string &key, const std::string &jsonValue) {
@@ -309,8 +524,7 @@ void ResultsWriter::writeXdmf() const {
       << "</DataItem>\n      </Attribute>\n     </Grid>\n";
   }
   x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
-  std::ofstream out(directory_ + "/results.xdmf");
-  out << x.str();
+  writeTextFile(directory_ + "/results.xdmf", x.str());
 }
 
 void ResultsWriter::writeSummary() const {
@@ -324,55 +538,267 @@ void ResultsWriter::writeSummary() const {
     << ",\n  \"converged\": "
     << ((status_ == "completed" && !steps_.empty() && steps_.back().converged) ? "true" : "false")
     << ",\n  \"steps\": [";
-  for (std::size_t i = 0; i < steps_.size(); ++i) {
-    const auto &s = steps_[i];
-    j << (i ? "," : "") << "\n    {\"step\": " << s.step
-      << ", \"load_factor\": " << number(s.loadFactor) << ", \"iterations\": " << s.iterations
-      << ", \"linear_iterations\": " << s.linearIterations
-      << ", \"residual\": " << number(s.residual)
-      << ", \"setup_seconds\": " << number(s.setupSeconds)
-      << ", \"solve_seconds\": " << number(s.solveSeconds)
-      << ", \"total_seconds\": " << number(s.totalSeconds)
-      << ", \"converged\": " << (s.converged ? "true" : "false");
-    if (!s.residualHistory.empty()) {
-      auto list = [&](const char *key, const std::vector<double> &v) {
-        j << ", \"" << key << "\": [";
-        for (std::size_t k = 0; k < v.size(); ++k)
-          j << (k ? ", " : "") << number(v[k]);
-        j << "]";
-      };
-      list("residuals", s.residualHistory);
-      list("increments", s.incrementHistory);
-      list("convergence_orders", convergenceOrders(s.residualHistory));
-      j << ", \"cuts\": " << s.cuts;
-    }
-    if (!std::isnan(s.measuredLoad))
-      j << ", \"hybrid\": {\"measured_load\": " << number(s.measuredLoad)
-        << ", \"asymmetry\": " << number(s.asymmetry) << "}";
-    if (s.contactClosed >= 0) {
-      j << ", \"contact\": {\"closed\": " << s.contactClosed << ", \"stick\": " << s.contactStick
-        << ", \"slip\": " << s.contactSlip << ", \"status_updates\": " << s.contactIterations
-        << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
-        << ", \"arc_min\": " << number(s.contactArcMin)
-        << ", \"arc_max\": " << number(s.contactArcMax) << ", \"obstacle_motion\": [";
-      for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o)
-        j << (o ? ", " : "") << "[" << number(s.obstacleMotion[2 * o]) << ", "
-          << number(s.obstacleMotion[2 * o + 1]) << "]";
-      j << "]}";
-    }
-    j << "}";
-  }
+  for (std::size_t i = 0; i < stepSummaries_.size(); ++i)
+    j << (i ? "," : "") << "\n    " << stepSummaries_[i];
   j << "\n  ]";
   for (const auto &[k, v] : extra_)
     j << ",\n  " << jsonString(k) << ": " << v;
   j << "\n}\n";
-  // Write then rename, so a reader never sees a half-written summary.
-  const std::string path = directory_ + "/summary.json", tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << j.str();
+  writeTextFile(directory_ + "/summary.json", j.str());
+}
+
+void ResultsWriter::writeState(long long group, const Checkpoint &state) const {
+  const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const hid_t g = H5Gcreate2(static_cast<hid_t>(group), "restart", lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  H5Pclose(lcpl);
+  if (g < 0)
+    throw std::runtime_error("HDF5: cannot create the restart group");
+  writeStringAttribute(g, "description",
+                       "the committed state after this step, read by mixcon run --restart");
+  for (const auto &[name, values] : state.arrays()) {
+    // "model/displacement" -> group model, dataset displacement
+    const auto slash = name.rfind('/');
+    hid_t parent = g;
+    if (slash != std::string::npos) {
+      const std::string dir = name.substr(0, slash);
+      parent = H5Lexists(g, dir.c_str(), H5P_DEFAULT) > 0
+                   ? H5Gopen2(g, dir.c_str(), H5P_DEFAULT)
+                   : H5Gcreate2(g, dir.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    }
+    writeDataset(parent, slash == std::string::npos ? name : name.substr(slash + 1), values.data(),
+                 H5T_NATIVE_DOUBLE, values.size(), 0);
+    if (parent != g)
+      H5Gclose(parent);
   }
-  std::filesystem::rename(tmp, path);
+  H5Gclose(g);
+}
+
+void ResultsWriter::resumeFrom(const RestartPoint &point) {
+  steps_ = point.steps;
+  stepSummaries_ = point.stepSummaries;
+  const int last = point.lastStep();
+  std::error_code ec;
+  if (!fs::equivalent(point.directory, directory_, ec)) {
+    // Restarting into another folder: the earlier run's files are copied, then continued.
+    for (const char *name : kOutputFiles)
+      fs::remove(directory_ + "/" + name, ec);
+    fs::remove_all(directory_ + "/results.d", ec);
+    ec.clear();
+    fs::copy(point.directory + "/results.d", directory_ + "/results.d", fs::copy_options::recursive,
+             ec);
+    for (const char *name : {"contact.csv", "hybrid.csv"})
+      if (!ec && fs::exists(point.directory + "/" + name))
+        fs::copy_file(point.directory + "/" + name, directory_ + "/" + name, ec);
+    if (ec)
+      throw std::runtime_error("cannot copy the results of " + point.directory + " to " +
+                               directory_ + ": " + ec.message());
+  }
+  // Steps after the restart point (written by the interrupted run) and unfinished files go.
+  for (fs::directory_iterator it(directory_ + "/results.d", ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    int step = 0;
+    const bool stepFile = std::sscanf(name.c_str(), "step-%d.h5", &step) == 1;
+    if ((stepFile && step > last) || (name.size() > 4 && name.substr(name.size() - 4) == ".tmp"))
+      fs::remove(it->path(), ec);
+  }
+  if (hdf5_)
+    writeIndex();
+  // CSV rows of later steps go too; the files then grow from the restart point.
+  for (auto [name, started] : {std::pair<const char *, bool *>{"contact.csv", &contactCsvStarted_},
+                               {"hybrid.csv", &hybridCsvStarted_}}) {
+    const std::string path = directory_ + "/" + name;
+    std::ifstream in(path);
+    *started = static_cast<bool>(in);
+    if (!in)
+      continue;
+    std::string line, kept;
+    for (bool header = true; std::getline(in, line); header = false)
+      if (header || std::atoi(line.c_str()) <= last)
+        kept += line + "\n";
+    writeTextFile(path, kept);
+  }
+  if (hdf5_)
+    writeXdmf();
+}
+
+namespace {
+
+/// Reads a double attribute (or an int one) of an HDF5 object; `fallback` when absent.
+template <class T> T readAttribute(hid_t loc, const char *name, hid_t type, T fallback) {
+  if (H5Aexists(loc, name) <= 0)
+    return fallback;
+  const hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  T value = fallback;
+  if (a < 0 || H5Aread(a, type, &value) < 0)
+    value = fallback;
+  if (a >= 0)
+    H5Aclose(a);
+  return value;
+}
+
+std::string readStringAttribute(hid_t loc, const char *name) {
+  if (H5Aexists(loc, name) <= 0)
+    return {};
+  const hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  const hid_t type = H5Aget_type(a);
+  std::string value(H5Tget_size(type), '\0');
+  const hid_t mem = H5Tcopy(H5T_C_S1);
+  H5Tset_size(mem, value.size());
+  if (H5Aread(a, mem, value.data()) < 0)
+    value.clear();
+  H5Tclose(mem);
+  H5Tclose(type);
+  H5Aclose(a);
+  while (!value.empty() && value.back() == '\0')
+    value.pop_back();
+  return value;
+}
+
+/// A dataset of doubles (any rank) as a flat vector; its first dimension in `rows`.
+std::vector<double> readDoubles(hid_t loc, const char *name, hsize_t *rows = nullptr) {
+  const hid_t set = H5Dopen2(loc, name, H5P_DEFAULT);
+  if (set < 0)
+    throw std::runtime_error(std::string("no dataset ") + name);
+  const hid_t space = H5Dget_space(set);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  hsize_t dims[8] = {};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  std::vector<double> v(static_cast<std::size_t>(std::max<hssize_t>(n, 0)));
+  const herr_t rc =
+      v.empty() ? 0 : H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(space);
+  H5Dclose(set);
+  if (rc < 0)
+    throw std::runtime_error(std::string("cannot read dataset ") + name);
+  if (rows)
+    *rows = dims[0];
+  return v;
+}
+
+/// The names of a group's links (an API that is the same in HDF5 1.10, 1.12 and 1.14).
+std::vector<std::string> linkNames(hid_t group) {
+  std::vector<std::string> names;
+  H5G_info_t info;
+  if (H5Gget_info(group, &info) < 0)
+    return names;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t size =
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (size <= 0)
+      continue;
+    std::string name(static_cast<std::size_t>(size) + 1, '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
+                       H5P_DEFAULT);
+    name.resize(static_cast<std::size_t>(size));
+    names.push_back(name);
+  }
+  return names;
+}
+
+/// Paths (relative to `group`) of every dataset below it.
+void collectDatasets(hid_t group, const std::string &prefix, std::vector<std::string> &out) {
+  for (const auto &name : linkNames(group)) {
+    const hid_t o = H5Oopen(group, name.c_str(), H5P_DEFAULT);
+    if (o < 0)
+      continue;
+    if (H5Iget_type(o) == H5I_GROUP)
+      collectDatasets(o, prefix + name + "/", out);
+    else if (H5Iget_type(o) == H5I_DATASET)
+      out.push_back(prefix + name);
+    H5Oclose(o);
+  }
+}
+
+} // namespace
+
+RestartPoint readRestart(const std::string &directory) {
+  const std::string path = directory + "/results.h5";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path + ": no results to restart from (is it the output folder of a run?)");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0)
+    throw InputError(path + ": cannot be opened as HDF5");
+  RestartPoint point;
+  point.directory = directory;
+  try {
+    hsize_t rows = 0;
+    point.nodes = readDoubles(file, "/mesh/nodes", &rows);
+    point.numNodes = static_cast<long>(rows);
+    const hid_t elements = H5Dopen2(file, "/mesh/elements", H5P_DEFAULT);
+    if (elements >= 0) {
+      const hid_t space = H5Dget_space(elements);
+      hsize_t dims[2] = {};
+      H5Sget_simple_extent_dims(space, dims, nullptr);
+      point.numElements = static_cast<long>(dims[0]);
+      H5Sclose(space);
+      H5Dclose(elements);
+    }
+    std::vector<std::string> names;
+    const hid_t steps = H5Gopen2(file, "/steps", H5P_DEFAULT);
+    if (steps >= 0) {
+      names = linkNames(steps);
+      H5Gclose(steps);
+    }
+    std::vector<int> numbers;
+    for (const auto &n : names)
+      numbers.push_back(std::atoi(n.c_str()));
+    std::sort(numbers.begin(), numbers.end());
+    // Steps in order up to the first that is missing, unreadable or not converged; the restart
+    // point is the last of them with a saved state.
+    std::vector<StepRecord> records;
+    std::vector<std::string> summaries;
+    std::size_t withState = 0; // steps up to the restart point
+    int expected = 1;
+    for (int k : numbers) {
+      if (k != expected++)
+        break;
+      const std::string name = "/steps/" + std::to_string(k);
+      const hid_t g = H5Gopen2(file, name.c_str(), H5P_DEFAULT);
+      if (g < 0)
+        break;
+      StepRecord r;
+      r.step = k;
+      r.converged = readAttribute<int>(g, "converged", H5T_NATIVE_INT, 0) != 0;
+      r.loadFactor = readAttribute<double>(g, "load_factor", H5T_NATIVE_DOUBLE, 0.0);
+      r.iterations = readAttribute<int>(g, "iterations", H5T_NATIVE_INT, 0);
+      r.linearIterations = readAttribute<int>(g, "linear_iterations", H5T_NATIVE_INT, 0);
+      r.residual = readAttribute<double>(g, "residual", H5T_NATIVE_DOUBLE, 0.0);
+      r.contactClosed = readAttribute<int>(g, "contact_closed", H5T_NATIVE_INT, -1);
+      const bool hasState = H5Lexists(g, "restart", H5P_DEFAULT) > 0;
+      const std::string summary = readStringAttribute(g, "summary");
+      if (!r.converged) {
+        H5Gclose(g);
+        break;
+      }
+      records.push_back(r);
+      summaries.push_back(summary);
+      if (hasState)
+        withState = records.size();
+      H5Gclose(g);
+    }
+    if (withState == 0)
+      throw std::runtime_error("no converged step with a saved state to restart from");
+    const std::string name = "/steps/" + std::to_string(records[withState - 1].step) + "/restart";
+    const hid_t st = H5Gopen2(file, name.c_str(), H5P_DEFAULT);
+    std::vector<std::string> sets;
+    collectDatasets(st, "", sets);
+    for (const auto &set : sets)
+      point.state.put(set, readDoubles(st, set.c_str()));
+    H5Gclose(st);
+    records.resize(withState);
+    summaries.resize(withState);
+    point.steps = std::move(records);
+    point.stepSummaries = std::move(summaries);
+  } catch (const std::runtime_error &e) {
+    H5Fclose(file);
+    throw InputError(path + ": " + e.what());
+  }
+  H5Fclose(file);
+  return point;
 }
 
 } // namespace mixcon

@@ -1,10 +1,15 @@
 // Result output: HDF5 (mesh + one group per step), an XDMF index that ParaView opens, and
-// summary.json with per-step convergence data. Each step is flushed when written, so results of
-// completed steps stay valid if a later step fails. Layout: docs/output-format.md.
+// summary.json with per-step convergence data; the state a restart needs is written with every
+// converged step and read back by readRestart. Crash safety: every file is written under a
+// temporary name and renamed into place, each step's HDF5 data goes to a file of its own
+// (results.d/step-NNNNNN.h5) and results.h5 links the mesh and the steps, so a run killed at any
+// moment leaves a results.h5 that opens and holds every step written. The output folder is
+// locked while a writer owns it. Layout: docs/output-format.md.
 // Data flow: io (output side, host data only).
 #pragma once
 
 #include <mesh/Mesh.hpp>
+#include <solver/Checkpoint.hpp>
 
 #include <fstream>
 #include <limits>
@@ -79,17 +84,40 @@ struct StepFields {
   HybridFields hybrid;      ///< empty outside the hybrid mode
 };
 
+/// Where a restarted run continues: the steps already written (up to the last converged one
+/// with a saved state) and that state.
+struct RestartPoint {
+  std::vector<StepRecord> steps;          ///< steps 1..k as recorded (load factors, convergence)
+  std::vector<std::string> stepSummaries; ///< their summary.json entries
+  Checkpoint state;                       ///< the committed state after step k
+  std::string directory;                  ///< the folder it was read from
+  long numNodes = 0, numElements = 0;
+  std::vector<double> nodes; ///< mesh coordinates, N x 2 (to check the problem's mesh)
+  int lastStep() const { return steps.empty() ? 0 : steps.back().step; }
+};
+
+/// Reads the last converged step with a saved state from `directory`/results.h5; throws
+/// InputError naming the file when there is none or the file cannot be read.
+RestartPoint readRestart(const std::string &directory);
+
 class ResultsWriter {
 public:
-  /// Creates `directory` (and parents) and, if `hdf5`, results.h5 with the mesh; throws
-  /// std::runtime_error when the directory or file cannot be written.
-  ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5, std::string problemFile);
+  /// Locks `directory` (created with its parents) for this run, removes the output files of an
+  /// earlier run there (results.h5, results.d/, results.xdmf, summary.json, contact.csv,
+  /// hybrid.csv) and, if `hdf5`, writes the mesh. With `resume`, keeps that run's steps up to
+  /// resume->lastStep() instead (and drops its later ones) and continues after them. Throws
+  /// std::runtime_error naming the file and the system's reason when something cannot be
+  /// written, or when another run holds the folder.
+  ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5, std::string problemFile,
+                const RestartPoint *resume = nullptr);
   ~ResultsWriter();
   ResultsWriter(const ResultsWriter &) = delete;
   ResultsWriter &operator=(const ResultsWriter &) = delete;
 
-  /// Appends a step to results.h5 and rewrites results.xdmf and summary.json.
-  void writeStep(const StepRecord &record, const StepFields &fields);
+  /// Writes a step (its HDF5 file, then results.h5, results.xdmf and summary.json); `state`, if
+  /// given, is saved with it for a restart. Throws std::runtime_error on a failed write.
+  void writeStep(const StepRecord &record, const StepFields &fields,
+                 const Checkpoint *state = nullptr);
   /// Adds a raw JSON member (e.g. "verification": {...}) to summary.json and rewrites it.
   void setSummaryExtra(const std::string &key, const std::string &jsonValue);
   /// Marks the run finished (or failed, with a message) in summary.json.
@@ -100,14 +128,20 @@ public:
 private:
   void writeXdmf() const;
   void writeSummary() const;
+  void writeMesh() const;
+  /// results.h5: external links to results.d/mesh.h5 and to every step's file.
+  void writeIndex() const;
+  void resumeFrom(const RestartPoint &point);
+  void writeState(long long group, const Checkpoint &state) const;
   void writeContact(long long group, const StepRecord &record, const ContactFields &c);
 
   std::string directory_;
   std::string problemFile_;
   const Mesh &mesh_;
   bool hdf5_;
-  long long file_ = -1; ///< hid_t of results.h5
+  int lock_ = -1; ///< file descriptor holding the folder's lock
   std::vector<StepRecord> steps_;
+  std::vector<std::string> stepSummaries_; ///< each step's summary.json entry
   std::vector<std::pair<std::string, std::string>> extra_;
   bool contactCsvStarted_ = false, hybridCsvStarted_ = false;
   void writeHybrid(long long group, const StepRecord &r, const HybridFields &h);

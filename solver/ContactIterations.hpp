@@ -5,6 +5,8 @@
 // Host-side interface (virtual, never on the device). Data flow: solver <- contact.
 #pragma once
 
+#include <solver/Checkpoint.hpp>
+
 #include <string>
 #include <vector>
 
@@ -27,6 +29,12 @@ public:
   virtual bool penetrationWithin(double relative, std::string &where) const = 0;
   virtual void commit() = 0;
   virtual void rollback() = 0;
+  /// The committed state (statuses, stick anchors, contact forces, obstacle motion) into
+  /// `state` under "contact/..." names; restoreCommitted makes a saved state the committed one
+  /// and returns to it, so that a restarted run continues as the uninterrupted one would.
+  /// Throws std::runtime_error when `state` does not fit this contact.
+  virtual void saveCommitted(Checkpoint &state) const = 0;
+  virtual void restoreCommitted(const Checkpoint &state) = 0;
   virtual std::string signature() const = 0;
   /// True when the linearized constraints of closed nodes are exact (flat rigid obstacles): with
   /// a linear body, one converged linear solve then satisfies the equilibrium iterations.

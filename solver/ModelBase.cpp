@@ -126,6 +126,13 @@ std::vector<double> ModelBase::toHost(const Kokkos::View<const double *, Memory>
   return std::vector<double>(h.data(), h.data() + h.extent(0));
 }
 
+void ModelBase::fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v) {
+  auto m = Kokkos::create_mirror_view(v);
+  for (std::size_t i = 0; i < h.size(); ++i)
+    m(i) = h[i];
+  Kokkos::deep_copy(v, m);
+}
+
 std::vector<double>
 ModelBase::reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
                         double loadFactor) const {

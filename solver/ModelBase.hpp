@@ -76,6 +76,8 @@ protected:
                                    double loadFactor) const;
   /// Host vector of a device view.
   static std::vector<double> toHost(const Kokkos::View<const double *, Memory> &v);
+  /// Copies a host vector into a device view of the same length (or a prefix of it).
+  static void fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v);
 
   Mesh const &mesh_;
   DofMap dofs_;

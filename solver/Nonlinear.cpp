@@ -503,12 +503,7 @@ std::string NonlinearDisplacementModel::solverName() const {
   return solver_ ? solver_->name() : std::string("none");
 }
 
-void NonlinearDisplacementModel::setDisplacement(const std::vector<double> &u) {
-  auto h = Kokkos::create_mirror_view(u_);
-  for (std::size_t i = 0; i < u.size(); ++i)
-    h(i) = u[i];
-  Kokkos::deep_copy(u_, h);
-}
+void NonlinearDisplacementModel::setDisplacement(const std::vector<double> &u) { fromHost(u, u_); }
 
 double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
@@ -913,6 +908,34 @@ LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &incr
 void NonlinearDisplacementModel::commit() { Kokkos::deep_copy(committed_, u_); }
 void NonlinearDisplacementModel::rollback() { Kokkos::deep_copy(u_, committed_); }
 
+namespace {
+/// Refuses a saved state of another formulation (0 displacement, 1 and 2 the mixed model's
+/// forms Current and Incremental), naming both.
+void checkFormulation(const Checkpoint &state, double expected) {
+  const auto name = [](double f) -> std::string {
+    return f == 0.0   ? "the displacement model"
+           : f == 1.0 ? "the mixed model (form current)"
+           : f == 2.0 ? "the mixed model (form incremental)"
+                      : "an unknown formulation";
+  };
+  const double saved = state.getScalar("model/formulation");
+  if (saved != expected)
+    throw std::runtime_error("the saved state is of " + name(saved) + ", this problem uses " +
+                             name(expected));
+}
+} // namespace
+
+void NonlinearDisplacementModel::saveCommitted(Checkpoint &state) const {
+  state.putScalar("model/formulation", 0.0);
+  state.put("model/displacement", toHost(committed_));
+}
+
+void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
+  checkFormulation(state, 0.0);
+  fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
+  rollback();
+}
+
 std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
   Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
   dispatchElement(mesh_.elementType, [&](auto elem) {
@@ -1009,18 +1032,10 @@ std::string NonlinearMixedModel::solverName() const {
   return o.str();
 }
 
-void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) {
-  auto h = Kokkos::create_mirror_view(tau_);
-  for (std::size_t i = 0; i < tau.size(); ++i)
-    h(i) = tau[i];
-  Kokkos::deep_copy(tau_, h);
-}
+void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) { fromHost(tau, tau_); }
 
 void NonlinearMixedModel::setIncrement(const std::vector<double> &x) {
-  auto h = Kokkos::create_mirror_view(x_);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    h(i) = x[i];
-  Kokkos::deep_copy(x_, h);
+  fromHost(x, x_);
   updateTotalDisplacement();
 }
 
@@ -1351,6 +1366,45 @@ void NonlinearMixedModel::rollback() {
   else
     Kokkos::deep_copy(x_, 0.0);
   updateTotalDisplacement();
+}
+
+// Form Current: the committed unknowns (total displacement and nodal Cauchy stress). Form
+// Incremental: the total displacement, the stress tau and the configuration c1 carried from
+// increment to increment (c1 is saved itself: X + u differs from it by rounding).
+void NonlinearMixedModel::saveCommitted(Checkpoint &state) const {
+  if (form_ == MixedForm::Current) {
+    state.putScalar("model/formulation", 1.0);
+    state.put("model/unknowns", toHost(committedState_));
+    return;
+  }
+  state.putScalar("model/formulation", 2.0);
+  state.put("model/displacement", toHost(committed_));
+  state.put("model/stress", toHost(tau_));
+  const auto c =
+      Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), current_.mesh.coordinates);
+  std::vector<double> rows(2 * c.extent(0)); // node by node, whatever the view's layout
+  for (std::size_t i = 0; i < c.extent(0); ++i)
+    for (int d = 0; d < 2; ++d)
+      rows[2 * i + d] = c(i, d);
+  state.put("model/configuration", std::move(rows));
+}
+
+void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
+  if (form_ == MixedForm::Current) {
+    checkFormulation(state, 1.0);
+    fromHost(state.get("model/unknowns", committedState_.extent(0)), committedState_);
+  } else {
+    checkFormulation(state, 2.0);
+    fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
+    fromHost(state.get("model/stress", tau_.extent(0)), tau_);
+    const auto &rows = state.get("model/configuration", current_.mesh.coordinates.size());
+    auto c = Kokkos::create_mirror_view(current_.mesh.coordinates);
+    for (std::size_t i = 0; i < c.extent(0); ++i)
+      for (int d = 0; d < 2; ++d)
+        c(i, d) = rows[2 * i + d];
+    Kokkos::deep_copy(current_.mesh.coordinates, c);
+  }
+  rollback();
 }
 
 std::vector<double> NonlinearMixedModel::nodalStressHost() const { return toHost(stressOnly()); }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <kernels/MixedElasticity.hpp>
+#include <solver/Checkpoint.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/ModelBase.hpp>
 
@@ -65,6 +66,12 @@ public:
   virtual void commit() = 0;
   /// Returns to the last committed state.
   virtual void rollback() = 0;
+  /// The committed state (what commit() accepted) into `state` under "model/..." names;
+  /// restoreCommitted makes a saved state the committed and the current one (call after
+  /// setup()), so that a restarted run continues as the uninterrupted one would. Throws
+  /// std::runtime_error when `state` does not fit this model (another mesh or formulation).
+  virtual void saveCommitted(Checkpoint &state) const = 0;
+  virtual void restoreCommitted(const Checkpoint &state) = 0;
 
   /// Contact with rigid obstacles enforced in the corrections (not owned; nullptr: none).
   /// Displacement model only in this version.
@@ -187,6 +194,8 @@ public:
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
   void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
 
   std::string solverName() const override;
   std::vector<double> nodalStressHost() const override; ///< the law's, recovered at nodes
@@ -278,6 +287,8 @@ public:
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
   void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
   void setStressUpdate(StressUpdate u) { stressUpdate_ = u; }
   /// Call before setup().
   void setForm(MixedForm f) { form_ = f; }
@@ -374,6 +385,12 @@ public:
   /// Advances from the committed load factor to `target`, cutting the increment on failure.
   IncrementOutcome advance(double target);
   double loadFactor() const { return lambda_; }
+  /// Continues from a restored state at load factor `lambda` (restart): the model's and the
+  /// contact's committed states must have been restored before (restoreCommitted).
+  void resume(double lambda) {
+    lambda_ = lambda;
+    contactStarted_ = model_.contactIterations() != nullptr;
+  }
 
 private:
   bool attempt(double lambda, IncrementOutcome &out, std::string &why);

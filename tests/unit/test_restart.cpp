@@ -1,0 +1,400 @@
+// Restart and crash safety of the results, through the `mixcon` program as a user runs it:
+// a run continued with --restart from an interrupted one gives the uninterrupted run's results
+// (nonlinear displacement model, both forms of the nonlinear mixed model, rigid contact with
+// friction, node-to-segment contact), a run killed with SIGKILL at any moment leaves a results.h5
+// that opens and holds every step it reported, the output folder is locked while a run owns it,
+// and a new run leaves no file of an earlier one behind.
+#include <gtest/gtest.h>
+
+#include <hdf5.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#if defined(MIXCON_APP)
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class TempDir {
+public:
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "mixcon-restart-XXXXXX").string();
+    path_ = mkdtemp(tmpl.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path &path() const { return path_; }
+
+private:
+  fs::path path_;
+};
+
+/// Runs the program; returns its exit code, stdout + stderr in `output`.
+int runMixcon(const std::string &args, std::string &output, const fs::path &dir) {
+  const fs::path log = dir / "log.txt";
+  const std::string cmd = std::string(MIXCON_APP) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  output = s.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// The step numbers of results.h5 and one dataset of a step (empty when it cannot be read).
+std::vector<int> stepsOf(const fs::path &dir) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); // missing steps are expected, not diagnostics
+  std::vector<int> steps;
+  const hid_t f = H5Fopen((dir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    return steps;
+  const hid_t g = H5Gopen2(f, "/steps", H5P_DEFAULT);
+  H5G_info_t info;
+  if (g >= 0 && H5Gget_info(g, &info) >= 0)
+    for (hsize_t i = 0; i < info.nlinks; ++i) {
+      char name[32] = {};
+      H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
+      steps.push_back(std::atoi(name));
+    }
+  if (g >= 0)
+    H5Gclose(g);
+  H5Fclose(f);
+  std::sort(steps.begin(), steps.end());
+  return steps;
+}
+
+std::vector<double> readStep(const fs::path &dir, int step, const std::string &name) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::vector<double> v;
+  const hid_t f = H5Fopen((dir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    return v;
+  const std::string path = "/steps/" + std::to_string(step) + "/" + name;
+  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
+  if (d >= 0) {
+    const hid_t space = H5Dget_space(d);
+    v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+      v.clear();
+    H5Sclose(space);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return v;
+}
+
+/// Largest difference of two arrays relative to the largest entry of `ref`.
+double relativeDifference(const std::vector<double> &a, const std::vector<double> &ref) {
+  if (a.size() != ref.size() || ref.empty())
+    return INFINITY;
+  double d = 0.0, scale = 1e-300;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    d = std::max(d, std::abs(a[i] - ref[i]));
+    scale = std::max(scale, std::abs(ref[i]));
+  }
+  return d / scale;
+}
+
+/// Every step of `dir` equals the same step of `ref` (displacements, stresses and, with contact,
+/// the statuses and normal forces) to `tol`.
+void expectSameSteps(const fs::path &dir, const fs::path &ref, bool contact, double tol,
+                     const std::string &what) {
+  const auto steps = stepsOf(ref);
+  ASSERT_FALSE(steps.empty()) << what;
+  EXPECT_EQ(stepsOf(dir), steps) << what;
+  std::vector<std::string> names = {"displacement", "stress"};
+  if (contact)
+    names.insert(names.end(), {"contact/status", "contact/normal_force"});
+  for (int k : steps)
+    for (const auto &n : names)
+      EXPECT_LE(relativeDifference(readStep(dir, k, n), readStep(ref, k, n)), tol)
+          << what << ": step " << k << " " << n;
+}
+
+/// An interrupted run as a kill between steps leaves it: the files of steps after `last` gone.
+void interruptAfter(const fs::path &dir, int last) {
+  for (const auto &e : fs::directory_iterator(dir / "results.d")) {
+    int step = 0;
+    if (std::sscanf(e.path().filename().c_str(), "step-%d.h5", &step) == 1 && step > last)
+      fs::remove(e.path());
+  }
+}
+
+struct Case {
+  const char *name;
+  const char *yaml;
+  bool contact;
+};
+
+// Small problems of every kind of state a restart carries.
+const Case kCases[] = {
+    {"displacement_model", R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [8, 2], element: quad4}}
+model: {formulation: displacement, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
+loads: [{boundary: top, traction: [0, -10.0]}]
+steps: {increments: 6, iteration: newton, tolerance: 0.001}
+solver: {type: direct}
+)",
+     false},
+    {"mixed_current", R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [5, 1], element: quad8}}
+model: {formulation: mixed, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
+loads: [{boundary: top, traction: [0, -10.0]}]
+steps: {increments: 6, iteration: newton, tolerance: 0.001}
+solver: {type: direct}
+)",
+     false},
+    {"mixed_incremental", R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [5, 1], element: quad8}}
+model: {formulation: mixed, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true,
+        mixed_form: incremental}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
+loads: [{boundary: top, traction: [0, -10.0]}]
+steps: {increments: 6, iteration: newton, tolerance: 0.001}
+solver: {type: direct}
+)",
+     false},
+    {"rigid_contact_friction", R"(
+mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
+model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
+boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0.016}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: 0.3}]
+steps: {load_factors: [0.01, 0.02, 0.04, 0.07, 0.1, 0.15, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0]}
+solver: {type: direct}
+)",
+     true},
+    {"node_to_segment_friction", R"(
+mesh:
+  bodies:
+    - {name: base, generator: {type: rectangle, size: [2, 0.5], origin: [-0.5, 0], divisions: [8, 2], element: quad4}}
+    - {name: block, generator: {type: rectangle, size: [1, 0.5], origin: [0, 0.5], divisions: [5, 2], element: quad4}}
+model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
+materials:
+  - {region: base, type: isotropic, E: 1000, nu: 0.3}
+  - {region: block, type: isotropic, E: 1000, nu: 0.3}
+boundary_conditions:
+  - {boundary: base.bottom, ux: 0, uy: 0}
+  - {boundary: block.top, ux: 0.004, uy: -0.01}
+contact: [{type: node_to_segment, contactor: block.bottom, target: base.top, friction: 0.3}]
+steps: {increments: 6}
+solver: {type: direct}
+)",
+     true},
+};
+
+} // namespace
+
+TEST(Restart, ContinuesAnInterruptedRunToTheUninterruptedResults) {
+  TempDir tmp;
+  for (const Case &c : kCases) {
+    const fs::path file = tmp.path() / (std::string(c.name) + ".yaml");
+    std::ofstream(file) << c.yaml;
+    const fs::path whole = tmp.path() / (std::string(c.name) + "-whole"),
+                   cut = tmp.path() / (std::string(c.name) + "-cut");
+    std::string out;
+    ASSERT_EQ(runMixcon("run " + file.string() + " -q --output " + whole.string(), out, tmp.path()),
+              0)
+        << c.name << ": " << out;
+    const int steps = static_cast<int>(stepsOf(whole).size());
+    ASSERT_GE(steps, 4) << c.name;
+    fs::copy(whole, cut, fs::copy_options::recursive);
+    fs::remove(cut / ".mixcon.lock");
+    interruptAfter(cut, steps / 2);
+    EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + cut.string(), out, tmp.path()), 0)
+        << c.name << ": " << out;
+    EXPECT_NE(out.find("restarting from step " + std::to_string(steps / 2)), std::string::npos)
+        << c.name << ": " << out;
+    expectSameSteps(cut, whole, c.contact, 1e-10, c.name);
+    std::ifstream summary(cut / "summary.json");
+    std::stringstream s;
+    s << summary.rdbuf();
+    const std::string text = s.str();
+    EXPECT_NE(text.find("\"status\": \"completed\""), std::string::npos) << c.name;
+    int entries = 0;
+    for (auto at = text.find("{\"step\": "); at != std::string::npos;
+         at = text.find("{\"step\": ", at + 1))
+      ++entries;
+    EXPECT_EQ(entries, steps) << c.name << ": every step in summary.json";
+    // Into another folder: the interrupted run stays as it was.
+    interruptAfter(cut, 1);
+    const fs::path other = tmp.path() / (std::string(c.name) + "-other");
+    EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + cut.string() + " --output " +
+                            other.string(),
+                        out, tmp.path()),
+              0)
+        << c.name << ": " << out;
+    expectSameSteps(other, whole, c.contact, 1e-10, std::string(c.name) + " (other folder)");
+    EXPECT_EQ(stepsOf(cut).size(), static_cast<std::size_t>(steps)) << "index kept";
+    EXPECT_TRUE(readStep(cut, 2, "displacement").empty()) << "no step 2 written into " << cut;
+  }
+}
+
+TEST(Restart, RefusesWhatItCannotContinue) {
+  TempDir tmp;
+  const Case &c = kCases[0];
+  const fs::path file = tmp.path() / "a.yaml", run = tmp.path() / "run";
+  std::ofstream(file) << c.yaml;
+  std::string out;
+  ASSERT_EQ(runMixcon("run " + file.string() + " -q --output " + run.string(), out, tmp.path()), 0)
+      << out;
+  interruptAfter(run, 3);
+  // Another mesh.
+  std::string other = c.yaml;
+  other.replace(other.find("divisions: [8, 2]"), 17, "divisions: [9, 2]");
+  std::ofstream(tmp.path() / "b.yaml") << other;
+  EXPECT_EQ(runMixcon("run " + (tmp.path() / "b.yaml").string() + " --restart " + run.string(), out,
+                      tmp.path()),
+            2)
+      << out;
+  EXPECT_NE(out.find("is not the mesh of"), std::string::npos) << out;
+  // Other load factors before the restart point.
+  std::string steps = c.yaml;
+  steps.replace(steps.find("increments: 6"), 13, "increments: 5");
+  std::ofstream(tmp.path() / "c.yaml") << steps;
+  EXPECT_EQ(runMixcon("run " + (tmp.path() / "c.yaml").string() + " --restart " + run.string(), out,
+                      tmp.path()),
+            2)
+      << out;
+  EXPECT_NE(out.find("must be the same"), std::string::npos) << out;
+  // Another formulation on the same mesh.
+  std::string mixed = c.yaml;
+  mixed.replace(mixed.find("formulation: displacement"), 25, "formulation: mixed");
+  std::ofstream(tmp.path() / "d.yaml") << mixed;
+  EXPECT_EQ(runMixcon("run " + (tmp.path() / "d.yaml").string() + " --restart " + run.string(), out,
+                      tmp.path()),
+            2)
+      << out;
+  EXPECT_NE(out.find("the saved state is of the displacement model"), std::string::npos) << out;
+  // A folder without results, and a linear analysis.
+  EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + (tmp.path() / "none").string(), out,
+                      tmp.path()),
+            2)
+      << out;
+  EXPECT_NE(out.find("no results to restart from"), std::string::npos) << out;
+  const std::string lame = std::string(MIXCON_SOURCE_DIR) + "/examples/lame_cylinder.yaml";
+  EXPECT_EQ(runMixcon("run " + lame + " --restart " + run.string(), out, tmp.path()), 2) << out;
+  EXPECT_NE(out.find("linear without contact"), std::string::npos) << out;
+}
+
+TEST(Restart, KilledRunKeepsEveryReportedStepAndRestartsToTheSameResult) {
+  TempDir tmp;
+  const Case &c = kCases[3]; // rigid contact with friction, 12 steps
+  const fs::path file = tmp.path() / "hertz.yaml", whole = tmp.path() / "whole";
+  std::ofstream(file) << c.yaml;
+  std::string out;
+  ASSERT_EQ(runMixcon("run " + file.string() + " -q --output " + whole.string(), out, tmp.path()),
+            0)
+      << out;
+  std::mt19937 random(12345);
+  const std::regex stepLine(R"(^step (\d+)/\d+ .*converged)");
+  for (int killAfter : {0, 1, 3, 6, 9}) {
+    const fs::path dir = tmp.path() / ("killed-" + std::to_string(killAfter));
+    int pipeFds[2];
+    ASSERT_EQ(pipe(pipeFds), 0);
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      dup2(pipeFds[1], STDOUT_FILENO);
+      close(pipeFds[0]);
+      execl(MIXCON_APP, MIXCON_APP, "run", file.c_str(), "--output", dir.c_str(),
+            static_cast<char *>(nullptr));
+      _exit(127);
+    }
+    close(pipeFds[1]);
+    // Read progress lines until step `killAfter` is reported, then kill a random moment later
+    // (inside the next step's solve or its output).
+    FILE *progress = fdopen(pipeFds[0], "r");
+    char line[512];
+    int reported = 0;
+    while (reported < killAfter && std::fgets(line, sizeof line, progress)) {
+      std::cmatch m;
+      if (std::regex_search(line, m, stepLine))
+        reported = std::stoi(m[1].str());
+    }
+    std::this_thread::sleep_for(
+        std::chrono::microseconds(std::uniform_int_distribution<int>(0, 20000)(random)));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    while (std::fgets(line, sizeof line, progress)) {
+      std::cmatch m;
+      if (std::regex_search(line, m, stepLine))
+        reported = std::stoi(m[1].str()); // reported before the kill landed
+    }
+    fclose(progress);
+    const std::string what = "killed after step " + std::to_string(killAfter);
+    const auto steps = stepsOf(dir);
+    if (reported > 0) {
+      ASSERT_GE(steps.size(), static_cast<std::size_t>(reported)) << what;
+      for (int k = 1; k <= reported; ++k)
+        EXPECT_EQ(relativeDifference(readStep(dir, k, "displacement"),
+                                     readStep(whole, k, "displacement")),
+                  0.0)
+            << what << ": step " << k << " readable and complete";
+    }
+    if (reported == 0 && steps.empty()) {
+      // Killed before the first step ended: a restart says there is nothing to continue.
+      EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + dir.string(), out, tmp.path()),
+                2)
+          << what << ": " << out;
+      continue;
+    }
+    EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + dir.string(), out, tmp.path()), 0)
+        << what << ": " << out;
+    expectSameSteps(dir, whole, true, 1e-10, what);
+  }
+}
+
+TEST(Restart, OutputFolderIsLockedAndEarlierFilesDoNotStay) {
+  TempDir tmp;
+  const fs::path dir = tmp.path() / "out";
+  const std::string hertz = std::string(MIXCON_SOURCE_DIR) + "/examples/hertz/hertz_report.yaml";
+  const std::string lame = std::string(MIXCON_SOURCE_DIR) + "/examples/lame_cylinder.yaml";
+  std::string out;
+  ASSERT_EQ(runMixcon("run " + hertz + " -q --output " + dir.string(), out, tmp.path()), 0) << out;
+  ASSERT_TRUE(fs::exists(dir / "contact.csv"));
+  // Another run holds the folder: a second refuses before it touches anything.
+  const auto before = fs::last_write_time(dir / "results.h5");
+  const int fd = open((dir / ".mixcon.lock").c_str(), O_RDWR);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
+  EXPECT_EQ(runMixcon("run " + lame + " --output " + dir.string(), out, tmp.path()), 1) << out;
+  EXPECT_NE(out.find("is in use by another mixcon run"), std::string::npos) << out;
+  EXPECT_EQ(fs::last_write_time(dir / "results.h5"), before);
+  EXPECT_TRUE(fs::exists(dir / "contact.csv"));
+  close(fd);
+  // Free again: a run without contact leaves no contact.csv and no step of the earlier run.
+  ASSERT_EQ(runMixcon("run " + lame + " -q --output " + dir.string(), out, tmp.path()), 0) << out;
+  EXPECT_FALSE(fs::exists(dir / "contact.csv"));
+  EXPECT_EQ(stepsOf(dir).size(), 1u);
+  EXPECT_FALSE(fs::exists(dir / "results.d" / "step-000002.h5"));
+}
+
+#endif
