@@ -112,10 +112,13 @@ std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
 }
 
 /// Writes a step (with the state a restart needs, if given), keeps its fields in the result and
-/// prints its progress line (with ETA from the steps this process ran after `firstStep`).
+/// prints its progress line (with ETA from the steps this process ran after `firstStep`, and the
+/// contact counts) to `log`, in hybrid mode a second line with the inferred friction
+/// coefficients; with `verbose`, also the obstacle motions.
 void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, StepFields &f,
-                std::ostream *log, int nsteps, std::chrono::steady_clock::time_point start,
-                const Checkpoint *state = nullptr, int firstStep = 0) {
+                std::ostream *log, bool verbose, int nsteps,
+                std::chrono::steady_clock::time_point start, const Checkpoint *state = nullptr,
+                int firstStep = 0) {
   writer.writeStep(r, f, state);
   result.steps.push_back(r);
   result.displacement = std::move(f.displacement);
@@ -125,19 +128,20 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double eta = elapsed / (r.step - firstStep) * (nsteps - r.step);
-  char line[256];
+  char contact[160] = "";
+  if (r.contactClosed >= 0)
+    std::snprintf(contact, sizeof contact,
+                  "  contact: %d nodes closed (%d stick, %d slip), %d updates%s", r.contactClosed,
+                  r.contactStick, r.contactSlip, r.contactIterations,
+                  r.contactCycled ? ", active set CYCLED (last pattern kept)" : "");
+  char line[400];
   std::snprintf(line, sizeof line,
                 "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  residual "
-                "%.2e  %s  %.3f s  ETA %.1f s\n",
+                "%.2e  %s%s  %.3f s  ETA %.1f s\n",
                 r.step, nsteps, r.loadFactor, r.iterations, r.cuts, r.linearIterations, r.residual,
-                r.converged ? "converged" : "NOT CONVERGED", r.totalSeconds, eta);
+                r.converged ? "converged" : "NOT CONVERGED", contact, r.totalSeconds, eta);
   *log << line;
-  if (r.contactClosed >= 0) {
-    std::snprintf(line, sizeof line,
-                  "        contact: %d nodes closed (%d stick, %d slip), %d contact iterations%s\n",
-                  r.contactClosed, r.contactStick, r.contactSlip, r.contactIterations,
-                  r.contactCycled ? ", active set CYCLED (last pattern kept)" : "");
-    *log << line;
+  if (verbose) {
     for (std::size_t o = 0; 2 * o + 1 < r.obstacleMotion.size(); ++o)
       if (r.obstacleMotion[2 * o] != 0.0 || r.obstacleMotion[2 * o + 1] != 0.0) {
         std::snprintf(line, sizeof line, "        obstacle %zu moved by (%.6g, %.6g)\n", o + 1,
@@ -297,7 +301,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
                        const std::vector<PlaneMatrix> &stiffness, RunResult result) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
-  std::ostream *log = options.log;
+  // Warnings (failures) go to options.log whatever the verbosity; progress lines unless Quiet.
+  std::ostream *warn = options.log;
+  std::ostream *log = options.verbosity == Verbosity::Quiet ? nullptr : options.log;
+  const bool verbose = options.verbosity == Verbosity::Verbose;
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<NonlinearModel> owner;
   if (mixed) {
@@ -401,7 +408,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "
          << p.nonlinear.tolerance << ", residual tolerance " << p.nonlinear.residualTolerance
          << ", linear solver " << model.solverName() << "\n";
-  LoadStepper stepper(model, p.nonlinear, log);
+  LoadStepper stepper(model, p.nonlinear, warn, options.verbosity);
   const int nsteps = static_cast<int>(p.loadFactors.size());
   const int firstStep = restart ? restart->lastStep() : 0;
   if (restart) {
@@ -494,13 +501,14 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         model.contactIterations()->saveCommitted(state);
       state.putScalar("stepper/load_factor", stepper.loadFactor());
     }
-    recordStep(writer, result, r, f, log, nsteps, start, o.converged ? &state : nullptr, firstStep);
+    recordStep(writer, result, r, f, log, verbose, nsteps, start, o.converged ? &state : nullptr,
+               firstStep);
     if (!o.converged) {
       result.converged = false;
       writer.finish(false, "step " + std::to_string(k + 1) + ": " + o.message +
                                "; the results of the converged steps are in the output");
-      if (log)
-        *log << "mixcon: step " << k + 1 << " failed: " << o.message << "\n";
+      if (warn)
+        *warn << "mixcon: step " << k + 1 << " failed: " << o.message << "\n";
       return result;
     }
   }
@@ -521,7 +529,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   RunResult result;
   result.outputDirectory =
       options.outputDirectory.empty() ? p.outputDirectory : options.outputDirectory;
-  std::ostream *log = options.log;
+  std::ostream *log = options.verbosity == Verbosity::Quiet ? nullptr : options.log;
+  const bool verbose = options.verbosity == Verbosity::Verbose;
 
   // Materials per element through regions.
   std::vector<PlaneMatrix> stiffness;
@@ -594,8 +603,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =
         std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
-    recordStep(writer, result, r, f, log, nsteps, start);
-    if (log) {
+    recordStep(writer, result, r, f, log, verbose, nsteps, start);
+    if (log && verbose) {
       char line[256];
       if (mixed) {
         const auto &m = static_cast<const MixedModel &>(model);

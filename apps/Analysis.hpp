@@ -5,6 +5,7 @@
 #include <apps/Verification.hpp>
 #include <io/Problem.hpp>
 #include <io/Results.hpp>
+#include <solver/Nonlinear.hpp>
 
 #include <iosfwd>
 #include <optional>
@@ -14,7 +15,10 @@ namespace mixcon {
 
 struct RunOptions {
   std::string outputDirectory; ///< overrides the problem's output.directory when not empty
-  std::ostream *log = nullptr; ///< progress lines; nullptr: silent
+  std::ostream *log = nullptr; ///< progress lines and warnings; nullptr: silent
+  /// What goes to `log`: Normal (the model lines, one line per step, warnings, the files
+  /// written), Quiet (warnings only) or Verbose (also every iteration and contact status change).
+  Verbosity verbosity = Verbosity::Normal;
   /// Continue the run whose output folder this is from its last converged step (nonlinear or
   /// contact analyses; the results go on in outputDirectory, by default this folder).
   std::string restartDirectory;

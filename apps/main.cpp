@@ -1,4 +1,5 @@
-// The `mixcon` command-line program: `mixcon run problem.yaml [--output DIR] [--restart DIR]`.
+// The `mixcon` command-line program: `mixcon run problem.yaml [--output DIR] [--restart DIR]
+// [-v | -q]`.
 // Exit codes: 0 success, 1 runtime failure or failed verification, 2 invalid input,
 // 3 non-convergence.
 #include <apps/Analysis.hpp>
@@ -25,8 +26,12 @@ int main(int argc, char **argv) {
   run->add_option("--restart", restart,
                   "Continue the nonlinear or contact run whose output folder this is from its last "
                   "converged step (the results go on there unless --output names another folder)");
-  bool quiet = false;
-  run->add_flag("-q,--quiet", quiet, "No progress lines");
+  bool quiet = false, verbose = false;
+  auto *quietFlag =
+      run->add_flag("-q,--quiet", quiet, "Only warnings and errors (on stderr), no progress lines");
+  run->add_flag("-v,--verbose", verbose,
+                "Every Newton iteration and contact status change besides the step lines")
+      ->excludes(quietFlag);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError &e) {
@@ -40,7 +45,11 @@ int main(int argc, char **argv) {
     mixcon::RunOptions options;
     options.outputDirectory = output.empty() ? restart : output;
     options.restartDirectory = restart;
-    options.log = quiet ? nullptr : &std::cout;
+    // Default: start-up lines, one line per step, warnings and the files written.
+    options.verbosity = quiet     ? mixcon::Verbosity::Quiet
+                        : verbose ? mixcon::Verbosity::Verbose
+                                  : mixcon::Verbosity::Normal;
+    options.log = quiet ? &std::cerr : &std::cout;
     const auto result = mixcon::runAnalysis(problem, options, MPI_COMM_WORLD);
     if (!result.converged) {
       std::cerr << "mixcon: error: " << problemFile

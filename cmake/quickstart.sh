@@ -21,8 +21,11 @@ fi
 configure_and_build() { # build-dir, extra cmake args...
   local dir=$1
   shift
-  cmake -S "$root" -B "$dir" -DKokkos_ROOT="$Kokkos_ROOT" "$@" > "$dir.configure.log" 2>&1 ||
-    { cat "$dir.configure.log"; exit 1; }
+  mkdir -p "$dir"
+  # The configure log stays inside the build directory (never next to it, in the source tree).
+  local log=$dir/configure.log
+  cmake -S "$root" -B "$dir" -DKokkos_ROOT="$Kokkos_ROOT" "$@" > "$log" 2>&1 ||
+    { cat "$log"; exit 1; }
   cmake --build "$dir" -j "$jobs"
 }
 

@@ -1441,8 +1441,10 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
 // ---------------------------------------------------------------------------------------------
 // LoadStepper
 
-LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log)
-    : model_(model), options_(options), log_(log) {}
+LoadStepper::LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log,
+                         Verbosity verbosity)
+    : model_(model), options_(options), log_(log),
+      detail_(verbosity == Verbosity::Verbose ? log : nullptr) {}
 
 std::string LoadStepper::contactHint() const {
   return model_.contactIterations()
@@ -1501,13 +1503,13 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
     const bool tangent = options_.method == IterationMethod::Newton;
     const double r = model_.evaluate(lambda, tangent);
     out.history.push_back({inc, r, s.iterations});
-    if (log_) {
+    if (detail_) {
       char line[200];
       std::snprintf(line, sizeof line,
                     "    load factor %.5g  iteration %d  |du|/|u| %.3e  residual %.3e  linear its "
                     "%d\n",
                     lambda, it, inc, r, s.iterations);
-      *log_ << line << std::flush;
+      *detail_ << line << std::flush;
     }
     if (!std::isfinite(r) || !std::isfinite(inc)) {
       why = model_.invertedElement() >= 0 ? model_.invertedElementMessage()
@@ -1547,8 +1549,8 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
         contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(), changesLog,
                               stress.empty() ? nullptr : &stress, frozen);
     ++out.contactIterations;
-    if (log_ && !changesLog.empty())
-      *log_ << changesLog;
+    if (detail_ && !changesLog.empty())
+      *detail_ << changesLog;
     if (changes == 0) {
       std::string where;
       if (!contact->penetrationWithin(1e-6, where)) {

@@ -378,10 +378,18 @@ struct IncrementOutcome {
   double solveSeconds = 0.0;
 };
 
-/// Drives a NonlinearModel through load factors. Progress lines (one per iteration) go to `log`.
+/// How much progress is printed. Quiet: warnings only (active-set cycling, increment cuts,
+/// failures); Normal: also the driver's start-up lines and one line per step; Verbose: also every
+/// equilibrium iteration and every contact status change.
+enum class Verbosity { Quiet, Normal, Verbose };
+
+/// Drives a NonlinearModel through load factors. Writes to `log` (nullptr: nothing) its warnings
+/// (cycling, cuts) always and, with Verbosity::Verbose, a line per iteration and per contact
+/// status change.
 class LoadStepper {
 public:
-  LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log = nullptr);
+  LoadStepper(NonlinearModel &model, const NonlinearOptions &options, std::ostream *log = nullptr,
+              Verbosity verbosity = Verbosity::Verbose);
   /// Advances from the committed load factor to `target`, cutting the increment on failure.
   IncrementOutcome advance(double target);
   double loadFactor() const { return lambda_; }
@@ -399,6 +407,7 @@ private:
   NonlinearModel &model_;
   NonlinearOptions options_;
   std::ostream *log_;
+  std::ostream *detail_; ///< log_ with Verbosity::Verbose, else nullptr
   double lambda_ = 0.0;
   bool contactStarted_ = false;
 };

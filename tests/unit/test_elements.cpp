@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <string>
 
 using namespace mixcon;
 
@@ -122,14 +123,51 @@ TEST(EdgeShape, InterpolatesAndDifferentiates) {
   }
 }
 
+namespace {
+/// The default execution space Kokkos picks among the backends this build enabled (Kokkos'
+/// order: a device backend, then host threads, then Serial), from the configuration macros.
+const char *expectedDefaultSpace() {
+#if defined(KOKKOS_ENABLE_CUDA)
+  return "Cuda";
+#elif defined(KOKKOS_ENABLE_HIP)
+  return "HIP";
+#elif defined(KOKKOS_ENABLE_SYCL)
+  return "SYCL";
+#elif defined(KOKKOS_ENABLE_OPENMPTARGET)
+  return "OpenMPTarget";
+#elif defined(KOKKOS_ENABLE_OPENMP)
+  return "OpenMP";
+#elif defined(KOKKOS_ENABLE_THREADS)
+  return "Threads";
+#elif defined(KOKKOS_ENABLE_HPX)
+  return "HPX";
+#else
+  return "Serial";
+#endif
+}
+} // namespace
+
 TEST(Backend, RunsOnTheExpectedKokkosBackend) {
+  const std::string actual = Kokkos::DefaultExecutionSpace::name();
+  const int concurrency = Kokkos::DefaultExecutionSpace().concurrency();
+  std::cout << "Kokkos default execution space: " << actual << " with " << concurrency
+            << " threads\n";
+  EXPECT_EQ(actual, expectedDefaultSpace()) << "the default space of the enabled backends";
+  EXPECT_GE(concurrency, 1);
+  if (actual == "Serial") {
+    EXPECT_EQ(concurrency, 1);
+  }
+  // OpenMP runs as many threads as OMP_NUM_THREADS asks (its first entry when it is a list),
+  // unless Kokkos' own KOKKOS_NUM_THREADS overrides it.
+  const char *threads = std::getenv("OMP_NUM_THREADS");
+  if (actual == "OpenMP" && threads != nullptr && std::atoi(threads) > 0 &&
+      std::getenv("KOKKOS_NUM_THREADS") == nullptr) {
+    EXPECT_EQ(concurrency, std::atoi(threads)) << "OMP_NUM_THREADS=" << threads;
+  }
   // CI sets MIXCON_EXPECT_BACKEND=OpenMP: races hide under Serial, so the suite must run threaded.
   const char *expected = std::getenv("MIXCON_EXPECT_BACKEND");
-  const std::string actual = Kokkos::DefaultExecutionSpace::name();
-  std::cout << "Kokkos default execution space: " << actual << " with "
-            << Kokkos::DefaultExecutionSpace().concurrency() << " threads\n";
   if (expected != nullptr) {
     EXPECT_EQ(actual, expected);
-    EXPECT_GE(Kokkos::DefaultExecutionSpace().concurrency(), 2);
+    EXPECT_GE(concurrency, 2);
   }
 }

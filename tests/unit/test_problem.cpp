@@ -448,7 +448,9 @@ TEST(Cli, NonlinearMixedRunWritesConvergenceHistoryAndGaussFields) {
   std::ofstream(file) << y;
   std::string out;
   const fs::path outDir = dir.path() / "results";
-  ASSERT_EQ(runMixcon("run " + file.string() + " --output " + outDir.string(), out, dir.path()), 0)
+  ASSERT_EQ(
+      runMixcon("run " + file.string() + " --verbose --output " + outDir.string(), out, dir.path()),
+      0)
       << out;
   EXPECT_NE(out.find("geometrically nonlinear"), std::string::npos) << out;
   EXPECT_NE(out.find("iteration 1"), std::string::npos) << out; // per-iteration progress
