@@ -255,6 +255,8 @@ void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const Hybr
                          "the normal traction is below the threshold");
     H5Gclose(hg);
     // The same per node of the mesh (NaN off the measured boundary), for the XDMF index.
+    if (h.nodeIndex.size() != h.node.size())
+      throw std::logic_error("HybridFields: nodeIndex must give every node's index");
     const hid_t ng = H5Gcreate2(g, "hybrid_nodal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     const std::size_t nn = mesh_.numNodes();
     for (const auto &[name, v] : sets) {
@@ -320,6 +322,8 @@ void ResultsWriter::writeContactNodal(long long group, const ContactFields &c) c
   // Per node of the mesh: the candidate closest to contact (highest status, then smallest gap)
   // of the node's candidates gives the values; -1 / NaN / 0 where the node is no candidate.
   const std::size_t nn = mesh_.numNodes();
+  if (c.nodeIndex.size() != c.node.size())
+    throw std::logic_error("ContactFields: nodeIndex must give every candidate's node index");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<int> status(nn, -1);
   std::vector<double> gap(nn, nan), normal(nn, 0.0), tangential(nn, 0.0);
