@@ -190,6 +190,7 @@ void hybridFields(const Problem &p, const BoundaryValues &b, const std::vector<d
     surfaceStress(&f.stress[3 * n], n0, n1, snn, snt);
     const double gx = f.reaction[2 * n], gy = f.reaction[2 * n + 1];
     out.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
+    out.nodeIndex.push_back(n);
     out.angle.push_back(th);
     out.ux.push_back(b.ux[i]);
     out.uy.push_back(b.uy[i]);
@@ -234,6 +235,7 @@ void contactFields(const Contact &contact, const Problem &p, const std::vector<d
     const ContactStatus st = contact.status(k);
     c.obstacle.push_back(contact.obstacleOf(k));
     c.node.push_back(p.mesh.nodeIds.empty() ? n + 1 : p.mesh.nodeIds[n]);
+    c.nodeIndex.push_back(n);
     c.status.push_back(static_cast<int>(st));
     c.gap.push_back(contact.gap(k));
     c.normalForce.push_back(st == ContactStatus::Open ? 0.0 : contact.normalForce(k));
@@ -473,6 +475,16 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
               "extrapolated to the nodes and averaged"
             : "Cauchy stress from the Almansi strain (Eq. (26)), Gauss points extrapolated to "
               "the nodes and averaged";
+    // The Gauss-point stresses come from the displacements through the displacement model's law
+    // (the mixed model's too: its law is the Almansi one), on the reference configuration for a
+    // linear body (small displacements).
+    f.gaussStressSource =
+        !p.model.geometricNonlinearity
+            ? "C eps(u) from the displacements (small displacements, linear law)"
+        : !mixed && p.model.elasticLaw == ElasticLaw::SaintVenantKirchhoff
+            ? "Cauchy stress F S F^T / J of the St. Venant-Kirchhoff law (S = C E(u), Green "
+              "strain) from the displacements"
+            : "Cauchy stress C e(u) from the Almansi strain of the displacements (Eq. (26))";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
                                f.gaussGradient, f.gaussCurrentCoordinates);
@@ -599,6 +611,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     f.stress = model.nodalStressHost();
     f.stressSource = mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
                            : "2x2 Gauss-point stresses extrapolated to the nodes and averaged";
+    f.gaussStressSource = "C eps(u) from the displacements";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =

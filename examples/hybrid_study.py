@@ -74,7 +74,7 @@ def write_measurements(forward, path, noise, seed=1):
             rows = []
             for i in idx:
                 x, y = xy[i]
-                ux, uy = u[i]
+                ux, uy = u[i, :2]
                 rows.append((x, y, ux, uy))
                 if abs(y) > 1e-12:  # the mirrored half
                     rows.append((x, -y, ux, -uy))

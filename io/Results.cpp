@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -139,6 +140,45 @@ void writeStringAttribute(hid_t loc, const char *name, const std::string &value)
   H5Aclose(a);
   H5Sclose(space);
   H5Tclose(type);
+}
+
+/// A 1-D attribute of fixed-length strings (h5py reads it as an array of bytes).
+void writeStringListAttribute(hid_t loc, const char *name, const std::vector<std::string> &values) {
+  std::size_t width = 1;
+  for (const auto &v : values)
+    width = std::max(width, v.size());
+  std::vector<char> packed(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i].copy(&packed[i * width], values[i].size());
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, width);
+  H5Tset_strpad(type, H5T_STR_NULLPAD);
+  const hsize_t n = values.size();
+  const hid_t space = H5Screate_simple(1, &n, nullptr);
+  const hid_t a = H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, packed.data());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+/// Writes a (points x 3) stress dataset and names its columns in the attribute `components`.
+void writeStressDataset(hid_t loc, const std::string &name, const std::vector<double> &stress) {
+  writeDataset(loc, name, stress.data(), H5T_NATIVE_DOUBLE, stress.size() / 3, 3);
+  const hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
+  writeStringListAttribute(set, "components", {"xx", "yy", "xy"});
+  H5Dclose(set);
+}
+
+/// N x 2 vectors as N x 3 with z = 0: the rows ParaView's filters (Warp By Vector, Glyph) take.
+std::vector<double> withZeroZ(const std::vector<double> &v) {
+  const std::size_t n = v.size() / 2;
+  std::vector<double> out(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[3 * i] = v[2 * i];
+    out[3 * i + 1] = v[2 * i + 1];
+  }
+  return out;
 }
 
 std::string number(double v) {
@@ -341,28 +381,23 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
     if (g < 0)
       throw std::runtime_error("HDF5: cannot create group " + name + " in " + tmp);
     const hsize_t nn = mesh_.numNodes();
-    writeDataset(g, "displacement", f.displacement.data(), H5T_NATIVE_DOUBLE, nn, 2);
-    writeDataset(g, "stress", f.stress.data(), H5T_NATIVE_DOUBLE, nn, 3);
+    writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn, 3);
+    writeStressDataset(g, "stress", f.stress);
     if (!f.reaction.empty())
-      writeDataset(g, "reaction", f.reaction.data(), H5T_NATIVE_DOUBLE, nn, 2);
+      writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn, 3);
     const hsize_t nq = f.gaussStress.size() / 3;
     const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
-    writeDataset(gp, "stress", f.gaussStress.data(), H5T_NATIVE_DOUBLE, nq, 3);
+    writeStressDataset(gp, "stress", f.gaussStress);
     writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
-    const bool nonlinear = !f.gaussGradient.empty();
-    writeStringAttribute(gp, "stress_source",
-                         nonlinear ? "Cauchy stress C e(u) from the Almansi strain of the "
-                                     "displacements"
-                                   : "C eps(u) from the displacements");
-    if (nonlinear) {
+    writeStringAttribute(gp, "stress_source", f.gaussStressSource);
+    if (!f.gaussGradient.empty()) {
       writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
       writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
                    nq, 2);
     }
     if (!f.gaussInterpolatedStress.empty())
-      writeDataset(gp, "interpolated_stress", f.gaussInterpolatedStress.data(), H5T_NATIVE_DOUBLE,
-                   nq, 3);
+      writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress);
     H5Gclose(gp);
     writeStringAttribute(g, "stress_source", f.stressSource);
     if (!f.contact.node.empty())
@@ -382,6 +417,7 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
     file.close();
     replaceFile(tmp, path);
     writeIndex();
+    stepArrays_.push_back({!f.reaction.empty(), !f.contact.node.empty(), !f.hybrid.node.empty()});
     writeXdmf();
   } else {
     if (!f.contact.node.empty())
@@ -430,6 +466,20 @@ void ResultsWriter::writeHybrid(long long group, const StepRecord &r, const Hybr
                          "mu_stress / mu_force are NaN where |sigma_rr| / "
                          "the normal traction is below the threshold");
     H5Gclose(hg);
+    // The same per node of the mesh (NaN off the measured boundary), for the XDMF index.
+    if (h.nodeIndex.size() != h.node.size())
+      throw std::logic_error("HybridFields: nodeIndex must give every node's index");
+    const hid_t ng = H5Gcreate2(g, "hybrid_nodal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const std::size_t nn = mesh_.numNodes();
+    for (const auto &[name, v] : sets) {
+      if (v == &h.angle || v == &h.ux || v == &h.uy)
+        continue; // the mesh's own coordinates and displacement
+      std::vector<double> nodal(nn, std::numeric_limits<double>::quiet_NaN());
+      for (hsize_t k = 0; k < n; ++k)
+        nodal[static_cast<std::size_t>(h.nodeIndex[k])] = (*v)[k];
+      writeDataset(ng, name, nodal.data(), H5T_NATIVE_DOUBLE, nn, 0);
+    }
+    H5Gclose(ng);
   }
   // hybrid.csv: one row per boundary node and step, appended (valid after each step).
   std::ofstream csv = appendCsv("hybrid.csv", hybridCsvStarted_,
@@ -465,6 +515,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
                    r.obstacleMotion.size() / 2, 2);
     writeStringAttribute(cg, "status_codes", "0 open, 1 stick, 2 slip");
     H5Gclose(cg);
+    writeContactNodal(g, c);
   }
   // contact.csv: one row per candidate and step, appended (the file stays valid after each step).
   std::ofstream csv = appendCsv("contact.csv", contactCsvStarted_,
@@ -481,6 +532,34 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
   closeChecked(csv, directory_ + "/contact.csv");
 }
 
+void ResultsWriter::writeContactNodal(long long group, const ContactFields &c) const {
+  // Per node of the mesh: the candidate closest to contact (highest status, then smallest gap)
+  // of the node's candidates gives the values; -1 / NaN / 0 where the node is no candidate.
+  const std::size_t nn = mesh_.numNodes();
+  if (c.nodeIndex.size() != c.node.size())
+    throw std::logic_error("ContactFields: nodeIndex must give every candidate's node index");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<int> status(nn, -1);
+  std::vector<double> gap(nn, nan), normal(nn, 0.0), tangential(nn, 0.0);
+  for (std::size_t k = 0; k < c.node.size(); ++k) {
+    const auto i = static_cast<std::size_t>(c.nodeIndex[k]);
+    if (c.status[k] < status[i] || (c.status[k] == status[i] && !(c.gap[k] < gap[i])))
+      continue;
+    status[i] = c.status[k];
+    gap[i] = c.gap[k];
+    normal[i] = c.normalStress[k];
+    tangential[i] = c.tangentStress[k];
+  }
+  const hid_t ng =
+      H5Gcreate2(static_cast<hid_t>(group), "contact_nodal", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  writeDataset(ng, "status", status.data(), H5T_NATIVE_INT, nn, 0);
+  writeDataset(ng, "gap", gap.data(), H5T_NATIVE_DOUBLE, nn, 0);
+  writeDataset(ng, "normal_traction", normal.data(), H5T_NATIVE_DOUBLE, nn, 0);
+  writeDataset(ng, "tangential_traction", tangential.data(), H5T_NATIVE_DOUBLE, nn, 0);
+  writeStringAttribute(ng, "status_codes", "-1 no candidate, 0 open, 1 stick, 2 slip");
+  H5Gclose(ng);
+}
+
 void ResultsWriter::setSummaryExtra(const std::string &key, const std::string &jsonValue) {
   extra_.emplace_back(key, jsonValue);
   writeSummary();
@@ -493,17 +572,31 @@ void ResultsWriter::finish(bool success, const std::string &message) {
 }
 
 void ResultsWriter::writeXdmf() const {
+  // Vectors are N x 3 in results.h5 (z = 0), as Warp By Vector needs. The stress is the N x 3
+  // dataset itself: ParaView 5.11's Xdmf3 reader labels its components X, Y, Z (= xx, yy, xy)
+  // whatever the AttributeType, and skips HyperSlab and Function data items ("unrecognized
+  // array type"), so named per-component scalars would need copies of the data.
   const bool q8 = mesh_.elementType == ElementType::Quad8;
   const auto ne = mesh_.numElements(), nn = mesh_.numNodes();
   std::ostringstream x;
   auto item = [&](const std::string &path, std::size_t rows, int cols, bool isInt) {
-    x << "        <DataItem Dimensions=\"" << rows << " " << cols << "\" NumberType=\""
-      << (isInt ? "Int\" Precision=\"4" : "Float\" Precision=\"8")
+    x << "        <DataItem Dimensions=\"" << rows;
+    if (cols > 0)
+      x << " " << cols;
+    x << "\" NumberType=\"" << (isInt ? "Int\" Precision=\"4" : "Float\" Precision=\"8")
       << "\" Format=\"HDF\">results.h5:" << path << "</DataItem>\n";
+  };
+  auto nodeArray = [&](const std::string &name, const std::string &path, int cols, bool isInt) {
+    x << "      <Attribute Name=\"" << name << "\" AttributeType=\""
+      << (cols > 0 ? "Vector" : "Scalar") << "\" Center=\"Node\">\n";
+    item(path, nn, cols, isInt);
+    x << "      </Attribute>\n";
   };
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
     << "    <Grid Name=\"mixcon\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (const auto &s : steps_) {
+  for (std::size_t i = 0; i < steps_.size(); ++i) {
+    const StepRecord &s = steps_[i];
+    const StepArrays &has = stepArrays_[i];
     const std::string base = "/steps/" + std::to_string(s.step);
     x << "     <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
       << "      <Time Value=\"" << number(s.loadFactor) << "\"/>\n"
@@ -513,15 +606,26 @@ void ResultsWriter::writeXdmf() const {
     x << "      </Topology>\n      <Geometry GeometryType=\"XY\">\n";
     item("/mesh/nodes", nn, 2, false);
     x << "      </Geometry>\n";
-    for (const char *field : {"displacement", "stress"}) {
-      x << "      <Attribute Name=\"" << field << "\" AttributeType=\"Matrix\" Center=\"Node\">\n";
-      item(base + "/" + field, nn, field[0] == 'd' ? 2 : 3, false);
-      x << "      </Attribute>\n";
+    nodeArray("displacement", base + "/displacement", 3, false);
+    if (has.reaction)
+      nodeArray("reaction", base + "/reaction", 3, false);
+    x << "      <Attribute Name=\"stress\" AttributeType=\"Vector\" Center=\"Node\">\n";
+    item(base + "/stress", nn, 3, false);
+    x << "      </Attribute>\n";
+    if (has.contact) {
+      nodeArray("contact_status", base + "/contact_nodal/status", 0, true);
+      nodeArray("contact_gap", base + "/contact_nodal/gap", 0, false);
+      nodeArray("contact_normal_traction", base + "/contact_nodal/normal_traction", 0, false);
+      nodeArray("contact_tangential_traction", base + "/contact_nodal/tangential_traction", 0,
+                false);
     }
-    x << "      <Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">\n"
-      << "        <DataItem Dimensions=\"" << ne
-      << "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">results.h5:/mesh/element_region"
-      << "</DataItem>\n      </Attribute>\n     </Grid>\n";
+    if (has.hybrid)
+      for (const char *name :
+           {"sigma_rr", "tau_rt", "traction_n", "traction_t", "mu_stress", "mu_force"})
+        nodeArray(std::string("hybrid_") + name, base + "/hybrid_nodal/" + name, 0, false);
+    x << "      <Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+    item("/mesh/element_region", ne, 0, true);
+    x << "      </Attribute>\n     </Grid>\n";
   }
   x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   writeTextFile(directory_ + "/results.xdmf", x.str());
@@ -577,6 +681,7 @@ void ResultsWriter::writeState(long long group, const Checkpoint &state) const {
 void ResultsWriter::resumeFrom(const RestartPoint &point) {
   steps_ = point.steps;
   stepSummaries_ = point.stepSummaries;
+  stepArrays_ = point.stepArrays;
   const int last = point.lastStep();
   std::error_code ec;
   if (!fs::equivalent(point.directory, directory_, ec)) {
@@ -751,6 +856,7 @@ RestartPoint readRestart(const std::string &directory) {
     // point is the last of them with a saved state.
     std::vector<StepRecord> records;
     std::vector<std::string> summaries;
+    std::vector<StepArrays> arrays;
     std::size_t withState = 0; // steps up to the restart point
     int expected = 1;
     for (int k : numbers) {
@@ -776,6 +882,9 @@ RestartPoint readRestart(const std::string &directory) {
       }
       records.push_back(r);
       summaries.push_back(summary);
+      arrays.push_back({H5Lexists(g, "reaction", H5P_DEFAULT) > 0,
+                        H5Lexists(g, "contact_nodal", H5P_DEFAULT) > 0,
+                        H5Lexists(g, "hybrid_nodal", H5P_DEFAULT) > 0});
       if (hasState)
         withState = records.size();
       H5Gclose(g);
@@ -791,8 +900,10 @@ RestartPoint readRestart(const std::string &directory) {
     H5Gclose(st);
     records.resize(withState);
     summaries.resize(withState);
+    arrays.resize(withState);
     point.steps = std::move(records);
     point.stepSummaries = std::move(summaries);
+    point.stepArrays = std::move(arrays);
   } catch (const std::runtime_error &e) {
     H5Fclose(file);
     throw InputError(path + ": " + e.what());

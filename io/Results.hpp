@@ -50,8 +50,9 @@ struct StepRecord {
 /// Per contact candidate (boundary node against an obstacle) of one step.
 struct ContactFields {
   std::vector<int> obstacle;
-  std::vector<long> node;  ///< mesh node id
-  std::vector<int> status; ///< 0 open, 1 stick, 2 slip
+  std::vector<long> node;      ///< mesh node id
+  std::vector<long> nodeIndex; ///< 0-based index of that node (the rows of the nodal arrays)
+  std::vector<int> status;     ///< 0 open, 1 stick, 2 slip
   std::vector<double> gap, normalForce, tangentForce, angle, arc, x, y;
   /// Contact tractions (nodal force / the node's share of the contact boundary, current
   /// configuration) and the nodal stress rotated to the obstacle: sigma_nn = n.s.n,
@@ -64,13 +65,14 @@ struct ContactFields {
 /// reactions, and the inferred friction coefficient (NaN where undetermined: |sigma_rr| or the
 /// normal traction below the threshold).
 struct HybridFields {
-  std::vector<long> node; ///< mesh node id
+  std::vector<long> node;      ///< mesh node id
+  std::vector<long> nodeIndex; ///< 0-based index of that node (the rows of the nodal arrays)
   std::vector<double> angle, ux, uy, sigmaRR, tauRT, muStress, tractionN, tractionT, muForce;
 };
 
 /// Host arrays of one step's fields (row-major).
 struct StepFields {
-  std::vector<double> displacement; ///< N x 2
+  std::vector<double> displacement; ///< N x 2 (written N x 3, z = 0, for ParaView)
   std::vector<double> stress;       ///< N x 3 nodal Cauchy stress xx, yy, xy
   std::vector<double> reaction;     ///< N x 2 (internal minus external force; nonzero at supports)
   std::vector<double> gaussCoordinates; ///< (E * nq) x 2
@@ -79,9 +81,15 @@ struct StepFields {
   /// Geometrically nonlinear runs (empty otherwise): du/dx (4 per point: du/dx, du/dy, dv/dx,
   /// dv/dy), current point coordinates, and (mixed model) the nodal stresses interpolated there.
   std::vector<double> gaussGradient, gaussCurrentCoordinates, gaussInterpolatedStress;
-  std::string stressSource; ///< how the nodal stresses were obtained (an HDF5 attribute)
-  ContactFields contact;    ///< empty without contact
-  HybridFields hybrid;      ///< empty outside the hybrid mode
+  std::string stressSource;      ///< how the nodal stresses were obtained (an HDF5 attribute)
+  std::string gaussStressSource; ///< how the Gauss-point stresses were obtained (an attribute)
+  ContactFields contact;         ///< empty without contact
+  HybridFields hybrid;           ///< empty outside the hybrid mode
+};
+
+/// Which optional node arrays a written step has (for the XDMF index).
+struct StepArrays {
+  bool reaction = false, contact = false, hybrid = false;
 };
 
 /// Where a restarted run continues: the steps already written (up to the last converged one
@@ -89,6 +97,7 @@ struct StepFields {
 struct RestartPoint {
   std::vector<StepRecord> steps;          ///< steps 1..k as recorded (load factors, convergence)
   std::vector<std::string> stepSummaries; ///< their summary.json entries
+  std::vector<StepArrays> stepArrays;     ///< their optional node arrays
   Checkpoint state;                       ///< the committed state after step k
   std::string directory;                  ///< the folder it was read from
   long numNodes = 0, numElements = 0;
@@ -134,6 +143,8 @@ private:
   void resumeFrom(const RestartPoint &point);
   void writeState(long long group, const Checkpoint &state) const;
   void writeContact(long long group, const StepRecord &record, const ContactFields &c);
+  /// /steps/k/contact_nodal: the candidates' status, gap and tractions as arrays over all nodes.
+  void writeContactNodal(long long group, const ContactFields &c) const;
 
   std::string directory_;
   std::string problemFile_;
@@ -142,6 +153,7 @@ private:
   int lock_ = -1; ///< file descriptor holding the folder's lock
   std::vector<StepRecord> steps_;
   std::vector<std::string> stepSummaries_; ///< each step's summary.json entry
+  std::vector<StepArrays> stepArrays_;     ///< per step: its optional node arrays (XDMF index)
   std::vector<std::pair<std::string, std::string>> extra_;
   bool contactCsvStarted_ = false, hybridCsvStarted_ = false;
   void writeHybrid(long long group, const StepRecord &r, const HybridFields &h);

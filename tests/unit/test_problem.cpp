@@ -373,7 +373,7 @@ TEST(Cli, RunWritesHdf5XdmfAndSummary) {
   const hsize_t nn = 41 * 5 - 20 * 2; // Quad8 20x2 rectangle
   EXPECT_EQ(dims("/mesh/nodes"), (std::array<hsize_t, 2>{nn, 2}));
   EXPECT_EQ(dims("/mesh/elements"), (std::array<hsize_t, 2>{40, 8}));
-  EXPECT_EQ(dims("/steps/2/displacement"), (std::array<hsize_t, 2>{nn, 2}));
+  EXPECT_EQ(dims("/steps/2/displacement"), (std::array<hsize_t, 2>{nn, 3})); // z = 0
   EXPECT_EQ(dims("/steps/2/stress"), (std::array<hsize_t, 2>{nn, 3}));
   EXPECT_EQ(dims("/steps/1/gauss_points/stress"), (std::array<hsize_t, 2>{40 * 9, 3}));
   double lambda = 0;
@@ -391,7 +391,7 @@ TEST(Cli, RunWritesHdf5XdmfAndSummary) {
     H5Dclose(d);
     return v;
   };
-  const auto u1 = read("/steps/1/displacement", 2 * nn), u2 = read("/steps/2/displacement", 2 * nn);
+  const auto u1 = read("/steps/1/displacement", 3 * nn), u2 = read("/steps/2/displacement", 3 * nn);
   double maxU = 0;
   for (std::size_t i = 0; i < u1.size(); ++i) {
     EXPECT_NEAR(u2[i], 2 * u1[i], 1e-9 * (std::abs(u2[i]) + 1e-12));
@@ -549,6 +549,170 @@ TEST(Cli, ContactTractionsOfAUniformlyCompressedBlock) {
     ++rows;
   }
   EXPECT_EQ(rows, 17); // the 8 Quad8 edges' 17 nodes
+}
+
+namespace {
+/// The uniformly compressed block above, with HDF5 output.
+const char *kCompressedBlock =
+    "mesh:\n  generator: {type: rectangle, size: [2, 1], divisions: [8, 4], element: quad8}\n"
+    "model: {analysis: plane_strain}\n"
+    "materials:\n  - {region: body, type: isotropic, E: 21000, nu: 0.3}\n"
+    "boundary_conditions:\n  - {boundary: left, ux: 0}\n  - {boundary: top, uy: -0.01}\n"
+    "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: [0, 1]}\n"
+    "steps: {increments: 1}\n"
+    "output: {directory: block}\n";
+
+std::vector<double> readDoubles(hid_t f, const char *name) {
+  const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  if (d < 0)
+    return {};
+  const hid_t s = H5Dget_space(d);
+  std::vector<double> v(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s)));
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(s);
+  H5Dclose(d);
+  return v;
+}
+
+/// The `stress_source` attribute of /steps/<step>/gauss_points of a run's results.h5.
+std::string gaussStressSource(const fs::path &outDir, int step) {
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    return "(no results.h5)";
+  const hid_t gp =
+      H5Gopen2(f, ("/steps/" + std::to_string(step) + "/gauss_points").c_str(), H5P_DEFAULT);
+  const std::string v = gp >= 0 ? readStringAttribute(gp, "stress_source") : "(no group)";
+  if (gp >= 0)
+    H5Gclose(gp);
+  H5Fclose(f);
+  return v;
+}
+} // namespace
+
+// The Gauss-point stresses are labelled by the law that produced them: C eps(u) for a linear
+// body in contact (small displacements, on the nonlinear driver), the St. Venant-Kirchhoff
+// Cauchy stress for that law, and the Almansi law's only where it is used.
+TEST(Cli, GaussPointStressSourceNamesTheLaw) {
+  TempDir dir;
+  std::string out;
+  const fs::path block = dir.path() / "block.yaml";
+  std::ofstream(block) << kCompressedBlock;
+  ASSERT_EQ(runMixcon("run " + block.string() + " --output " + (dir.path() / "block").string(), out,
+                      dir.path()),
+            0)
+      << out;
+  const std::string contact = gaussStressSource(dir.path() / "block", 1);
+  EXPECT_NE(contact.find("C eps(u)"), std::string::npos) << contact;
+  EXPECT_EQ(contact.find("Almansi"), std::string::npos) << contact;
+
+  const fs::path svk = dir.path() / "svk.yaml";
+  std::string y = replace(kGood, "formulation: displacement",
+                          "formulation: displacement, geometric_nonlinearity: true, "
+                          "elastic_law: saint_venant_kirchhoff");
+  std::ofstream(svk) << replace(y, "steps: {load_factors: [0.5, 1.0]}",
+                                "steps: {increments: 2, iteration: newton}");
+  ASSERT_EQ(runMixcon("run " + svk.string() + " --output " + (dir.path() / "svk").string(), out,
+                      dir.path()),
+            0)
+      << out;
+  const std::string law = gaussStressSource(dir.path() / "svk", 2);
+  EXPECT_NE(law.find("St. Venant-Kirchhoff"), std::string::npos) << law;
+  EXPECT_EQ(law.find("Almansi"), std::string::npos) << law;
+
+  const fs::path almansi = dir.path() / "almansi.yaml";
+  std::ofstream(almansi) << replace(
+      replace(kGood, "formulation: displacement",
+              "formulation: displacement, geometric_nonlinearity: true"),
+      "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2, iteration: newton}");
+  ASSERT_EQ(runMixcon("run " + almansi.string() + " --output " + (dir.path() / "almansi").string(),
+                      out, dir.path()),
+            0)
+      << out;
+  EXPECT_NE(gaussStressSource(dir.path() / "almansi", 2).find("Almansi"), std::string::npos);
+}
+
+// The per-node contact arrays (the XDMF's contact_* attributes) of the uniformly compressed
+// block: every base node slips (frictionless) with the traction E delta / (H (1 - nu^2)) and no
+// gap; every other node is no candidate (-1, gap NaN, zero traction). Vectors are N x 3 with
+// z = 0 and the stress datasets name their components.
+TEST(Cli, ContactNodalArraysAndThreeComponentVectors) {
+  TempDir dir;
+  std::string out;
+  const fs::path block = dir.path() / "block.yaml";
+  std::ofstream(block) << kCompressedBlock;
+  const fs::path outDir = dir.path() / "block";
+  ASSERT_EQ(runMixcon("run " + block.string() + " --output " + outDir.string(), out, dir.path()), 0)
+      << out;
+  const hid_t f = H5Fopen((outDir / "results.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const std::vector<double> x = readDoubles(f, "/mesh/nodes");
+  const std::size_t nn = x.size() / 2;
+  std::vector<int> status(nn, -9);
+  const hid_t d = H5Dopen2(f, "/steps/1/contact_nodal/status", H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  H5Dread(d, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, status.data());
+  H5Dclose(d);
+  const auto gap = readDoubles(f, "/steps/1/contact_nodal/gap");
+  const auto pn = readDoubles(f, "/steps/1/contact_nodal/normal_traction");
+  const auto pt = readDoubles(f, "/steps/1/contact_nodal/tangential_traction");
+  ASSERT_EQ(gap.size(), nn);
+  ASSERT_EQ(pn.size(), nn);
+  ASSERT_EQ(pt.size(), nn);
+  const double expected = 21000.0 * 0.01 / (1.0 - 0.09);
+  int base = 0;
+  for (std::size_t i = 0; i < nn; ++i) {
+    if (std::abs(x[2 * i + 1]) < 1e-12) {
+      ++base;
+      EXPECT_EQ(status[i], 2) << "node " << i;
+      EXPECT_NEAR(pn[i], expected, 1e-6 * expected) << "node " << i;
+      EXPECT_NEAR(pt[i], 0.0, 1e-6 * expected) << "node " << i;
+      EXPECT_NEAR(gap[i], 0.0, 1e-9) << "node " << i;
+    } else {
+      EXPECT_EQ(status[i], -1) << "node " << i;
+      EXPECT_TRUE(std::isnan(gap[i])) << "node " << i;
+      EXPECT_EQ(pn[i], 0.0) << "node " << i;
+    }
+  }
+  EXPECT_EQ(base, 17);
+  const auto u = readDoubles(f, "/steps/1/displacement");
+  const auto r = readDoubles(f, "/steps/1/reaction");
+  ASSERT_EQ(u.size(), 3 * nn);
+  ASSERT_EQ(r.size(), 3 * nn);
+  double top = 0.0;
+  for (std::size_t i = 0; i < nn; ++i) {
+    EXPECT_EQ(u[3 * i + 2], 0.0);
+    EXPECT_EQ(r[3 * i + 2], 0.0);
+    if (std::abs(x[2 * i + 1] - 1.0) < 1e-12)
+      top = u[3 * i + 1];
+  }
+  EXPECT_NEAR(top, -0.01, 1e-9); // the prescribed uy in the second column
+  for (const char *name : {"/steps/1/stress", "/steps/1/gauss_points/stress"}) {
+    const hid_t s = H5Dopen2(f, name, H5P_DEFAULT);
+    ASSERT_GE(s, 0) << name;
+    const hid_t a = H5Aopen(s, "components", H5P_DEFAULT);
+    ASSERT_GE(a, 0) << name;
+    const hid_t t = H5Aget_type(a), space = H5Aget_space(a);
+    const std::size_t width = H5Tget_size(t);
+    ASSERT_EQ(H5Sget_simple_extent_npoints(space), 3) << name;
+    std::string packed(3 * width, '\0');
+    H5Aread(a, t, packed.data());
+    const char *expectedNames[] = {"xx", "yy", "xy"};
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(std::string(packed.c_str() + c * width, std::min<std::size_t>(2, width)),
+                expectedNames[c])
+          << name;
+    H5Sclose(space);
+    H5Tclose(t);
+    H5Aclose(a);
+    H5Dclose(s);
+  }
+  H5Fclose(f);
+  std::ifstream xs(outDir / "results.xdmf");
+  std::stringstream xdmf;
+  xdmf << xs.rdbuf();
+  for (const char *name : {"\"contact_status\"", "\"contact_normal_traction\"",
+                           "\"contact_tangential_traction\"", "\"contact_gap\"", "\"reaction\""})
+    EXPECT_NE(xdmf.str().find(name), std::string::npos) << name;
 }
 
 TEST(Problem, ParsesAForceDrivenPinPerComponent) {
