@@ -42,6 +42,8 @@ int main(int argc, char **argv) {
   mixcon::Environment env(argc, argv);
   try {
     const mixcon::Problem problem = mixcon::readProblem(problemFile);
+    for (const auto &w : problem.mesh.warnings)
+      std::cerr << "mixcon: warning: " << w << "\n";
     mixcon::RunOptions options;
     options.outputDirectory = output.empty() ? restart : output;
     options.restartDirectory = restart;

@@ -7,6 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -143,6 +144,79 @@ std::string joinPath(const std::string &base, const std::string &file) {
   return base + "/" + file;
 }
 
+/// How far a node of one body may lie inside an element of another at the start, as a fraction
+/// of that element's diameter: straight edges cut a circle of the other body as chords, by
+/// (chord length) x (angle in radians) / 8, about 0.03 of the chord at 15 degrees, while a
+/// misplaced body goes deep.
+constexpr double kOverlapTolerance = 0.1;
+/// How far a node may start inside a rigid obstacle, as a fraction of its body's size (the
+/// diagonal of its bounding box): rounding of nodes placed on the obstacle's circle or line.
+constexpr double kPenetrationTolerance = 1e-4;
+
+/// Refuses bodies that overlap at the start: a node of one body strictly inside an element of
+/// another (touching along a contact interface is fine).
+void checkBodiesApart(const Item &list, const std::vector<MeshBody> &bodies, const Mesh &mesh) {
+  std::vector<LocalIndex> nodeStart{0}, elementStart{0};
+  for (const auto &b : bodies) {
+    nodeStart.push_back(nodeStart.back() + b.mesh.numNodes());
+    elementStart.push_back(elementStart.back() + b.mesh.numElements());
+  }
+  const auto o = findOverlap(mesh, nodeStart, elementStart, kOverlapTolerance);
+  if (!o)
+    return;
+  auto partOf = [](const std::vector<LocalIndex> &start, LocalIndex k) {
+    return static_cast<std::size_t>(std::upper_bound(start.begin(), start.end(), k) -
+                                    start.begin() - 1);
+  };
+  const std::size_t bn = partOf(nodeStart, o->node), be = partOf(elementStart, o->element);
+  std::ostringstream msg;
+  msg << "body '" << bodies[bn].name << "' overlaps body '" << bodies[be].name
+      << "' at the start: node " << mesh.nodeIds[o->node] << " (node "
+      << bodies[bn].mesh.nodeIds[o->node - nodeStart[bn]] << " of '" << bodies[bn].name
+      << "') lies inside element " << mesh.elementIds[o->element] << " (element "
+      << bodies[be].mesh.elementIds[o->element - elementStart[be]] << " of '" << bodies[be].name
+      << "'), " << o->depth << " of that element's diameter from its edges (tolerance "
+      << kOverlapTolerance << "); bodies may touch but not overlap: check their offsets and sizes";
+  list.at(bn).fail(msg.str());
+}
+
+/// Refuses a rigid obstacle that starts inside the body of its contact boundary: the deepest node
+/// of that body (every node connected to the boundary) penetrating it by more than
+/// kPenetrationTolerance of the body's size.
+void checkObstacleOutside(const Item &c, const ContactSpec &s, const Mesh &mesh) {
+  const std::vector<LocalIndex> boundary = mesh.nodesOf(s.boundary);
+  const std::vector<LocalIndex> body = connectedNodes(mesh, boundary);
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  for (LocalIndex n : body) {
+    x0 = std::min(x0, mesh.x(n));
+    x1 = std::max(x1, mesh.x(n));
+    y0 = std::min(y0, mesh.y(n));
+    y1 = std::max(y1, mesh.y(n));
+  }
+  const double size = std::hypot(x1 - x0, y1 - y0), tolerance = kPenetrationTolerance * size;
+  double deepest = tolerance;
+  LocalIndex node = -1;
+  for (LocalIndex n : body) {
+    const double dx = mesh.x(n) - s.point[0], dy = mesh.y(n) - s.point[1];
+    const double depth = s.type == "rigid_circle" ? s.radius - std::hypot(dx, dy)
+                                                  : -(dx * s.normal[0] + dy * s.normal[1]);
+    if (depth > deepest) {
+      deepest = depth;
+      node = n;
+    }
+  }
+  if (node < 0)
+    return;
+  const bool onBoundary = std::binary_search(boundary.begin(), boundary.end(), node);
+  std::ostringstream msg;
+  msg << "the " << s.type << " starts inside the body: node " << mesh.nodeIds[node] << " ("
+      << (onBoundary ? "on boundary '" + s.boundary + "'" : "of the body of '" + s.boundary + "'")
+      << ", at " << mesh.x(node) << ", " << mesh.y(node) << ") is " << deepest
+      << " inside it (tolerance " << tolerance << ", " << kPenetrationTolerance
+      << " of the body's size); an obstacle may touch the body at the start but not penetrate it";
+  c.fail(msg.str());
+}
+
 Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
   if (!body && m.has("bodies")) {
     // Several bodies, each a mesh of its own (file or generator) moved by its offset.
@@ -174,6 +248,10 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
     }
     Mesh mesh = mergeMeshes(bodies);
     validateMesh(mesh);
+    for (const auto &b : bodies)
+      for (const auto &w : b.mesh.warnings)
+        mesh.warnings.push_back("body '" + b.name + "': " + w);
+    checkBodiesApart(list, bodies, mesh);
     return mesh;
   }
   if (body)
@@ -437,11 +515,20 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       mats.fail("region '" + r + "' has no material");
   }
 
+  // A named set that exists but holds nothing (an empty Gmsh physical group): what acts on it
+  // would act on nothing.
+  auto checkNotEmpty = [&](const Item &i, const std::string &target) {
+    if (p.mesh.nodesOf(target).empty())
+      i.fail(std::string(p.mesh.hasBoundary(target) ? "boundary '" : "node set '") + target +
+             "' is empty (" + (p.mesh.hasBoundary(target) ? "no edges" : "no nodes") +
+             " in the mesh): it would act on nothing");
+  };
   auto checkTarget = [&](const Item &i, const std::string &target) {
     if (!p.mesh.hasBoundary(target) && !p.mesh.hasNodeSet(target)) {
       i.fail("unknown boundary or node set '" + target + "' (mesh has: " + p.mesh.namedSets() +
              ")");
     }
+    checkNotEmpty(i, target);
   };
 
   const Item bcs = top.required("boundary_conditions");
@@ -486,6 +573,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
         s.target = t.string();
         if (!p.mesh.hasBoundary(s.target))
           t.fail("unknown boundary '" + s.target + "' (tractions and pressures act on boundaries)");
+        checkNotEmpty(t, s.target);
         if (l.has("traction")) {
           s.kind = LoadKind::Traction;
           s.vector = l["traction"].pair();
@@ -504,6 +592,11 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
         s.target = t.string();
         if (p.mesh.regionIndex(s.target) < 0)
           t.fail("unknown region '" + s.target + "'");
+        if (std::count(p.mesh.elementRegion.begin(), p.mesh.elementRegion.end(),
+                       p.mesh.regionIndex(s.target)) == 0)
+          t.fail("region '" + s.target +
+                 "' is empty (no elements): the body force would act on "
+                 "nothing");
         s.kind = LoadKind::BodyForce;
         s.vector = l["body_force"].pair();
       }
@@ -536,6 +629,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
           const Item b = c.required(key);
           if (!p.mesh.hasBoundary(b.string()))
             b.fail("unknown boundary '" + b.string() + "' (mesh has: " + p.mesh.namedSets() + ")");
+          checkNotEmpty(b, b.string());
         }
         s.boundary = c["contactor"].string();
         s.target = c["target"].string();
@@ -571,6 +665,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       s.boundary = b.string();
       if (!p.mesh.hasBoundary(s.boundary))
         b.fail("unknown boundary '" + s.boundary + "' (mesh has: " + p.mesh.namedSets() + ")");
+      checkNotEmpty(b, s.boundary);
       if (s.type == "rigid_circle") {
         s.point = c.required("center").pair();
         s.radius = c.required("radius").positive();
@@ -582,6 +677,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
           c["normal"].fail("the normal must not be zero");
         s.normal = {s.normal[0] / len, s.normal[1] / len};
       }
+      checkObstacleOutside(c, s, p.mesh);
       if (c.has("friction")) {
         s.friction = c["friction"].number();
         if (!(s.friction >= 0.0))
@@ -632,6 +728,7 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
     if (!p.mesh.hasBoundary(s.boundary))
       h["boundary"].fail("unknown boundary '" + s.boundary + "' (mesh has: " + p.mesh.namedSets() +
                          ")");
+    checkNotEmpty(h["boundary"], s.boundary);
     if (h.has("center"))
       s.center = h["center"].pair();
     if (h.has("symmetrize"))

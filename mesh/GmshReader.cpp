@@ -276,6 +276,15 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
   mesh.elementType = quadType == 16 ? ElementType::Quad8 : ElementType::Quad4;
   mesh.nodesPerElement = quadType == 16 ? 8 : 4;
 
+  // Gmsh orients a plane surface's elements by its curve loop: a surface drawn clockwise gives
+  // clockwise quadrangles. Planar elements have one right orientation, so reorder them (before
+  // boundary edges are taken from the elements); inverted or folded ones stay for validateMesh.
+  if (const LocalIndex flipped = orientCounterClockwise(mesh); flipped > 0)
+    mesh.warnings.push_back(name + ": " + std::to_string(flipped) + " of " +
+                            std::to_string(mesh.numElements()) +
+                            " quadrangles had clockwise nodes (a surface whose curve loop runs "
+                            "clockwise); their nodes were reordered to counter-clockwise");
+
   auto groupNames = [&](int dim, int entity) {
     std::vector<std::string> names;
     auto it = entityPhysicals.find({dim, entity});
@@ -342,6 +351,14 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
       throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
     for (const auto &nm : names)
       mesh.nodeSets[nm].push_back(it->second);
+  }
+  // A named physical group without elements is kept, empty: a problem that uses it is then told
+  // that it is empty rather than that it does not exist.
+  for (const auto &[key, nm] : physicalNames) {
+    if (key.first == 1 && !mesh.boundaries.count(nm))
+      mesh.boundaries[nm];
+    else if (key.first == 0 && !mesh.nodeSets.count(nm))
+      mesh.nodeSets[nm];
   }
   mesh.finalizeIds();
   return mesh;

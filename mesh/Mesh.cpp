@@ -2,6 +2,7 @@
 #include <mesh/Mesh.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace mixcon {
@@ -54,6 +55,205 @@ void Mesh::finalizeIds() {
     for (LocalIndex i = 0; i < numElements(); ++i)
       elementIds[i] = i + 1;
   }
+}
+
+namespace {
+template <class Elem> double signedAreaOf(const Mesh &mesh, LocalIndex e) {
+  double area = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double xi, eta, w, n[Elem::kNumNodes], dn[Elem::kNumNodes][2];
+    Elem::quadraturePoint(q, xi, eta, w);
+    Elem::shape(xi, eta, n, dn);
+    double j00 = 0, j01 = 0, j10 = 0, j11 = 0;
+    for (int a = 0; a < Elem::kNumNodes; ++a) {
+      const LocalIndex p = mesh.node(e, a);
+      j00 += mesh.x(p) * dn[a][0];
+      j01 += mesh.x(p) * dn[a][1];
+      j10 += mesh.y(p) * dn[a][0];
+      j11 += mesh.y(p) * dn[a][1];
+    }
+    area += w * (j00 * j11 - j01 * j10);
+  }
+  return area;
+}
+} // namespace
+
+double signedArea(const Mesh &mesh, LocalIndex element) {
+  return dispatchElement(mesh.elementType,
+                         [&](auto elem) { return signedAreaOf<decltype(elem)>(mesh, element); });
+}
+
+LocalIndex orientCounterClockwise(Mesh &mesh) {
+  // New local node k is old local node swap[k]: (xi, eta) -> (eta, xi) maps corner 1 (1,-1) to
+  // corner 3 (-1,1) and mid-side 4 (0,-1) of edge 0-1 to mid-side 7 (-1,0) of edge 3-0.
+  constexpr int swap[8] = {0, 3, 2, 1, 7, 6, 5, 4};
+  const int npe = mesh.nodesPerElement;
+  LocalIndex flipped = 0;
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e) {
+    if (!(signedArea(mesh, e) < 0.0))
+      continue;
+    LocalIndex *nodes = &mesh.connectivity[static_cast<std::size_t>(e) * npe];
+    LocalIndex old[8];
+    std::copy(nodes, nodes + npe, old);
+    for (int k = 0; k < npe; ++k)
+      nodes[k] = old[swap[k]];
+    ++flipped;
+  }
+  return flipped;
+}
+
+namespace {
+template <class Elem>
+bool naturalCoordinatesOf(const Mesh &mesh, LocalIndex e, double px, double py, double &xi,
+                          double &eta) {
+  xi = eta = 0.0;
+  for (int it = 0; it < 30; ++it) {
+    double n[Elem::kNumNodes], dn[Elem::kNumNodes][2];
+    Elem::shape(xi, eta, n, dn);
+    double fx = -px, fy = -py, j00 = 0, j01 = 0, j10 = 0, j11 = 0;
+    for (int a = 0; a < Elem::kNumNodes; ++a) {
+      const LocalIndex p = mesh.node(e, a);
+      fx += n[a] * mesh.x(p);
+      fy += n[a] * mesh.y(p);
+      j00 += mesh.x(p) * dn[a][0];
+      j01 += mesh.x(p) * dn[a][1];
+      j10 += mesh.y(p) * dn[a][0];
+      j11 += mesh.y(p) * dn[a][1];
+    }
+    const double det = j00 * j11 - j01 * j10;
+    if (!(std::abs(det) > 0.0))
+      return false;
+    const double dxi = (j11 * fx - j01 * fy) / det, deta = (-j10 * fx + j00 * fy) / det;
+    xi -= dxi;
+    eta -= deta;
+    if (!(std::abs(xi) < 10.0 && std::abs(eta) < 10.0))
+      return false; // far outside: the map is not worth inverting there
+    if (std::abs(dxi) + std::abs(deta) < 1e-12)
+      return true;
+  }
+  return false;
+}
+
+/// Distance from a point to the boundary of an element: its straight edges, or for a Quad8 the
+/// two chords of each curved edge (corner, mid-side, corner).
+double distanceToEdges(const Mesh &mesh, LocalIndex e, double px, double py) {
+  constexpr int quad4[] = {0, 1, 2, 3}, quad8[] = {0, 4, 1, 5, 2, 6, 3, 7};
+  const int *ring = mesh.nodesPerElement == 8 ? quad8 : quad4;
+  double d = 1e300;
+  for (int k = 0; k < mesh.nodesPerElement; ++k) {
+    const LocalIndex a = mesh.node(e, ring[k]),
+                     b = mesh.node(e, ring[(k + 1) % mesh.nodesPerElement]);
+    const double ex = mesh.x(b) - mesh.x(a), ey = mesh.y(b) - mesh.y(a);
+    const double len2 = ex * ex + ey * ey;
+    double t = len2 > 0.0 ? ((px - mesh.x(a)) * ex + (py - mesh.y(a)) * ey) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    d = std::min(d, std::hypot(px - mesh.x(a) - t * ex, py - mesh.y(a) - t * ey));
+  }
+  return d;
+}
+
+struct Box {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  void add(double x, double y) {
+    x0 = std::min(x0, x);
+    y0 = std::min(y0, y);
+    x1 = std::max(x1, x);
+    y1 = std::max(y1, y);
+  }
+  bool contains(double x, double y) const { return x >= x0 && x <= x1 && y >= y0 && y <= y1; }
+};
+} // namespace
+
+bool naturalCoordinates(const Mesh &mesh, LocalIndex element, double x, double y, double &xi,
+                        double &eta) {
+  return dispatchElement(mesh.elementType, [&](auto elem) {
+    return naturalCoordinatesOf<decltype(elem)>(mesh, element, x, y, xi, eta);
+  });
+}
+
+std::optional<Overlap> findOverlap(const Mesh &mesh, const std::vector<LocalIndex> &nodeStart,
+                                   const std::vector<LocalIndex> &elementStart, double tolerance) {
+  std::optional<Overlap> worst;
+  const std::size_t parts = elementStart.size() - 1;
+  for (std::size_t j = 0; j < parts; ++j) { // the part whose elements are searched
+    const LocalIndex e0 = elementStart[j], e1 = elementStart[j + 1];
+    if (e1 <= e0)
+      continue;
+    std::vector<Box> boxes(e1 - e0);
+    Box all;
+    for (LocalIndex e = e0; e < e1; ++e) {
+      for (int a = 0; a < mesh.nodesPerElement; ++a)
+        boxes[e - e0].add(mesh.x(mesh.node(e, a)), mesh.y(mesh.node(e, a)));
+      all.add(boxes[e - e0].x0, boxes[e - e0].y0);
+      all.add(boxes[e - e0].x1, boxes[e - e0].y1);
+    }
+    // A grid of about one element per cell over the part's bounding box.
+    const double w = all.x1 - all.x0, h = all.y1 - all.y0;
+    const double cell = std::max(std::sqrt(w * h / (e1 - e0)), 1e-300);
+    const int nx = static_cast<int>(std::clamp(std::ceil(w / cell), 1.0, 4096.0));
+    const int ny = static_cast<int>(std::clamp(std::ceil(h / cell), 1.0, 4096.0));
+    auto cellOf = [&](double v, double v0, double len, int n) {
+      const int c = len > 0.0 ? static_cast<int>((v - v0) / len * n) : 0;
+      return std::clamp(c, 0, n - 1);
+    };
+    std::vector<std::vector<LocalIndex>> grid(static_cast<std::size_t>(nx) * ny);
+    for (LocalIndex e = e0; e < e1; ++e) {
+      const Box &b = boxes[e - e0];
+      for (int cy = cellOf(b.y0, all.y0, h, ny); cy <= cellOf(b.y1, all.y0, h, ny); ++cy)
+        for (int cx = cellOf(b.x0, all.x0, w, nx); cx <= cellOf(b.x1, all.x0, w, nx); ++cx)
+          grid[static_cast<std::size_t>(cy) * nx + cx].push_back(e);
+    }
+    for (std::size_t i = 0; i < parts; ++i) {
+      if (i == j)
+        continue;
+      for (LocalIndex n = nodeStart[i]; n < nodeStart[i + 1]; ++n) {
+        const double x = mesh.x(n), y = mesh.y(n);
+        if (!all.contains(x, y))
+          continue;
+        const auto &candidates = grid[static_cast<std::size_t>(cellOf(y, all.y0, h, ny)) * nx +
+                                      cellOf(x, all.x0, w, nx)];
+        for (LocalIndex e : candidates) {
+          double xi, eta;
+          if (!boxes[e - e0].contains(x, y) || !naturalCoordinates(mesh, e, x, y, xi, eta))
+            continue;
+          if (!(std::max(std::abs(xi), std::abs(eta)) < 1.0))
+            continue;
+          const double depth =
+              distanceToEdges(mesh, e, x, y) /
+              std::hypot(boxes[e - e0].x1 - boxes[e - e0].x0, boxes[e - e0].y1 - boxes[e - e0].y0);
+          if (depth > tolerance && (!worst || depth > worst->depth))
+            worst = Overlap{n, e, depth};
+        }
+      }
+    }
+  }
+  return worst;
+}
+
+std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds) {
+  // Union-find over the element connectivity.
+  std::vector<LocalIndex> parent(mesh.numNodes());
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    parent[n] = n;
+  auto root = [&](LocalIndex n) {
+    while (parent[n] != n)
+      n = parent[n] = parent[parent[n]];
+    return n;
+  };
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int a = 1; a < mesh.nodesPerElement; ++a) {
+      const LocalIndex r0 = root(mesh.node(e, 0)), r1 = root(mesh.node(e, a));
+      if (r0 != r1)
+        parent[r1] = r0;
+    }
+  std::vector<char> wanted(mesh.numNodes(), 0);
+  for (LocalIndex s : seeds)
+    wanted[root(s)] = 1;
+  std::vector<LocalIndex> nodes;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    if (wanted[root(n)])
+      nodes.push_back(n);
+  return nodes;
 }
 
 // Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.

@@ -6,6 +6,7 @@
 #include <kernels/ElementTraits.hpp>
 
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,6 +38,9 @@ struct Mesh {
   std::vector<long> nodeIds;    ///< external (file) id of each node, for messages
   std::vector<long> elementIds; ///< external (file) id of each element, for messages
   std::string source;           ///< file name or generator, for messages
+  /// Things the user should know about the input that did not stop it (e.g. elements the reader
+  /// reoriented), one line each without a trailing newline; the program prints them to stderr.
+  std::vector<std::string> warnings;
 
   LocalIndex numNodes() const { return static_cast<LocalIndex>(coordinates.size() / 2); }
   LocalIndex numElements() const {
@@ -60,6 +64,43 @@ struct Mesh {
   /// Fills default external ids (index + 1) where a generator left them empty.
   void finalizeIds();
 };
+
+/// Signed area of an element, the integral of its Jacobian determinant (element quadrature):
+/// positive for counter-clockwise nodes.
+double signedArea(const Mesh &mesh, LocalIndex element);
+
+/// Reorders the nodes of every element whose signed area is negative (clockwise) so that it is
+/// counter-clockwise: Quad4 corners 0 3 2 1; Quad8 corners 0 3 2 1 and mid-side nodes 7 6 5 4.
+/// This is the element with its natural coordinates swapped (xi <-> eta), which negates the
+/// Jacobian determinant at every point, so an element whose Jacobian changes sign inside (a
+/// bow-tie, a fold) stays invalid and validateMesh still refuses it. Call before boundary edges
+/// are taken from the elements. Returns the number of elements reoriented.
+LocalIndex orientCounterClockwise(Mesh &mesh);
+
+/// Natural coordinates (xi, eta) of the point (x, y) in an element (Newton on the isoparametric
+/// map from the centre); false when it does not converge (a point far outside).
+bool naturalCoordinates(const Mesh &mesh, LocalIndex element, double x, double y, double &xi,
+                        double &eta);
+
+/// A node of one part of a mesh inside an element of another part (findOverlap).
+struct Overlap {
+  LocalIndex node = -1;    ///< mesh index of the node
+  LocalIndex element = -1; ///< mesh index of the element it lies in
+  double depth = 0.0;      ///< its distance from the element's edges over the element's diameter
+};
+
+/// Parts of a mesh (e.g. merged bodies) are consecutive ranges: part k owns nodes
+/// [nodeStart[k], nodeStart[k+1]) and elements [elementStart[k], elementStart[k+1]); both lists
+/// end with the totals. Returns the deepest node of a part that lies inside an element of another
+/// part farther from that element's edges than `tolerance` times its diameter (the diagonal of
+/// its bounding box; a square's centre is at 0.35), so that nodes on a shared or touching
+/// interface, or on a circle that the other part's straight edges cut as chords, pass. Elements are
+/// binned in a grid per part; only nodes inside a part's bounding box are located.
+std::optional<Overlap> findOverlap(const Mesh &mesh, const std::vector<LocalIndex> &nodeStart,
+                                   const std::vector<LocalIndex> &elementStart, double tolerance);
+
+/// The nodes connected to `seeds` through elements (the bodies they lie on), sorted.
+std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds);
 
 /// Checks connectivity bounds and the Jacobian sign at every quadrature point and node of every
 /// element (on the device); throws InputError naming the first inverted or degenerate element.

@@ -1,4 +1,5 @@
 // Mesh generators, Gmsh 4.1 reader and mesh validation.
+#include <apps/Analysis.hpp>
 #include <mesh/Generators.hpp>
 #include <mesh/GmshReader.hpp>
 #include <support/Reference.hpp>
@@ -8,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
@@ -219,9 +222,15 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
 }
 
 namespace {
+/// Local node k of an element written clockwise: its natural coordinates mirrored (xi -> -xi),
+/// so that corner 0 takes (1,-1) and the mid-side nodes follow their edges.
+constexpr int kMirrored[8] = {1, 0, 3, 2, 4, 7, 6, 5};
+
 /// Writes a mesh as Gmsh 4.1 ASCII: one surface (physical "body"), one curve entity per boundary
-/// (physical groups of the same names, 2- or 3-node lines), one point per node set.
-std::string toGmsh(const Mesh &m) {
+/// (physical groups of the same names, 2- or 3-node lines), one point per node set. Elements
+/// for which `clockwise` holds are written with their nodes in clockwise order (kMirrored), as
+/// Gmsh writes a surface whose curve loop runs clockwise.
+std::string toGmsh(const Mesh &m, const std::function<bool(LocalIndex)> &clockwise = {}) {
   std::ostringstream s;
   const int lineType = m.nodesPerElement == 8 ? 8 : 1, quadType = m.nodesPerElement == 8 ? 16 : 3;
   std::vector<std::string> bnames, pnames;
@@ -276,8 +285,9 @@ std::string toGmsh(const Mesh &m) {
   s << "2 1 " << quadType << " " << m.numElements() << "\n";
   for (LocalIndex e = 0; e < m.numElements(); ++e) {
     s << id++;
+    const bool cw = clockwise && clockwise(e);
     for (int a = 0; a < m.nodesPerElement; ++a)
-      s << " " << tag(m.node(e, a));
+      s << " " << tag(m.node(e, cw ? kMirrored[a] : a));
     s << "\n";
   }
   s << "$EndElements\n";
@@ -360,4 +370,130 @@ TEST_P(GeneratorTest, HalfDiskAndMergedBodies) {
               mergeMeshes({{"a", pin, {0, 0}}, {"b", other, {0, 0}}});
             }).find("element type"),
             std::string::npos);
+}
+
+TEST_P(GeneratorTest, ClockwiseGmshQuadranglesAreReorientedToTheSameElements) {
+  const Mesh m = plateWithHoleMesh(1.0, 4.0, 3.0, 4, 5, GetParam(), 1.1);
+  // Every other element clockwise (a mesh of surfaces drawn both ways).
+  std::istringstream in(toGmsh(m, [](LocalIndex e) { return e % 2 == 0; }));
+  const Mesh r = readGmsh(in, "clockwise.msh");
+  ASSERT_EQ(r.numElements(), m.numElements());
+  const int corners = 4, npe = m.nodesPerElement;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    // The same element up to where it starts: a cyclic shift s of the corners, the mid-side
+    // nodes shifted with their edges.
+    int shift = -1;
+    for (int s = 0; s < corners; ++s)
+      if (r.node(e, 0) == m.node(e, s))
+        shift = s;
+    ASSERT_GE(shift, 0) << "element " << e;
+    for (int k = 0; k < corners; ++k) {
+      EXPECT_EQ(r.node(e, k), m.node(e, (k + shift) % corners)) << "element " << e;
+      if (npe == 8) {
+        EXPECT_EQ(r.node(e, 4 + k), m.node(e, 4 + (k + shift) % corners)) << "element " << e;
+      }
+    }
+    // Counter-clockwise at every Gauss point, with the original element's area.
+    const Eigen::MatrixXd xe = test::elementCoordinates(r, e), x0 = test::elementCoordinates(m, e);
+    double area = 0.0, area0 = 0.0;
+    for (const auto &g : test::referenceGauss(npe == 4 ? 2 : 3)) {
+      Eigen::VectorXd sh;
+      Eigen::MatrixXd dn;
+      test::referenceShape(npe, g[0], g[1], sh, dn);
+      const double det = (xe.transpose() * dn).determinant();
+      EXPECT_GT(det, 0.0) << "element " << e;
+      area += g[2] * det;
+      area0 += g[2] * (x0.transpose() * dn).determinant();
+    }
+    EXPECT_NEAR(area, area0, 1e-13 * area0) << "element " << e;
+  }
+  EXPECT_NO_THROW(validateMesh(r));
+  // Boundaries taken from the reoriented elements: the same nodes, the outward normal on the
+  // right of each edge (the edge runs counter-clockwise around the body).
+  for (const auto &[name, edges] : m.boundaries) {
+    EXPECT_EQ(r.nodesOf(name), m.nodesOf(name)) << name;
+    for (const auto &be : r.boundaries.at(name)) {
+      const LocalIndex a = r.edgeNode(be, 0), b = r.edgeNode(be, 1);
+      double cx = 0, cy = 0; // element centre: on the left of the edge
+      for (int k = 0; k < corners; ++k) {
+        cx += r.x(r.node(be.element, k)) / corners;
+        cy += r.y(r.node(be.element, k)) / corners;
+      }
+      const double cross = (r.x(b) - r.x(a)) * (cy - r.y(a)) - (r.y(b) - r.y(a)) * (cx - r.x(a));
+      EXPECT_GT(cross, 0.0) << name;
+    }
+  }
+  // Said once, with the count.
+  ASSERT_EQ(r.warnings.size(), 1u);
+  const std::string count = std::to_string((m.numElements() + 1) / 2) + " of " +
+                            std::to_string(m.numElements()) + " quadrangles";
+  EXPECT_NE(r.warnings[0].find(count), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("clockwise.msh"), std::string::npos) << r.warnings[0];
+  // A counter-clockwise file says nothing.
+  std::istringstream ccw(toGmsh(m));
+  EXPECT_TRUE(readGmsh(ccw, "ccw.msh").warnings.empty());
+}
+
+TEST_P(GeneratorTest, ClockwiseGmshMeshGivesTheSameDisplacements) {
+  const Mesh m = plateWithHoleMesh(1.0, 4.0, 3.0, 3, 4, GetParam(), 1.1);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("mixcon-test-cw-" + std::to_string(::getpid()) +
+                                                "-" + std::to_string(static_cast<int>(GetParam())));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "ccw.msh") << toGmsh(m);
+  std::ofstream(dir / "cw.msh") << toGmsh(m, [](LocalIndex) { return true; });
+  auto run = [&](const std::string &file) {
+    const std::string yaml = "mesh: {file: " + file + R"(}
+model: {formulation: displacement, analysis: plane_stress}
+materials:
+  - {region: body, type: isotropic, E: 1000, nu: 0.3}
+boundary_conditions:
+  - {boundary: left, ux: 0}
+  - {boundary: bottom, uy: 0}
+loads:
+  - {boundary: right, traction: [1, 0]}
+  - {boundary: hole, pressure: 0.5}
+solver: {type: direct}
+output: {hdf5: false}
+)";
+    const Problem p = parseProblem(yaml, file + ".yaml", dir.string());
+    RunOptions o;
+    o.outputDirectory = (dir / ("out-" + file)).string();
+    return runAnalysis(p, o, MPI_COMM_WORLD).displacement;
+  };
+  const auto u0 = run("ccw.msh"), u1 = run("cw.msh");
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(u0.size(), 2u * m.numNodes());
+  ASSERT_EQ(u1.size(), u0.size());
+  double umax = 0.0;
+  for (double v : u0)
+    umax = std::max(umax, std::abs(v));
+  EXPECT_GT(umax, 1e-4);
+  for (std::size_t i = 0; i < u0.size(); ++i)
+    EXPECT_NEAR(u1[i], u0[i], 1e-10 * umax) << i;
+}
+
+TEST(GmshReader, InvertedAndBowTieQuadranglesAreStillRefusedByTheirId) {
+  // kGmshQuad4's second element (id 4: nodes 3 5 6 4) made a bow-tie (3 5 4 6: two edges
+  // cross) and degenerate (3 5 5 4: a repeated node, zero area at a corner).
+  for (const char *bad : {"4 3 5 4 6", "4 3 5 5 4", "4 3 3 3 3"}) {
+    std::string t = kGmshQuad4;
+    t.replace(t.find("4 3 5 6 4"), 9, bad);
+    std::istringstream in(t);
+    const Mesh m = readGmsh(in, "bad.msh");
+    const std::string msg = expectInputError([&] { validateMesh(m); });
+    EXPECT_NE(msg.find("bad.msh: element 4 has a non-positive Jacobian"), std::string::npos)
+        << bad << ": " << msg;
+  }
+  // A Quad8 whose mid-side node sits beyond the opposite edge folds the element: its signed area
+  // stays positive, so it is not reoriented, and the fold is refused.
+  Mesh q = rectangleMesh(1.0, 1.0, 1, 1, ElementType::Quad8);
+  const LocalIndex mid = q.node(0, 4); // mid-side of the bottom edge
+  q.coordinates[2 * mid + 1] = 1.4;
+  std::istringstream in(toGmsh(q));
+  Mesh r = readGmsh(in, "fold.msh");
+  EXPECT_TRUE(r.warnings.empty());
+  const std::string msg = expectInputError([&] { validateMesh(r); });
+  EXPECT_NE(msg.find("fold.msh: element"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("non-positive Jacobian"), std::string::npos) << msg;
 }

@@ -32,7 +32,8 @@ solver: {type: direct}
 output: {directory: somewhere}
 )";
 
-// A Quad4 Gmsh mesh whose second element is clockwise (inverted).
+// A Quad4 Gmsh mesh whose second element is a bow-tie (nodes 3 4 5 6: two edges cross), which no
+// reordering makes valid.
 const char *kInvertedMsh = R"($MeshFormat
 4.1 0 8
 $EndMeshFormat
@@ -56,8 +57,71 @@ $Elements
 1 2 1 2
 2 1 3 2
 1 1 3 4 2
-2 3 4 6 5
+2 3 4 5 6
 $EndElements
+)";
+
+// Two Quad4 elements on [0,2]x[0,1], the second written clockwise (nodes 3 4 6 5), as Gmsh writes
+// a surface drawn clockwise; a physical curve "left" (x = 0), a physical point "tip" (2, 1), and
+// two physical groups without elements: the curve "unused" and the point "nowhere".
+const char *kGroupsMsh = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+5
+0 3 "tip"
+0 8 "nowhere"
+1 1 "left"
+1 7 "unused"
+2 2 "plate"
+$EndPhysicalNames
+$Entities
+1 1 1 0
+1 2 1 0 1 3
+1 0 0 0 0 1 0 1 1 2 1 -1
+1 0 0 0 2 1 0 1 2 0
+$EndEntities
+$Nodes
+3 6 1 6
+0 1 0 1
+6
+2 1 0
+1 1 0 2
+1
+2
+0 0 0
+0 1 0
+2 1 0 3
+3
+4
+5
+1 0 0
+1 1 0
+2 0 0
+$EndNodes
+$Elements
+3 4 1 4
+0 1 15 1
+1 6
+1 1 1 1
+2 1 2
+2 1 3 2
+3 1 3 4 2
+4 3 4 6 5
+$EndElements
+)";
+
+// A problem on kGroupsMsh: the plate clamped on the left, pulled down at its tip.
+const char *kGroups = R"(mesh: {file: groups.msh}
+model: {formulation: displacement, analysis: plane_stress}
+materials:
+  - {region: plate, type: isotropic, E: 1000, nu: 0.3}
+boundary_conditions:
+  - {boundary: left, ux: 0, uy: 0}
+loads:
+  - {node_set: tip, force: [0, -1]}
+solver: {type: direct}
+output: {directory: somewhere}
 )";
 
 struct BadCase {
@@ -101,6 +165,37 @@ std::vector<BadCase> badCases() {
        "unknown boundary or node set 'clamp'", 7},
       {"negative_jacobian", replace(g, kGenerator, "file: inverted.msh"),
        "element 2 has a non-positive Jacobian", 0},
+      {"condition_on_empty_boundary",
+       replace(kGroups, "{boundary: left, ux: 0, uy: 0}", "{boundary: unused, ux: 0, uy: 0}"),
+       "boundary 'unused' is empty", 6},
+      {"force_on_empty_node_set", replace(kGroups, "{node_set: tip,", "{node_set: nowhere,"),
+       "node set 'nowhere' is empty", 8},
+      {"traction_on_empty_boundary",
+       replace(kGroups, "{node_set: tip, force: [0, -1]}", "{boundary: unused, traction: [1, 0]}"),
+       "boundary 'unused' is empty", 8},
+      {"contact_on_empty_boundary",
+       replace(kGroups, "solver: {type: direct}",
+               "contact:\n  - {type: rigid_half_plane, boundary: unused, point: [0, -1], normal: "
+               "[0, 1]}\nsolver: {type: direct}"),
+       "boundary 'unused' is empty", 10},
+      {"rigid_circle_inside_the_body",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_circle, boundary: top, center: [5, 1.5], radius: 1}\n"
+               "output: {directory: somewhere}"),
+       "the rigid_circle starts inside the body: node ", 16},
+      {"rigid_half_plane_inside_the_body",
+       replace(g, "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0.1], normal: "
+               "[0, 1]}\noutput: {directory: somewhere}"),
+       "the rigid_half_plane starts inside the body: node ", 16},
+      {"overlapping_bodies",
+       "mesh:\n  bodies:\n    - {name: a, generator: {type: rectangle, size: [1, 1], divisions: "
+       "[2, "
+       "2]}}\n    - {name: b, generator: {type: rectangle, size: [1, 1], divisions: [2, 2]}, "
+       "offset: [0.3, 0.2]}\nmaterials:\n  - {region: a, type: isotropic, E: 1, nu: 0.3}\n  - "
+       "{region: b, type: isotropic, E: 1, nu: 0.3}\nboundary_conditions:\n  - {boundary: "
+       "a.left, ux: 0, uy: 0}\n",
+       "' at the start: node ", 0},
       {"malformed_yaml",
        replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {load_factors: [0.5, 1.0}"),
        "malformed YAML", 0},
@@ -205,6 +300,7 @@ public:
             ("mixcon-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter_++));
     fs::create_directories(path_);
     std::ofstream(path_ / "inverted.msh") << kInvertedMsh;
+    std::ofstream(path_ / "groups.msh") << kGroupsMsh;
   }
   ~TempDir() { fs::remove_all(path_); }
   const fs::path &path() const { return path_; }
@@ -325,7 +421,8 @@ TEST(Cli, BadInputExitsWithCodeTwoAndMessage) {
     EXPECT_EQ(runMixcon("run " + file.string(), out, dir.path()), 2) << c.name << ": " << out;
     EXPECT_NE(out.find(c.expected), std::string::npos) << c.name << ": " << out;
     const bool namesFile = out.find(file.string()) != std::string::npos ||
-                           out.find("inverted.msh") != std::string::npos;
+                           out.find("inverted.msh") != std::string::npos ||
+                           out.find("groups.msh") != std::string::npos;
     EXPECT_TRUE(namesFile) << "message names the problem or mesh file: " << out;
   }
   std::string out;
@@ -908,4 +1005,105 @@ TEST(Cli, NodeToSegmentRunWritesTheMultipliers) {
     ++rows;
   }
   EXPECT_EQ(rows, 5); // the upper block's 5 base nodes
+}
+
+// A clockwise Gmsh element is reordered with one warning on stderr, and the run succeeds.
+TEST(Cli, ClockwiseGmshElementsAreReorientedWithAWarning) {
+  TempDir dir;
+  const fs::path file = dir.path() / "groups.yaml";
+  std::ofstream(file) << replace(kGroups, "directory: somewhere",
+                                 "directory: " + (dir.path() / "out").string() + ", hdf5: false");
+  std::string out;
+  ASSERT_EQ(runMixcon("run -q " + file.string(), out, dir.path()), 0) << out;
+  EXPECT_NE(out.find("mixcon: warning: " + (dir.path() / "groups.msh").string() +
+                     ": 1 of 2 quadrangles had clockwise nodes"),
+            std::string::npos)
+      << out;
+  const Problem p = readProblem(file.string());
+  ASSERT_EQ(p.mesh.warnings.size(), 1u);
+  EXPECT_NO_THROW(validateMesh(p.mesh));
+}
+
+// The node named for an obstacle that starts inside the body is the deepest one, by its mesh id;
+// an obstacle that only touches the body is accepted.
+TEST(Problem, ObstacleStartingInsideIsRefusedNamingTheDeepestNode) {
+  const Problem good = parseProblem(kGood, "good.yaml", "");
+  const Mesh &m = good.mesh;
+  LocalIndex centre = -1; // the top node at x = 5, deepest in a circle centred at (5, 1.5)
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    if (std::abs(m.x(n) - 5.0) < 1e-12 && std::abs(m.y(n) - 1.0) < 1e-12)
+      centre = n;
+  ASSERT_GE(centre, 0);
+  const auto contact = [](const std::string &c) {
+    return replace(kGood, "output: {directory: somewhere}",
+                   "contact:\n  - " + c + "\noutput: {directory: somewhere}");
+  };
+  try {
+    parseProblem(contact("{type: rigid_circle, boundary: bottom, center: [5, 1.5], radius: 1}"),
+                 "pin.yaml", "");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError &e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("pin.yaml:16:", 0), 0u) << msg;
+    EXPECT_NE(msg.find("contact[0]"), std::string::npos) << msg;
+    // Not on the contact boundary: the body's node is checked as well.
+    EXPECT_NE(msg.find("node " + std::to_string(m.nodeIds[centre]) + " (of the body"),
+              std::string::npos)
+        << msg;
+  }
+  // Touching at the start is fine: a circle tangent to the top, a plane through the bottom, and a
+  // penetration within the tolerance (1e-4 of the body's size).
+  EXPECT_NO_THROW(parseProblem(
+      contact("{type: rigid_circle, boundary: top, center: [5, 2], radius: 1}"), "a.yaml", ""));
+  EXPECT_NO_THROW(parseProblem(
+      contact("{type: rigid_half_plane, boundary: bottom, point: [3, 0], normal: [0, 2]}"),
+      "b.yaml", ""));
+  EXPECT_NO_THROW(parseProblem(
+      contact("{type: rigid_half_plane, boundary: bottom, point: [0, 0.0005], normal: [0, 1]}"),
+      "c.yaml", ""));
+  EXPECT_THROW(parseProblem(contact("{type: rigid_half_plane, boundary: bottom, point: [0, "
+                                    "0.002], normal: [0, 1]}"),
+                            "d.yaml", ""),
+               InputError);
+}
+
+// Bodies that touch (matching or non-matching nodes along the interface) are accepted; a body
+// moved into the other is refused naming both bodies, the node and the element.
+TEST(Problem, OverlappingBodiesAreRefusedTouchingOnesAccepted) {
+  const std::string bodies = R"(mesh:
+  bodies:
+    - {name: lower, generator: {type: rectangle, size: [2, 1], divisions: [4, 2]}}
+    - {name: upper, generator: {type: rectangle, size: [1, 1], divisions: [3, 2]}, offset: [0.5, 1]}
+materials:
+  - {region: lower, type: isotropic, E: 1000, nu: 0.3}
+  - {region: upper, type: isotropic, E: 2000, nu: 0.3}
+boundary_conditions:
+  - {boundary: lower.bottom, ux: 0, uy: 0}
+  - {boundary: upper.top, ux: 0, uy: -0.001}
+)";
+  EXPECT_NO_THROW(parseProblem(bodies, "touch.yaml", ""));
+  EXPECT_NO_THROW(
+      parseProblem(replace(bodies, "offset: [0.5, 1]", "offset: [2, 0.3]"), "side.yaml", ""));
+  // Within the tolerance (0.1 of the element's diameter): 0.04 deep, 0.057 of the lower
+  // elements' diameter and 0.067 of the upper ones'.
+  EXPECT_NO_THROW(
+      parseProblem(replace(bodies, "offset: [0.5, 1]", "offset: [0.5, 0.96]"), "shallow.yaml", ""));
+  try {
+    // 0.2 deep: node (1, 1) of the lower body lies 0.167 from the edges of an upper element,
+    // 0.28 of its diameter.
+    parseProblem(replace(bodies, "offset: [0.5, 1]", "offset: [0.5, 0.8]"), "deep.yaml", "");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError &e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("deep.yaml:", 0), 0u) << msg;
+    EXPECT_NE(msg.find("body 'lower' overlaps body 'upper' at the start: node "), std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("lies inside element"), std::string::npos) << msg;
+  }
+  // A body entirely inside another (no edge crosses): its nodes are inside.
+  EXPECT_THROW(parseProblem(replace(replace(bodies, "size: [1, 1], divisions: [3, 2]",
+                                            "size: [0.2, 0.2], divisions: [1, 1]"),
+                                    "offset: [0.5, 1]", "offset: [0.65, 0.15]"),
+                            "inside.yaml", ""),
+               InputError);
 }
