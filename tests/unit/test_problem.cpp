@@ -335,6 +335,23 @@ TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
                         "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 2, "
                         "end_distance: 4, length: 8, divisions: [40000, 40000, 4, 9]}"));
   EXPECT_NE(msg.find("mesh.generator.divisions: these divisions make"), std::string::npos) << msg;
+  // Finite sizes whose coordinates overflow (was: "element 1 has a non-positive Jacobian (0)").
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: rectangle, size: [1e308, 1], divisions: [2, 2], "
+                        "origin: [1e308, 0]}"));
+  EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mesh.generator: generator rectangle: the node coordinates overflow"),
+            std::string::npos)
+      << msg;
+  // A grading whose geometric growth overflows (was: UBSan, signed overflow in the node lookup of
+  // the generator on the NaN coordinates).
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 1, "
+                        "end_distance: 4, length: 8, divisions: [13, 18, 12, 27], "
+                        "grading: 1.1e110}"));
+  EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("generator pinned_plate: the node coordinates overflow"), std::string::npos)
+      << msg;
   // Increments whose load factors would not fit in memory (was: 16 GB of push_back).
   msg = errorOf(replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2000000000}"));
   EXPECT_EQ(msg.rfind("case.yaml:13:", 0), 0u) << msg;
