@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -73,9 +74,10 @@ std::vector<MeasuredStep> parseMeasurements(const std::string &text, const std::
       if (!parseNumber(cells[k], v[k]))
         throw InputError(where(name, line) + "value " + std::to_string(k + 1) + " ('" + cells[k] +
                          "') is not a finite number");
-    const int step = static_cast<int>(v[0]);
-    if (static_cast<double>(step) != v[0] || step < 1)
+    // Compared before the cast: a double outside int's range does not convert.
+    if (!(v[0] >= 1.0 && v[0] <= std::numeric_limits<int>::max()) || std::floor(v[0]) != v[0])
       throw InputError(where(name, line) + "step must be a positive integer");
+    const int step = static_cast<int>(v[0]);
     if (steps.empty() || step != steps.back().step) {
       const int expected = steps.empty() ? 1 : steps.back().step + 1;
       if (step != expected)

@@ -7,9 +7,12 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -55,7 +58,9 @@ struct Item {
   void allowOnly(std::initializer_list<const char *> allowed) const {
     requireMap();
     for (auto it = node.begin(); it != node.end(); ++it) {
-      const std::string key = it->first.as<std::string>();
+      if (!it->first.IsScalar())
+        Item{it->first, path, file}.fail("a key must be a plain word, not a list or a map");
+      const std::string key = it->first.Scalar();
       bool ok = false;
       for (const char *a : allowed)
         ok = ok || key == a;
@@ -136,6 +141,34 @@ ElementType elementType(const Item &i) {
   if (v == "quad8")
     return ElementType::Quad8;
   i.fail("unsupported element '" + v + "' (supported: quad4, quad8)");
+}
+
+/// Most load steps `increments` may ask for (their load factors are stored up front).
+constexpr int kMaxIncrements = 1000000;
+
+/// Most elements a mesh generator may build: connectivity indices are LocalIndex (8 per Quad8
+/// element), and a generated mesh takes about 1 kB per element on the host while it is built.
+double maxGeneratedElements() {
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+  return 2.0e4; // fuzz targets: one input stays within the fuzzer's memory and time limits
+#else
+  const double index = std::numeric_limits<LocalIndex>::max() / 8.0;
+  const double pages = static_cast<double>(sysconf(_SC_PHYS_PAGES));
+  const double pageSize = static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  return pages > 0 && pageSize > 0 ? std::min(index, pages * pageSize / 1024.0) : index;
+#endif
+}
+
+/// Refuses generator divisions that would build `elements` elements beyond maxGeneratedElements,
+/// before anything is allocated.
+void checkGeneratedSize(const Item &divisions, double elements) {
+  const double limit = maxGeneratedElements();
+  if (elements > limit) {
+    std::ostringstream s;
+    s << "these divisions make " << elements << " elements, more than the " << limit
+      << " a generated mesh may have (index range and memory)";
+    divisions.fail(s.str());
+  }
 }
 
 std::string joinPath(const std::string &base, const std::string &file) {
@@ -289,6 +322,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
         g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
         const auto size = g.required("size").pair();
         const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[1]);
         const auto origin = g.has("origin") ? g["origin"].pair() : std::array<double, 2>{0, 0};
         const auto grading =
             g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
@@ -297,18 +331,21 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
       } else if (type == "quarter_annulus") {
         g.allowOnly({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[1]);
         mesh = quarterAnnulusMesh(g.required("inner_radius").number(),
                                   g.required("outer_radius").number(), div[0], div[1], et,
                                   g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "plate_with_hole") {
         g.allowOnly({"type", "element", "hole_radius", "width", "height", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 2.0 * div[0] * div[1]);
         mesh = plateWithHoleMesh(g.required("hole_radius").number(), g.required("width").number(),
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "half_disk") {
         g.allowOnly({"type", "element", "radius", "divisions"});
         const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 2.0 * div[0] * div[0] + 4.0 * div[0] * div[1]);
         mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et);
       } else if (type == "pinned_plate") {
         g.allowOnly({"type", "element", "hole_radius", "half_width", "end_distance", "length",
@@ -317,6 +354,9 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
         if (!d.node.IsSequence() || d.node.size() != 4)
           d.fail("expected four integers [around the hole per 60 degrees, radial, end block, "
                  "far block]");
+        const std::array<double, 4> n{1.0 * d.at(0).integer(), 1.0 * d.at(1).integer(),
+                                      1.0 * d.at(2).integer(), 1.0 * d.at(3).integer()};
+        checkGeneratedSize(d, 3 * n[0] * n[1] + n[0] * (n[2] + n[3]));
         mesh =
             pinnedPlateMesh(g.required("hole_radius").number(), g.required("half_width").number(),
                             g.required("end_distance").number(), g.required("length").number(),
@@ -325,6 +365,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
       } else {
         g.allowOnly({"type", "element", "radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[0] + 2.0 * div[0] * div[1]);
         const auto grading =
             g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
         mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et, grading[0],
@@ -452,10 +493,9 @@ MaterialSpec readMaterial(const Item &m, PlaneAnalysis analysis) {
   return s;
 }
 
-} // namespace
-
-Problem parseProblem(const std::string &yamlText, const std::string &name,
-                     const std::string &baseDirectory) {
+/// The document's content (parseProblem turns what yaml-cpp throws on a node into an InputError).
+Problem parseDocument(const std::string &yamlText, const std::string &name,
+                      const std::string &baseDirectory) {
   Problem p;
   p.file = name;
   YAML::Node root;
@@ -799,6 +839,8 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
       const int n = s["increments"].integer();
       if (n < 1)
         s["increments"].fail("must be at least 1");
+      if (n > kMaxIncrements)
+        s["increments"].fail("at most " + std::to_string(kMaxIncrements) + " increments");
       p.loadFactors.clear();
       for (int k = 1; k <= n; ++k)
         p.loadFactors.push_back(static_cast<double>(k) / n);
@@ -923,6 +965,19 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
              "validation tests)");
   }
   return p;
+}
+
+} // namespace
+
+Problem parseProblem(const std::string &yamlText, const std::string &name,
+                     const std::string &baseDirectory) {
+  try {
+    return parseDocument(yamlText, name, baseDirectory);
+  } catch (const YAML::Exception &e) {
+    // A node of an unexpected kind that a check above let through: still an input error.
+    throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
+                     std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
 }
 
 Problem readProblem(const std::string &path) {

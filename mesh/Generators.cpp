@@ -57,6 +57,9 @@ Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::stri
   const double tol = 1e-9 * (extent > 0 ? extent : 1.0);
   std::map<std::pair<long long, long long>, LocalIndex> lookup;
   auto addNode = [&](std::array<double, 2> x) {
+    if (!std::isfinite(x[0]) || !std::isfinite(x[1]))
+      throw InputError(mesh.source + ": the node coordinates overflow (sizes, radii, origin or "
+                                     "grading too large for the divisions)");
     const auto key = std::make_pair(std::llround(x[0] / tol), std::llround(x[1] / tol));
     // Also look at neighbouring cells so that rounding at a cell boundary cannot split a node.
     for (long long dx = -1; dx <= 1; ++dx)

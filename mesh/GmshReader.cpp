@@ -2,7 +2,9 @@
 #include <mesh/GmshReader.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -11,6 +13,9 @@
 namespace mixcon {
 
 namespace {
+
+/// Largest count a header may announce: node and connectivity indices are LocalIndex.
+constexpr long kMaxCount = std::numeric_limits<LocalIndex>::max();
 
 /// Line-oriented tokenizer that remembers the line number for messages.
 class Lexer {
@@ -54,15 +59,29 @@ public:
       fail("expected an integer, found '" + s + "'");
     }
   }
+  /// An integer within +-INT_MAX (entity and physical tags, dimensions; |v| is an int too).
+  int toInt(const std::string &s) const {
+    const long v = toLong(s);
+    if (v < -std::numeric_limits<int>::max() || v > std::numeric_limits<int>::max())
+      fail("integer " + s + " out of range");
+    return static_cast<int>(v);
+  }
+  /// A count from a section header: 0 <= n <= most (the header drives allocation).
+  long toCount(const std::string &s, long most, const char *what) const {
+    const long v = toLong(s);
+    if (v < 0 || v > most)
+      fail(std::string(what) + " " + s + " out of range (0 to " + std::to_string(most) + ")");
+    return v;
+  }
   double toDouble(const std::string &s) const {
     try {
       std::size_t pos = 0;
       double v = std::stod(s, &pos);
-      if (pos != s.size())
+      if (pos != s.size() || !std::isfinite(v))
         throw std::invalid_argument(s);
       return v;
     } catch (const std::exception &) {
-      fail("expected a number, found '" + s + "'");
+      fail("expected a finite number, found '" + s + "'");
     }
   }
   void need(const std::vector<std::string> &t, std::size_t n, const char *what) const {
@@ -93,6 +112,9 @@ const char *gmshTypeName(long type) {
     return "element";
   }
 }
+
+/// Dimension of the supported element types (point, 2- and 3-node lines, quadrangles).
+int gmshDimension(long type) { return type == 15 ? 0 : type == 1 || type == 8 ? 1 : 2; }
 
 int gmshNodesPerElement(long type) {
   switch (type) {
@@ -156,7 +178,8 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
         lex.fail("binary Gmsh files are not supported; save as ASCII (Mesh.Binary = 0)");
       sawFormat = true;
     } else if (section == "$PhysicalNames") {
-      const long n = lex.toLong(lex.expectLine("$PhysicalNames")[0]);
+      const long n =
+          lex.toCount(lex.expectLine("$PhysicalNames")[0], kMaxCount, "number of physical names");
       for (long i = 0; i < n; ++i) {
         auto p = lex.expectLine("$PhysicalNames");
         lex.need(p, 3, "$PhysicalNames entry");
@@ -165,40 +188,39 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           nm += " " + p[k];
         if (nm.size() >= 2 && nm.front() == '"' && nm.back() == '"')
           nm = nm.substr(1, nm.size() - 2);
-        physicalNames[{static_cast<int>(lex.toLong(p[0])), static_cast<int>(lex.toLong(p[1]))}] =
-            nm;
+        physicalNames[{lex.toInt(p[0]), lex.toInt(p[1])}] = nm;
       }
     } else if (section == "$Entities") {
       auto c = lex.expectLine("$Entities");
       lex.need(c, 4, "$Entities counts");
       long counts[4];
       for (int d = 0; d < 4; ++d)
-        counts[d] = lex.toLong(c[d]);
+        counts[d] = lex.toCount(c[d], kMaxCount, "number of entities");
       for (int d = 0; d < 4; ++d)
         for (long i = 0; i < counts[d]; ++i) {
           auto e = lex.expectLine("$Entities");
           // point: tag x y z nphys tags...; curve/surface/volume: tag 6 bbox nphys tags... nbound
           const std::size_t physAt = d == 0 ? 4 : 7;
           lex.need(e, physAt + 1, "$Entities entry");
-          const int tag = static_cast<int>(lex.toLong(e[0]));
-          const long np = lex.toLong(e[physAt]);
+          const int tag = lex.toInt(e[0]);
+          const long np = lex.toCount(e[physAt], kMaxCount, "number of physical tags");
           lex.need(e, physAt + 1 + np, "$Entities entry");
           for (long k = 0; k < np; ++k)
-            entityPhysicals[{d, tag}].push_back(
-                static_cast<int>(std::labs(lex.toLong(e[physAt + 1 + k]))));
+            entityPhysicals[{d, tag}].push_back(std::abs(lex.toInt(e[physAt + 1 + k])));
         }
     } else if (section == "$Nodes") {
       auto h = lex.expectLine("$Nodes");
       lex.need(h, 4, "$Nodes header");
-      const long blocks = lex.toLong(h[0]);
+      const long blocks = lex.toCount(h[0], kMaxCount, "number of node blocks");
       for (long b = 0; b < blocks; ++b) {
         auto bh = lex.expectLine("$Nodes block");
         lex.need(bh, 4, "$Nodes block header");
         const bool parametric = lex.toLong(bh[2]) != 0;
-        const long n = lex.toLong(bh[3]);
-        std::vector<long> tags(n);
+        // Node indices are LocalIndex: the mesh holds at most kMaxCount nodes.
+        const long n = lex.toCount(bh[3], kMaxCount - mesh.numNodes(), "number of nodes");
+        std::vector<long> tags; // grown as read: the header's count drives no allocation
         for (long i = 0; i < n; ++i)
-          tags[i] = lex.toLong(lex.expectLine("$Nodes tags")[0]);
+          tags.push_back(lex.toLong(lex.expectLine("$Nodes tags")[0]));
         for (long i = 0; i < n; ++i) {
           auto xyz = lex.expectLine("$Nodes coordinates");
           lex.need(xyz, parametric ? 4 : 3, "node coordinates");
@@ -216,19 +238,22 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
     } else if (section == "$Elements") {
       auto h = lex.expectLine("$Elements");
       lex.need(h, 4, "$Elements header");
-      const long blocks = lex.toLong(h[0]);
+      const long blocks = lex.toCount(h[0], kMaxCount, "number of element blocks");
       for (long b = 0; b < blocks; ++b) {
         auto bh = lex.expectLine("$Elements block");
         lex.need(bh, 4, "$Elements block header");
-        const int dim = static_cast<int>(lex.toLong(bh[0]));
-        const int entity = static_cast<int>(lex.toLong(bh[1]));
+        const int dim = lex.toInt(bh[0]);
+        const int entity = lex.toInt(bh[1]);
         const long type = lex.toLong(bh[2]);
-        const long n = lex.toLong(bh[3]);
+        const long n = lex.toCount(bh[3], kMaxCount, "number of elements");
         const int npe = gmshNodesPerElement(type);
-        if (npe < 0 || dim == 3)
+        if (npe < 0 || dim < 0 || dim > 2)
           lex.fail(std::string("unsupported element type ") + std::to_string(type) + " (" +
                    gmshTypeName(type) +
                    "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles");
+        if (gmshDimension(type) != dim)
+          lex.fail("element type " + std::to_string(type) + " in a block of dimension " +
+                   std::to_string(dim));
         if (dim == 2) {
           if (quadType != 0 && quadType != type)
             lex.fail("mixed 4-node and 8-node quadrangles; use one element order per mesh");
@@ -242,6 +267,9 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           for (int a = 0; a < npe; ++a)
             nodes[a] = lex.toLong(e[1 + a]);
           if (dim == 2) {
+            if (static_cast<long>(mesh.connectivity.size()) > kMaxCount - npe)
+              lex.fail("too many elements (connectivity indices are " +
+                       std::to_string(sizeof(LocalIndex) * 8) + "-bit)");
             for (long nt : nodes) {
               auto it = nodeIndex.find(nt);
               if (it == nodeIndex.end())

@@ -62,6 +62,20 @@ TEST(Measurements, ReadsStepsAndReportsMalformedRowsByLine) {
   EXPECT_NE(errorOf(h + "1,10,0,0,0,0\n").find("fewer than 2"), std::string::npos);
 }
 
+// Reproducer found by fuzz/fuzz_measurements.cpp: a step number beyond int's range was converted
+// to int (undefined behaviour, UBSan); it is now refused with its line.
+TEST(Measurements, FuzzedStepNumbersOutOfRangeAreInputErrors) {
+  const std::string h = "step,load,x,y,ux,uy\n";
+  EXPECT_NE(errorOf(h + "1777777777777777777777777,10,1,0,0.1,0\n1,10,0,0,0,0.1\n")
+                .find("m.csv:2: step must be a positive integer"),
+            std::string::npos);
+  EXPECT_NE(errorOf(h + "1,10,1,0,0.1,0\n2147483648,10,0,0,0,0.1\n")
+                .find("m.csv:3: step must be a positive integer"),
+            std::string::npos);
+  EXPECT_NE(errorOf(h + "1.5,10,1,0,0.1,0\n").find("m.csv:2: step must be a positive integer"),
+            std::string::npos);
+}
+
 TEST(Measurements, AngularInterpolationIsExactForLinearProfilesAndWrapsAround) {
   // Half circle 0..180 deg: linear in the angle, reproduced exactly between the points.
   const auto f = [](double t) { return std::array<double, 2>{1e-3 + 2e-3 * t, -5e-4 * t}; };

@@ -221,6 +221,43 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
   EXPECT_NE(msg.find("not a Gmsh file"), std::string::npos) << msg;
 }
 
+// Reproducers found by fuzz/fuzz_gmsh.cpp: header counts, numbers and element blocks that used to
+// escape as std::length_error or allocate what the header claimed; each is now an InputError
+// naming file:line.
+TEST(GmshReader, FuzzedHeadersAndNumbersAreInputErrorsWithLine) {
+  auto read = [](std::string text) {
+    std::istringstream in(text);
+    return readGmsh(in, "bad.msh");
+  };
+  const std::string t = kGmshQuad4;
+  const std::string head = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  // A negative node count in a block header (was: std::length_error from vector(n)).
+  auto msg = expectInputError([&] { read(head + "$Nodes\n1 6 1 6\n2 1 0 -1\n1\n"); });
+  EXPECT_NE(msg.find("bad.msh:6: number of nodes -1 out of range"), std::string::npos) << msg;
+  // A huge count allocates nothing up front: the file simply ends.
+  msg = expectInputError([&] { read(head + "$Nodes\n1 6 1 6\n2 1 0 2000000000\n1\n"); });
+  EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;
+  msg = expectInputError([&] { read(head + "$Nodes\n1 6 1 6\n2 1 0 99999999999\n1\n"); });
+  EXPECT_NE(msg.find("bad.msh:6: number of nodes 99999999999 out of range"), std::string::npos)
+      << msg;
+  // Non-finite coordinates are refused where they are read.
+  msg =
+      expectInputError([&] { read(std::string(t).replace(t.find("1 0 0\n1 1 0"), 5, "nan 0 0")); });
+  EXPECT_NE(msg.find("bad.msh:30: expected a finite number, found 'nan'"), std::string::npos)
+      << msg;
+  msg =
+      expectInputError([&] { read(std::string(t).replace(t.find("1 0 0\n1 1 0"), 5, "1 inf 0")); });
+  EXPECT_NE(msg.find("found 'inf'"), std::string::npos) << msg;
+  // A line type in a block of dimension 2 (was: a Quad4 mesh with 2-node connectivity).
+  msg = expectInputError([&] { read(std::string(t).replace(t.find("2 1 3 2"), 7, "2 1 1 2")); });
+  EXPECT_NE(msg.find("element type 1 in a block of dimension 2"), std::string::npos) << msg;
+  // A physical tag (the surface's) whose absolute value does not fit an int.
+  msg = expectInputError(
+      [&] { read(std::string(t).replace(t.find("0 1 2 0\n"), 7, "0 1 -2147483648 0")); });
+  EXPECT_NE(msg.find("bad.msh:14: integer -2147483648 out of range"), std::string::npos) << msg;
+  EXPECT_NO_THROW(read(t));
+}
+
 namespace {
 /// Local node k of an element written clockwise: its natural coordinates mirrored (xi -> -xi),
 /// so that corner 0 takes (1,-1) and the mid-side nodes follow their edges.

@@ -398,6 +398,62 @@ TEST(Problem, BadInputGivesDocumentedErrors) {
   }
 }
 
+// Reproducers found by fuzz/fuzz_problem.cpp, and the sizes the fuzz run must not allocate: each
+// is an InputError naming file:line and the key.
+TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
+  auto errorOf = [](const std::string &yaml) -> std::string {
+    try {
+      parseProblem(yaml, "case.yaml", "");
+    } catch (const InputError &e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string g = kGood;
+  const std::string gen = "generator: {type: rectangle, size: [10, 1], divisions: [20, 2], "
+                          "element: quad8}";
+  // A map used as a key (was: YAML::TypedBadConversion escaping allowOnly).
+  auto msg = errorOf(
+      replace(g, "  - {boundary: left, ux: 0, uy: 0}", "  - {boundary: left, ux: 0}: value"));
+  EXPECT_EQ(msg.rfind("case.yaml:7:5: boundary_conditions[0]: a key must be a plain word", 0), 0u)
+      << msg;
+  msg = errorOf(replace(g, "steps: {", "steps: {[1, 2]: 3, "));
+  EXPECT_NE(msg.find("steps: a key must be a plain word"), std::string::npos) << msg;
+  // Generator divisions beyond the index range are refused before anything is allocated.
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: rectangle, size: [10, 1], divisions: [100000, "
+                        "100000]}"));
+  EXPECT_EQ(msg.rfind("case.yaml:2:", 0), 0u) << msg;
+  EXPECT_NE(msg.find("mesh.generator.divisions: these divisions make 1e+10 elements"),
+            std::string::npos)
+      << msg;
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 2, "
+                        "end_distance: 4, length: 8, divisions: [40000, 40000, 4, 9]}"));
+  EXPECT_NE(msg.find("mesh.generator.divisions: these divisions make"), std::string::npos) << msg;
+  // Finite sizes whose coordinates overflow (was: "element 1 has a non-positive Jacobian (0)").
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: rectangle, size: [1e308, 1], divisions: [2, 2], "
+                        "origin: [1e308, 0]}"));
+  EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mesh.generator: generator rectangle: the node coordinates overflow"),
+            std::string::npos)
+      << msg;
+  // A grading whose geometric growth overflows (was: UBSan, signed overflow in the node lookup of
+  // the generator on the NaN coordinates).
+  msg = errorOf(replace(g, gen,
+                        "generator: {type: pinned_plate, hole_radius: 0.5, half_width: 1, "
+                        "end_distance: 4, length: 8, divisions: [13, 18, 12, 27], "
+                        "grading: 1.1e110}"));
+  EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("generator pinned_plate: the node coordinates overflow"), std::string::npos)
+      << msg;
+  // Increments whose load factors would not fit in memory (was: 16 GB of push_back).
+  msg = errorOf(replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2000000000}"));
+  EXPECT_EQ(msg.rfind("case.yaml:13:", 0), 0u) << msg;
+  EXPECT_NE(msg.find("steps.increments: at most 1000000 increments"), std::string::npos) << msg;
+}
+
 namespace {
 /// Runs the mixcon program; returns its exit code and fills `output` with stdout + stderr.
 int runMixcon(const std::string &args, std::string &output, const fs::path &dir) {
