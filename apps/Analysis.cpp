@@ -4,6 +4,7 @@
 #include <contact/RigidContact.hpp>
 #include <contact/SurfaceContact.hpp>
 #include <io/Measurements.hpp>
+#include <io/Restart.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>

@@ -2,6 +2,8 @@
 // of the LoadStepper): by default one progress line per step plus the start-up lines and the
 // warnings; --verbose adds every Newton iteration and contact status change; --quiet prints
 // warnings and errors only. Runs the shipped frictional pin-loaded plate (contact) in 4 steps.
+#include <support/Program.hpp>
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -23,13 +25,11 @@ struct ProgramRun {
 
 /// Runs `mixcon run <problem> --output <dir>/out <flags>`; fills the output lines.
 ProgramRun runProblem(const fs::path &problem, const fs::path &dir, const std::string &flags) {
-  const fs::path log = dir / "log.txt";
-  const std::string cmd = std::string(MIXCON_APP) + " run " + problem.string() + " --output " +
-                          (dir / "out").string() + " " + flags + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
+  std::string output;
   ProgramRun r;
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
+  r.exitCode = mixcon::test::runMixcon(
+      "run " + problem.string() + " --output " + (dir / "out").string() + " " + flags, output, dir);
+  std::istringstream in(output);
   for (std::string line; std::getline(in, line);)
     r.lines.push_back(line);
   return r;
@@ -56,19 +56,7 @@ std::string joined(const ProgramRun &r) {
   return s.str();
 }
 
-class ScratchDir {
-public:
-  explicit ScratchDir(const std::string &name) {
-    path_ = fs::temp_directory_path() / ("mixcon-cli-" + std::to_string(::getpid()) + "-" + name);
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() { fs::remove_all(path_); }
-  const fs::path &path() const { return path_; }
-
-private:
-  fs::path path_;
-};
+using mixcon::test::ScratchDir;
 
 } // namespace
 

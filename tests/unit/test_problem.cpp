@@ -2,6 +2,8 @@
 // file:line), and `mixcon run` exits with code 2 on it; a run writes HDF5 + XDMF + summary.json.
 #include <io/Problem.hpp>
 
+#include <support/Program.hpp>
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -455,17 +457,7 @@ TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
 }
 
 namespace {
-/// Runs the mixcon program; returns its exit code and fills `output` with stdout + stderr.
-int runMixcon(const std::string &args, std::string &output, const fs::path &dir) {
-  const fs::path log = dir / "log.txt";
-  const std::string cmd = std::string(MIXCON_APP) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream s;
-  s << in.rdbuf();
-  output = s.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using mixcon::test::runMixcon;
 } // namespace
 
 TEST(Cli, BadInputExitsWithCodeTwoAndMessage) {

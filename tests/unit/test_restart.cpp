@@ -4,6 +4,8 @@
 // friction, node-to-segment contact), a run killed with SIGKILL at any moment leaves a results.h5
 // that opens and holds every step it reported, the output folder is locked while a run owns it,
 // and a new run leaves no file of an earlier one behind.
+#include <support/Program.hpp>
+
 #include <gtest/gtest.h>
 
 #include <hdf5.h>
@@ -34,33 +36,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class TempDir {
-public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "mixcon-restart-XXXXXX").string();
-    path_ = mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path &path() const { return path_; }
-
-private:
-  fs::path path_;
-};
-
-/// Runs the program; returns its exit code, stdout + stderr in `output`.
-int runMixcon(const std::string &args, std::string &output, const fs::path &dir) {
-  const fs::path log = dir / "log.txt";
-  const std::string cmd = std::string(MIXCON_APP) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream s;
-  s << in.rdbuf();
-  output = s.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using mixcon::test::runMixcon;
+using TempDir = mixcon::test::ScratchDir;
 
 /// The step numbers of results.h5 and one dataset of a step (empty when it cannot be read).
 std::vector<int> stepsOf(const fs::path &dir) {
@@ -258,49 +235,35 @@ TEST(Restart, ContinuesAnInterruptedRunToTheUninterruptedResults) {
 
 TEST(Restart, RefusesWhatItCannotContinue) {
   TempDir tmp;
-  const Case &c = kCases[0];
+  const std::string yaml = kCases[0].yaml;
   const fs::path file = tmp.path() / "a.yaml", run = tmp.path() / "run";
-  std::ofstream(file) << c.yaml;
+  std::ofstream(file) << yaml;
   std::string out;
   ASSERT_EQ(runMixcon("run " + file.string() + " -q --output " + run.string(), out, tmp.path()), 0)
       << out;
   interruptAfter(run, 3);
-  // Another mesh.
-  std::string other = c.yaml;
-  other.replace(other.find("divisions: [8, 2]"), 17, "divisions: [9, 2]");
-  std::ofstream(tmp.path() / "b.yaml") << other;
-  EXPECT_EQ(runMixcon("run " + (tmp.path() / "b.yaml").string() + " --restart " + run.string(), out,
-                      tmp.path()),
-            2)
-      << out;
-  EXPECT_NE(out.find("is not the mesh of"), std::string::npos) << out;
-  // Other load factors before the restart point.
-  std::string steps = c.yaml;
-  steps.replace(steps.find("increments: 6"), 13, "increments: 5");
-  std::ofstream(tmp.path() / "c.yaml") << steps;
-  EXPECT_EQ(runMixcon("run " + (tmp.path() / "c.yaml").string() + " --restart " + run.string(), out,
-                      tmp.path()),
-            2)
-      << out;
-  EXPECT_NE(out.find("must be the same"), std::string::npos) << out;
-  // Another formulation on the same mesh.
-  std::string mixed = c.yaml;
-  mixed.replace(mixed.find("formulation: displacement"), 25, "formulation: mixed");
-  std::ofstream(tmp.path() / "d.yaml") << mixed;
-  EXPECT_EQ(runMixcon("run " + (tmp.path() / "d.yaml").string() + " --restart " + run.string(), out,
-                      tmp.path()),
-            2)
-      << out;
-  EXPECT_NE(out.find("the saved state is of the displacement model"), std::string::npos) << out;
-  // A folder without results, and a linear analysis.
-  EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + (tmp.path() / "none").string(), out,
-                      tmp.path()),
-            2)
-      << out;
-  EXPECT_NE(out.find("no results to restart from"), std::string::npos) << out;
+  const auto changed = [&](const std::string &from, const std::string &to) {
+    std::string y = yaml;
+    y.replace(y.find(from), from.size(), to);
+    const fs::path f = tmp.path() / ("changed-" + std::to_string(std::hash<std::string>{}(to)));
+    std::ofstream(f) << y;
+    return f.string();
+  };
   const std::string lame = std::string(MIXCON_SOURCE_DIR) + "/examples/lame_cylinder.yaml";
-  EXPECT_EQ(runMixcon("run " + lame + " --restart " + run.string(), out, tmp.path()), 2) << out;
-  EXPECT_NE(out.find("linear without contact"), std::string::npos) << out;
+  struct Refusal {
+    std::string problem, restart, message;
+  } refusals[] = {
+      {changed("divisions: [8, 2]", "divisions: [9, 2]"), run.string(), "is not the mesh of"},
+      {changed("increments: 6", "increments: 5"), run.string(), "must be the same"},
+      {changed("formulation: displacement", "formulation: mixed"), run.string(),
+       "the saved state is of the displacement model"},
+      {file.string(), (tmp.path() / "none").string(), "no results to restart from"},
+      {lame, run.string(), "linear without contact"},
+  };
+  for (const auto &r : refusals) {
+    EXPECT_EQ(runMixcon("run " + r.problem + " --restart " + r.restart, out, tmp.path()), 2) << out;
+    EXPECT_NE(out.find(r.message), std::string::npos) << out;
+  }
 }
 
 TEST(Restart, KilledRunKeepsEveryReportedStepAndRestartsToTheSameResult) {
