@@ -317,9 +317,9 @@ TEST(Restart, KilledRunKeepsEveryReportedStepAndRestartsToTheSameResult) {
     if (reported > 0) {
       ASSERT_GE(steps.size(), static_cast<std::size_t>(reported)) << what;
       for (int k = 1; k <= reported; ++k)
-        EXPECT_EQ(relativeDifference(readStep(dir, k, "displacement"),
+        EXPECT_LE(relativeDifference(readStep(dir, k, "displacement"),
                                      readStep(whole, k, "displacement")),
-                  0.0)
+                  1e-12) // two runs differ by the threads' summation order only
             << what << ": step " << k << " readable and complete";
     }
     if (reported == 0 && steps.empty()) {
