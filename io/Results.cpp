@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -60,7 +61,7 @@ public:
     id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
     H5Pclose(fapl);
     if (id_ < 0)
-      throw std::runtime_error("cannot create " + path + ": " + systemReason());
+      throw std::runtime_error("cannot create it: " + systemReason());
   }
   ~NewH5File() {
     if (id_ >= 0)
@@ -74,7 +75,7 @@ public:
     const herr_t rc = H5Fclose(id_);
     id_ = -1;
     if (rc < 0)
-      throw std::runtime_error("cannot write " + path_ + ": " + systemReason());
+      throw std::runtime_error(systemReason());
   }
 
 private:
@@ -88,6 +89,22 @@ void replaceFile(const std::string &tmp, const std::string &path) {
   fs::rename(tmp, path, ec);
   if (ec)
     throw std::runtime_error("cannot write " + path + ": " + ec.message());
+}
+
+/// Writes an HDF5 file through a temporary one that `body(file)` fills and that is renamed into
+/// place when complete; a failure removes the temporary and is reported naming `path`.
+template <class Body> void writeHdf5File(const std::string &path, Body &&body) {
+  const std::string tmp = path + ".tmp";
+  try {
+    NewH5File file(tmp);
+    body(file.id());
+    file.close();
+  } catch (const std::exception &e) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path + ": " + e.what());
+  }
+  replaceFile(tmp, path);
 }
 
 /// Flushes and closes a written stream; throws naming `path` and the system's reason when any
@@ -324,47 +341,54 @@ ResultsWriter::ResultsWriter(std::string directory, const Mesh &mesh, bool hdf5,
 }
 
 ResultsWriter::~ResultsWriter() {
+  if (std::uncaught_exceptions() > uncaught_ && status_ == "running") {
+    // Left by an error (a failed write, a failure in a solve): summary.json says so if it can.
+    status_ = "failed";
+    message_ = "the run stopped on an error (the program's message names it); the steps listed "
+               "here were written";
+    try {
+      writeSummary();
+    } catch (...) {
+      // Nothing more to report where nothing can be written.
+    }
+  }
   if (lock_ >= 0)
     ::close(lock_);
 }
 
 void ResultsWriter::writeMesh() const {
-  const std::string path = directory_ + "/results.d/mesh.h5", tmp = path + ".tmp";
-  NewH5File file(tmp);
-  const Mesh &mesh = mesh_;
-  const hid_t m = H5Gcreate2(file.id(), "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
-  writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
-               mesh.nodesPerElement);
-  writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
-               0);
-  writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
-  writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
-  writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
-  H5Gclose(m);
-  file.close();
-  replaceFile(tmp, path);
+  writeHdf5File(directory_ + "/results.d/mesh.h5", [&](hid_t file) {
+    const Mesh &mesh = mesh_;
+    const hid_t m = H5Gcreate2(file, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
+    writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
+                 mesh.nodesPerElement);
+    writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
+                 0);
+    writeDataset(m, "node_ids", mesh.nodeIds.data(), H5T_NATIVE_LONG, mesh.numNodes(), 0);
+    writeDataset(m, "element_ids", mesh.elementIds.data(), H5T_NATIVE_LONG, mesh.numElements(), 0);
+    writeAttribute(m, "nodes_per_element", mesh.nodesPerElement, H5T_NATIVE_INT);
+    H5Gclose(m);
+  });
 }
 
 void ResultsWriter::writeIndex() const {
-  const std::string path = directory_ + "/results.h5", tmp = path + ".tmp";
-  NewH5File file(tmp);
-  const hid_t root = file.id();
-  writeStringAttribute(root, "mixcon_version", MIXCON_VERSION_STRING);
-  writeStringAttribute(root, "layout",
-                       "/mesh and /steps/<k> are links into results.d/ (docs/output-format.md)");
-  if (H5Lcreate_external("results.d/mesh.h5", "/mesh", root, "mesh", H5P_DEFAULT, H5P_DEFAULT) < 0)
-    throw std::runtime_error("HDF5: cannot link the mesh in " + path);
-  const hid_t steps = H5Gcreate2(root, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  for (const auto &r : steps_) {
-    const std::string name = std::to_string(r.step), target = "/steps/" + name;
-    if (H5Lcreate_external(stepFileName(r.step).c_str(), target.c_str(), steps, name.c_str(),
-                           H5P_DEFAULT, H5P_DEFAULT) < 0)
-      throw std::runtime_error("HDF5: cannot link step " + name + " in " + path);
-  }
-  H5Gclose(steps);
-  file.close();
-  replaceFile(tmp, path);
+  writeHdf5File(directory_ + "/results.h5", [&](hid_t root) {
+    writeStringAttribute(root, "mixcon_version", MIXCON_VERSION_STRING);
+    writeStringAttribute(root, "layout",
+                         "/mesh and /steps/<k> are links into results.d/ (docs/output-format.md)");
+    if (H5Lcreate_external("results.d/mesh.h5", "/mesh", root, "mesh", H5P_DEFAULT, H5P_DEFAULT) <
+        0)
+      throw std::runtime_error("HDF5: cannot link the mesh");
+    const hid_t steps = H5Gcreate2(root, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    for (const auto &r : steps_) {
+      const std::string name = std::to_string(r.step), target = "/steps/" + name;
+      if (H5Lcreate_external(stepFileName(r.step).c_str(), target.c_str(), steps, name.c_str(),
+                             H5P_DEFAULT, H5P_DEFAULT) < 0)
+        throw std::runtime_error("HDF5: cannot link step " + name);
+    }
+    H5Gclose(steps);
+  });
 }
 
 void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Checkpoint *state) {
@@ -372,51 +396,49 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
   stepSummaries_.push_back(stepSummary(r));
   if (hdf5_) {
     // The step's own file, complete before it is renamed into place and linked from results.h5.
-    const std::string path = directory_ + "/" + stepFileName(r.step), tmp = path + ".tmp";
-    NewH5File file(tmp);
-    const std::string name = "/steps/" + std::to_string(r.step);
-    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-    H5Pset_create_intermediate_group(lcpl, 1);
-    const hid_t g = H5Gcreate2(file.id(), name.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT);
-    H5Pclose(lcpl);
-    if (g < 0)
-      throw std::runtime_error("HDF5: cannot create group " + name + " in " + tmp);
-    const hsize_t nn = mesh_.numNodes();
-    writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn, 3);
-    writeStressDataset(g, "stress", f.stress);
-    if (!f.reaction.empty())
-      writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn, 3);
-    const hsize_t nq = f.gaussStress.size() / 3;
-    const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
-    writeStressDataset(gp, "stress", f.gaussStress);
-    writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
-    writeStringAttribute(gp, "stress_source", f.gaussStressSource);
-    if (!f.gaussGradient.empty()) {
-      writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
-      writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
-                   nq, 2);
-    }
-    if (!f.gaussInterpolatedStress.empty())
-      writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress);
-    H5Gclose(gp);
-    writeStringAttribute(g, "stress_source", f.stressSource);
-    if (!f.contact.node.empty())
-      writeContact(g, r, f.contact);
-    if (!f.hybrid.node.empty())
-      writeHybrid(g, r, f.hybrid);
-    writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
-    writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
-    writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
-    writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
-    writeAttribute(g, "converged", static_cast<int>(r.converged), H5T_NATIVE_INT);
-    writeAttribute(g, "contact_closed", r.contactClosed, H5T_NATIVE_INT);
-    writeStringAttribute(g, "summary", stepSummaries_.back());
-    if (state)
-      writeState(g, *state);
-    H5Gclose(g);
-    file.close();
-    replaceFile(tmp, path);
+    writeHdf5File(directory_ + "/" + stepFileName(r.step), [&](hid_t file) {
+      const std::string name = "/steps/" + std::to_string(r.step);
+      const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+      H5Pset_create_intermediate_group(lcpl, 1);
+      const hid_t g = H5Gcreate2(file, name.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT);
+      H5Pclose(lcpl);
+      if (g < 0)
+        throw std::runtime_error("HDF5: cannot create group " + name);
+      const hsize_t nn = mesh_.numNodes();
+      writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn, 3);
+      writeStressDataset(g, "stress", f.stress);
+      if (!f.reaction.empty())
+        writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn, 3);
+      const hsize_t nq = f.gaussStress.size() / 3;
+      const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
+      writeStressDataset(gp, "stress", f.gaussStress);
+      writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
+      writeStringAttribute(gp, "stress_source", f.gaussStressSource);
+      if (!f.gaussGradient.empty()) {
+        writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
+        writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
+                     nq, 2);
+      }
+      if (!f.gaussInterpolatedStress.empty())
+        writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress);
+      H5Gclose(gp);
+      writeStringAttribute(g, "stress_source", f.stressSource);
+      if (!f.contact.node.empty())
+        writeContact(g, r, f.contact);
+      if (!f.hybrid.node.empty())
+        writeHybrid(g, r, f.hybrid);
+      writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
+      writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
+      writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
+      writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
+      writeAttribute(g, "converged", static_cast<int>(r.converged), H5T_NATIVE_INT);
+      writeAttribute(g, "contact_closed", r.contactClosed, H5T_NATIVE_INT);
+      writeStringAttribute(g, "summary", stepSummaries_.back());
+      if (state)
+        writeState(g, *state);
+      H5Gclose(g);
+    });
     writeIndex();
     stepArrays_.push_back({!f.reaction.empty(), !f.contact.node.empty(), !f.hybrid.node.empty()});
     writeXdmf();

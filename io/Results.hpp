@@ -11,6 +11,7 @@
 #include <mesh/Mesh.hpp>
 #include <solver/Checkpoint.hpp>
 
+#include <exception>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -135,7 +136,8 @@ private:
   std::string problemFile_;
   const Mesh &mesh_;
   bool hdf5_;
-  int lock_ = -1; ///< file descriptor holding the folder's lock
+  int lock_ = -1;                             ///< file descriptor holding the folder's lock
+  int uncaught_ = std::uncaught_exceptions(); ///< at construction (to see an error unwinding)
   std::vector<StepRecord> steps_;
   std::vector<std::string> stepSummaries_; ///< each step's summary.json entry
   std::vector<StepArrays> stepArrays_;     ///< per step: its optional node arrays (XDMF index)

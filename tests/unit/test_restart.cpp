@@ -361,3 +361,79 @@ TEST(Restart, OutputFolderIsLockedAndEarlierFilesDoNotStay) {
 }
 
 #endif
+
+#if defined(MIXCON_APP)
+namespace {
+
+/// A small tmpfs mounted on a folder for as long as it lives (needs the right to mount: root
+/// outside a restricted container); mounted() says whether it could.
+class SmallDevice {
+public:
+  SmallDevice(const fs::path &dir, const std::string &size) : dir_(dir) {
+    fs::create_directories(dir_);
+    const std::string cmd =
+        "mount -t tmpfs -o size=" + size + " tmpfs " + dir_.string() + " > /dev/null 2>&1";
+    mounted_ = std::system(cmd.c_str()) == 0;
+  }
+  ~SmallDevice() {
+    if (mounted_)
+      std::system(("umount " + dir_.string() + " > /dev/null 2>&1").c_str());
+  }
+  bool mounted() const { return mounted_; }
+
+private:
+  fs::path dir_;
+  bool mounted_ = false;
+};
+
+} // namespace
+
+TEST(Output, AFileThatCannotBeWrittenEndsTheRunWithItsName) {
+  TempDir tmp;
+  const std::string lame = std::string(MIXCON_SOURCE_DIR) + "/examples/lame_cylinder.yaml";
+  const std::string hertz = std::string(MIXCON_SOURCE_DIR) + "/examples/hertz/hertz_report.yaml";
+  // A directory (not empty, so it cannot be removed) where a run writes a file.
+  for (const auto &[problem, name] :
+       {std::pair{lame, "results.xdmf"}, std::pair{lame, "summary.json"},
+        std::pair{hertz, "contact.csv"}}) {
+    const fs::path dir = tmp.path() / (std::string("in-the-way-") + name);
+    fs::create_directories(dir / name / "keep");
+    std::string out;
+    EXPECT_EQ(runMixcon("run " + problem + " -q --output " + dir.string(), out, tmp.path()), 1)
+        << name << ": " << out;
+    EXPECT_NE(out.find("cannot write " + (dir / name).string()), std::string::npos)
+        << name << ": " << out;
+  }
+}
+
+TEST(Output, AFullDeviceEndsTheRunWithExitOneAndKeepsTheWrittenSteps) {
+  TempDir tmp;
+  const fs::path dir = tmp.path() / "device";
+  SmallDevice device(dir, "200k");
+  if (!device.mounted())
+    GTEST_SKIP() << "cannot mount a small tmpfs here (needs root outside a restricted "
+                    "container); the full-device case is not run";
+  const std::string hertz = std::string(MIXCON_SOURCE_DIR) + "/examples/hertz/hertz_report.yaml";
+  std::string out;
+  EXPECT_EQ(runMixcon("run " + hertz + " --output " + (dir / "out").string(), out, tmp.path()), 1)
+      << out;
+  EXPECT_NE(out.find("No space left on device"), std::string::npos) << out;
+  EXPECT_NE(out.find("cannot write " + (dir / "out").string()), std::string::npos) << out;
+  // Every step reported before the device filled up is in results.h5, complete.
+  int reported = 0;
+  const std::regex stepLine(R"(step (\d+)/\d+ .*converged)");
+  for (std::sregex_iterator it(out.begin(), out.end(), stepLine), end; it != end; ++it)
+    reported = std::stoi((*it)[1].str());
+  ASSERT_GE(reported, 1) << out;
+  const auto steps = stepsOf(dir / "out");
+  ASSERT_GE(steps.size(), static_cast<std::size_t>(reported));
+  for (int k = 1; k <= reported; ++k)
+    EXPECT_EQ(readStep(dir / "out", k, "displacement").size(), 3u * 101u) << "step " << k;
+  // summary.json is the last complete version, never a truncated one.
+  std::ifstream summary(dir / "out" / "summary.json");
+  std::stringstream s;
+  s << summary.rdbuf();
+  EXPECT_NE(s.str().find("\"steps\": ["), std::string::npos) << s.str();
+  EXPECT_EQ(s.str().substr(s.str().size() - 2), "}\n") << s.str();
+}
+#endif
