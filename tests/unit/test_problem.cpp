@@ -148,7 +148,7 @@ std::vector<BadCase> badCases() {
   return {
       {"unknown_key", replace(g, "thickness: 0.5", "thicknes: 0.5"), "unknown key 'thicknes'", 3},
       {"missing_mesh_file", replace(g, kGenerator, "file: does-not-exist.msh"),
-       "cannot open mesh file", 2},
+       "cannot open the mesh file", 2},
       {"unknown_region", replace(g, "region: body, type", "region: wood, type"),
        "unknown region 'wood'", 5},
       {"unsupported_element", replace(g, "element: quad8", "element: tri3"),
@@ -475,7 +475,7 @@ TEST(Cli, BadInputExitsWithCodeTwoAndMessage) {
   }
   std::string out;
   EXPECT_EQ(runMixcon("run " + (dir.path() / "nothing.yaml").string(), out, dir.path()), 2);
-  EXPECT_NE(out.find("cannot open problem file"), std::string::npos) << out;
+  EXPECT_NE(out.find("cannot open the problem file"), std::string::npos) << out;
   EXPECT_EQ(runMixcon("--version", out, dir.path()), 0);
   EXPECT_NE(out.find("mixcon 0."), std::string::npos) << out;
   EXPECT_EQ(runMixcon("frobnicate", out, dir.path()), 2) << out;
