@@ -996,7 +996,10 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
 }
 
 Problem readProblem(const std::string &path) {
-  const std::string text = readInputFile(path, "problem file");
+  // A problem file is a few kB; the cap keeps a mistaken argument (a mesh, a data dump) from being
+  // read whole before YAML refuses it.
+  constexpr std::size_t kMaxProblemBytes = std::size_t(64) << 20;
+  const std::string text = readInputFile(path, "problem file", kMaxProblemBytes);
   const auto slash = path.find_last_of('/');
   const std::string base = slash == std::string::npos ? "" : path.substr(0, slash);
   return parseProblem(text, path, base);

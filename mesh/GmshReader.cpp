@@ -178,12 +178,15 @@ bool readInputLine(std::istream &in, std::string &line, const std::string &name,
   }
 }
 
-std::string readInputFile(const std::string &path, const std::string &what) {
+std::string readInputFile(const std::string &path, const std::string &what, std::size_t maxBytes) {
   std::ifstream in = openInputFile(path, what);
   std::string text, line;
   for (int n = 1; readInputLine(in, line, path, n); ++n) {
     text += line;
     text += '\n';
+    if (text.size() > maxBytes)
+      throw InputError(path + ":" + std::to_string(n) + ": the " + what + " is larger than " +
+                       std::to_string(maxBytes) + " bytes");
   }
   return text;
 }

@@ -31,8 +31,10 @@ std::ifstream openInputFile(const std::string &path, const std::string &what);
 /// end of file; throws InputError naming `name` and the line number `line` when longer.
 bool readInputLine(std::istream &in, std::string &line, const std::string &name, int lineNumber);
 
-/// The whole text of an input file, through openInputFile and readInputLine.
-std::string readInputFile(const std::string &path, const std::string &what);
+/// The whole text of an input file, through openInputFile and readInputLine; refused (InputError)
+/// once it passes `maxBytes`.
+std::string readInputFile(const std::string &path, const std::string &what,
+                          std::size_t maxBytes = std::string::npos);
 
 /// `value` for an error message: cut to about 80 characters with "..." when longer.
 std::string clipValue(const std::string &value);

@@ -506,6 +506,28 @@ TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
   EXPECT_NE(msg.find("steps.increments: at most 1000000 increments"), std::string::npos) << msg;
 }
 
+// A problem file is read to at most 64 MiB (a mistaken argument is not read whole).
+TEST(Problem, ProblemFileOverSixtyFourMiBIsRefused) {
+  TempDir dir;
+  const fs::path file = dir.path() / "huge.yaml";
+  {
+    std::ofstream out(file);
+    out << kGood;
+    const std::string comment = "# " + std::string(1022, 'c') + "\n";
+    for (int i = 0; i < 65 * 1024; ++i)
+      out << comment;
+  }
+  try {
+    readProblem(file.string());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError &e) {
+    EXPECT_NE(std::string(e.what()).find("huge.yaml:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(": the problem file is larger than 67108864 bytes"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // Two conditions on one set prescribing a component with the same value pass, with a warning
 // naming both entries; conditions on sets sharing nodes with equal values (a clamped corner) pass
 // without one.
