@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <map>
 #include <set>
 #include <sstream>
@@ -109,24 +110,30 @@ void checkDirichletConflicts(const Mesh &mesh, const std::vector<DirichletSpec> 
 }
 
 std::string clipQuoted(const std::string &message) {
+  // A quote opens where no letter or digit precedes it and closes where none follows it, so that
+  // the apostrophe of "model's" is text, not a quote.
+  auto word = [&](std::size_t k) {
+    return k < message.size() && std::isalnum(static_cast<unsigned char>(message[k]));
+  };
   std::string out;
   std::size_t i = 0;
   while (i < message.size()) {
-    const std::size_t open = message.find('\'', i);
-    if (open == std::string::npos) {
-      out += message.substr(i);
+    std::size_t open = message.find('\'', i);
+    while (open != std::string::npos && open > 0 && word(open - 1))
+      open = message.find('\'', open + 1);
+    if (open == std::string::npos)
       break;
-    }
     std::size_t close = message.find('\'', open + 1);
+    while (close != std::string::npos && word(close + 1))
+      close = message.find('\'', close + 1);
     if (close == std::string::npos)
-      close = message.size();
+      break;
     out += message.substr(i, open + 1 - i);
     out += clipValue(message.substr(open + 1, close - open - 1));
-    if (close < message.size())
-      out += '\'';
+    out += '\'';
     i = close + 1;
   }
-  return out;
+  return out + (i < message.size() ? message.substr(i) : "");
 }
 
 } // namespace mixcon::detail

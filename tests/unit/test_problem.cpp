@@ -285,7 +285,9 @@ std::vector<BadCase> badCases() {
       {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
-       "applies to the linear mixed model's Schur solver", 3},
+       "compliance applies to the linear mixed model's Schur solver; the geometrically nonlinear "
+       "mixed model uses the consistent M and equal-order interpolation",
+       3},
       {"mixed_newton_method_on_displacement",
        replace(g, "solver: {type: direct}", "solver: {type: amg, method: schur}"),
        "applies to the geometrically nonlinear mixed model's solver: amg only", 14},
