@@ -375,6 +375,8 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
                                grading[1]);
       }
     } catch (const InputError &e) {
+      if (std::string(e.what()).rfind(*g.file + ":", 0) == 0)
+        throw; // a key of the generator, already located
       g.fail(e.what());
     }
   }

@@ -502,6 +502,11 @@ TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
   EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("generator pinned_plate: the node coordinates overflow"), std::string::npos)
       << msg;
+  // A bad key inside the generator is located once (was: "case.yaml:2:14: mesh.generator:
+  // case.yaml:2:...").
+  msg = errorOf(replace(g, "element: quad8}", "element: quad8, origin: [.nan, 0]}"));
+  EXPECT_EQ(msg.rfind("case.yaml:2:92: mesh.generator.origin[0]: expected a finite number", 0), 0u)
+      << msg;
   // Increments whose load factors would not fit in memory (was: 16 GB of push_back).
   msg = errorOf(replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2000000000}"));
   EXPECT_EQ(msg.rfind("case.yaml:13:", 0), 0u) << msg;
