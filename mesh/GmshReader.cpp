@@ -148,7 +148,7 @@ std::ifstream openInputFile(const std::string &path, const std::string &what) {
                        : S_ISFIFO(st.st_mode)                       ? "a FIFO"
                        : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
                        : S_ISSOCK(st.st_mode)                       ? "a socket"
-                                                                    : "not a regular file";
+                                                                    : "a special file";
     throw InputError(path + ": the " + what + " is " + kind + ", not a regular file");
   }
   std::ifstream in(path, std::ios::binary);
