@@ -1,5 +1,6 @@
 // Measurement file, boundary check, angular interpolation and symmetrization (hybrid mode).
 #include <io/Measurements.hpp>
+#include <mesh/GmshReader.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,7 @@ std::vector<MeasuredStep> parseMeasurements(const std::string &text, const std::
           compact += c;
       if (compact != "step,load,x,y,ux,uy")
         throw InputError(where(name, line) + "expected the header 'step,load,x,y,ux,uy', found '" +
-                         row + "'");
+                         clipValue(row) + "'");
       header = true;
       continue;
     }
@@ -72,8 +73,8 @@ std::vector<MeasuredStep> parseMeasurements(const std::string &text, const std::
     double v[6];
     for (int k = 0; k < 6; ++k)
       if (!parseNumber(cells[k], v[k]))
-        throw InputError(where(name, line) + "value " + std::to_string(k + 1) + " ('" + cells[k] +
-                         "') is not a finite number");
+        throw InputError(where(name, line) + "value " + std::to_string(k + 1) + " ('" +
+                         clipValue(cells[k]) + "') is not a finite number");
     // Compared before the cast: a double outside int's range does not convert.
     if (!(v[0] >= 1.0 && v[0] <= std::numeric_limits<int>::max()) || std::floor(v[0]) != v[0])
       throw InputError(where(name, line) + "step must be a positive integer");
@@ -103,12 +104,7 @@ std::vector<MeasuredStep> parseMeasurements(const std::string &text, const std::
 }
 
 std::vector<MeasuredStep> readMeasurements(const std::string &file) {
-  std::ifstream in(file);
-  if (!in)
-    throw InputError(file + ": cannot open the measurement file");
-  std::stringstream s;
-  s << in.rdbuf();
-  return parseMeasurements(s.str(), file);
+  return parseMeasurements(readInputFile(file, "measurement file"), file);
 }
 
 void checkNearBoundary(const Mesh &mesh, const std::string &boundary,

@@ -1,6 +1,7 @@
 // YAML problem-file reader (yaml-cpp). Every map is checked against its allowed keys; every error
 // names file:line:column and the key path (e.g. "materials[1].E").
 #include <io/Problem.hpp>
+#include <io/ProblemChecks.hpp>
 #include <kernels/MixedElasticity.hpp>
 #include <mesh/Generators.hpp>
 #include <mesh/GmshReader.hpp>
@@ -32,7 +33,7 @@ struct Item {
     const auto m = node.Mark();
     if (m.line >= 0)
       s << ":" << m.line + 1 << ":" << m.column + 1;
-    s << ": " << (path.empty() ? "" : path + ": ") << msg;
+    s << ": " << (path.empty() ? "" : path + ": ") << detail::clipQuoted(msg);
     throw InputError(s.str());
   }
   int line() const { return node.Mark().line + 1; }
@@ -297,9 +298,11 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
   Mesh mesh;
   if (m.has("file")) {
     const std::string path = joinPath(baseDir, m["file"].string());
-    std::ifstream probe(path);
-    if (!probe)
-      m["file"].fail("cannot open mesh file '" + path + "'");
+    try {
+      openInputFile(path, "mesh file");
+    } catch (const InputError &e) {
+      m["file"].fail(e.what());
+    }
     mesh = readGmsh(path);
     if (m.has("element")) {
       const ElementType want = elementType(m["element"]);
@@ -372,6 +375,8 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
                                grading[1]);
       }
     } catch (const InputError &e) {
+      if (std::string(e.what()).rfind(*g.file + ":", 0) == 0)
+        throw; // a key of the generator, already located
       g.fail(e.what());
     }
   }
@@ -505,6 +510,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
     throw InputError(name + ":" + std::to_string(e.mark.line + 1) + ":" +
                      std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
   }
+  detail::checkDuplicateKeys(root, name);
   const Item top{root, "", &p.file};
   if (!root.IsMap())
     top.fail("a problem file is a YAML map with keys mesh, model, materials, ...");
@@ -594,6 +600,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   }
   if (p.dirichlet.empty())
     bcs.fail("no Dirichlet condition anywhere: the body is free to move as a rigid body");
+  detail::checkDirichletConflicts(p.mesh, p.dirichlet, p.file, p.mesh.warnings);
 
   if (top.has("loads")) {
     const Item loads = top["loads"];
@@ -908,16 +915,26 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
     }
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();
+    // Counts: an iteration limit below 1 would "converge" without iterating.
+    auto count = [&](const char *key, int least) {
+      const int v = s[key].integer();
+      if (v < least)
+        s[key].fail("must be at least " + std::to_string(least));
+      return v;
+    };
     if (s.has("max_iterations"))
-      p.solver.maxIterations = s["max_iterations"].integer();
-    if (s.has("strong_threshold"))
+      p.solver.maxIterations = count("max_iterations", 1);
+    if (s.has("strong_threshold")) {
       p.solver.strongThreshold = s["strong_threshold"].number();
+      if (!(p.solver.strongThreshold >= 0.0 && p.solver.strongThreshold < 1.0))
+        s["strong_threshold"].fail("the AMG strength threshold must lie in [0, 1)");
+    }
     if (s.has("aggressive_levels"))
-      p.solver.aggressiveLevels = s["aggressive_levels"].integer();
+      p.solver.aggressiveLevels = count("aggressive_levels", 0);
     if (s.has("print_level"))
-      p.solver.printLevel = s["print_level"].integer();
+      p.solver.printLevel = count("print_level", 0);
     if (s.has("interpolation_max_elements"))
-      p.solver.interpolationMaxElements = s["interpolation_max_elements"].integer();
+      p.solver.interpolationMaxElements = count("interpolation_max_elements", 0);
     if (s.has("nodal_coarsening"))
       p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
   }
@@ -981,14 +998,13 @@ Problem parseProblem(const std::string &yamlText, const std::string &name,
 }
 
 Problem readProblem(const std::string &path) {
-  std::ifstream in(path);
-  if (!in)
-    throw InputError(path + ": cannot open problem file");
-  std::stringstream text;
-  text << in.rdbuf();
+  // A problem file is a few kB; the cap keeps a mistaken argument (a mesh, a data dump) from being
+  // read whole before YAML refuses it.
+  constexpr std::size_t kMaxProblemBytes = std::size_t(64) << 20;
+  const std::string text = readInputFile(path, "problem file", kMaxProblemBytes);
   const auto slash = path.find_last_of('/');
   const std::string base = slash == std::string::npos ? "" : path.substr(0, slash);
-  return parseProblem(text.str(), path, base);
+  return parseProblem(text, path, base);
 }
 
 } // namespace mixcon

@@ -1,8 +1,12 @@
 // Gmsh 4.1 ASCII reader: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements.
 #include <mesh/GmshReader.hpp>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -25,7 +29,7 @@ public:
   /// Next non-empty line split into tokens; false at end of file.
   bool next(std::vector<std::string> &tokens) {
     std::string line;
-    while (std::getline(in_, line)) {
+    while (readInputLine(in_, line, name_, line_ + 1)) {
       ++line_;
       if (!line.empty() && line.back() == '\r')
         line.pop_back();
@@ -56,7 +60,7 @@ public:
         throw std::invalid_argument(s);
       return v;
     } catch (const std::exception &) {
-      fail("expected an integer, found '" + s + "'");
+      fail("expected an integer, found '" + clipValue(s) + "'");
     }
   }
   /// An integer within +-INT_MAX (entity and physical tags, dimensions; |v| is an int too).
@@ -81,7 +85,7 @@ public:
         throw std::invalid_argument(s);
       return v;
     } catch (const std::exception &) {
-      fail("expected a finite number, found '" + s + "'");
+      fail("expected a finite number, found '" + clipValue(s) + "'");
     }
   }
   void need(const std::vector<std::string> &t, std::size_t n, const char *what) const {
@@ -135,10 +139,65 @@ int gmshNodesPerElement(long type) {
 
 } // namespace
 
-Mesh readGmsh(const std::string &path) {
-  std::ifstream in(path);
+std::ifstream openInputFile(const std::string &path, const std::string &what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(path + ": cannot open the " + what + " (" + std::strerror(errno) + ")");
+  if (!S_ISREG(st.st_mode)) {
+    const char *kind = S_ISDIR(st.st_mode)                          ? "a directory"
+                       : S_ISFIFO(st.st_mode)                       ? "a FIFO"
+                       : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+                       : S_ISSOCK(st.st_mode)                       ? "a socket"
+                                                                    : "a special file";
+    throw InputError(path + ": the " + what + " is " + kind + ", not a regular file");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw InputError(path + ": cannot open mesh file");
+    throw InputError(path + ": cannot open the " + what);
+  return in;
+}
+
+bool readInputLine(std::istream &in, std::string &line, const std::string &name, int lineNumber) {
+  line.clear();
+  std::istream::sentry ok(in, true);
+  if (!ok)
+    return false;
+  std::streambuf *buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return !line.empty();
+    }
+    if (c == '\n')
+      return true;
+    if (line.size() >= kMaxInputLine)
+      throw InputError(name + ":" + std::to_string(lineNumber) + ": line longer than " +
+                       std::to_string(kMaxInputLine) + " characters (not a text input file?)");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
+std::string readInputFile(const std::string &path, const std::string &what, std::size_t maxBytes) {
+  std::ifstream in = openInputFile(path, what);
+  std::string text, line;
+  for (int n = 1; readInputLine(in, line, path, n); ++n) {
+    text += line;
+    text += '\n';
+    if (text.size() > maxBytes)
+      throw InputError(path + ":" + std::to_string(n) + ": the " + what + " is larger than " +
+                       std::to_string(maxBytes) + " bytes");
+  }
+  return text;
+}
+
+std::string clipValue(const std::string &value) {
+  constexpr std::size_t kKeep = 77;
+  return value.size() <= kKeep + 3 ? value : value.substr(0, kKeep) + "...";
+}
+
+Mesh readGmsh(const std::string &path) {
+  std::ifstream in = openInputFile(path, "mesh file");
   return readGmsh(in, path);
 }
 
@@ -167,7 +226,13 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
   long quadType = 0;
 
   std::vector<std::string> t;
-  while (lex.next(t)) {
+  // The header first: a file that does not start with $MeshFormat is refused at its first line
+  // instead of being scanned to its end for one.
+  if (!lex.next(t))
+    throw InputError(name + ": empty file, not a Gmsh mesh (expected $MeshFormat first)");
+  if (t[0] != "$MeshFormat")
+    lex.fail("not a Gmsh file: expected $MeshFormat first, found '" + clipValue(t[0]) + "'");
+  do {
     const std::string &section = t[0];
     if (section == "$MeshFormat") {
       auto f = lex.expectLine("$MeshFormat");
@@ -294,7 +359,7 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
       while (lex.next(s) && s[0] != end) {
       }
     }
-  }
+  } while (lex.next(t));
   if (!sawFormat)
     throw InputError(name + ": not a Gmsh file (no $MeshFormat section)");
   if (!sawNodes || !sawElements)

@@ -4,11 +4,17 @@
 // antisymmetric parts, and the boundary-distance check.
 #include <io/Measurements.hpp>
 #include <mesh/Generators.hpp>
+#include <mesh/GmshReader.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 using namespace mixcon;
 
@@ -60,6 +66,46 @@ TEST(Measurements, ReadsStepsAndReportsMalformedRowsByLine) {
             std::string::npos);
   EXPECT_NE(errorOf("").find("empty measurement file"), std::string::npos);
   EXPECT_NE(errorOf(h + "1,10,0,0,0,0\n").find("fewer than 2"), std::string::npos);
+}
+
+// A measurement file that is not a regular file is refused by stat (a device would be read
+// forever, a FIFO would block); lines are capped at kMaxInputLine characters; a long value is
+// echoed cut to 80 characters.
+TEST(Measurements, NonRegularFilesEndlessLinesAndLongValuesAreRefusedShortly) {
+  auto errorOfFile = [](const std::string &file) -> std::string {
+    try {
+      readMeasurements(file);
+    } catch (const InputError &e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(errorOfFile("/dev/zero").find("/dev/zero: the measurement file is a device"),
+            std::string::npos);
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("mixcon-measurements-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  EXPECT_NE(errorOfFile(dir.string()).find("the measurement file is a directory"),
+            std::string::npos);
+  const auto fifo = dir / "m.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(errorOfFile(fifo.string()).find("m.csv: the measurement file is a FIFO"),
+            std::string::npos);
+  std::filesystem::remove(fifo);
+  {
+    std::ofstream out(fifo);
+    out << "step,load,x,y,ux,uy\n" << std::string(kMaxInputLine + 1, '1') << "\n";
+  }
+  EXPECT_NE(errorOfFile(fifo.string()).find("m.csv:2: line longer than 1048576 characters"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
+
+  const std::string h = "step,load,x,y,ux,uy\n";
+  std::string msg = errorOf(h + "1,10," + std::string(1000, '9') + "q,0,0,0\n");
+  EXPECT_NE(msg.find("('" + std::string(77, '9') + "...')"), std::string::npos) << msg;
+  msg = errorOf(std::string(1000, 'z') + "\n");
+  EXPECT_NE(msg.find("found '" + std::string(77, 'z') + "...'"), std::string::npos) << msg;
+  EXPECT_LT(msg.size(), 200u) << msg;
 }
 
 // Reproducer found by fuzz/fuzz_measurements.cpp: a step number beyond int's range was converted

@@ -15,6 +15,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 using namespace mixcon;
 
 namespace {
@@ -219,6 +222,54 @@ TEST(GmshReader, RejectsBadFilesWithFileAndLine) {
   EXPECT_NE(msg.find("end of file"), std::string::npos) << msg;
   msg = expectInputError([&] { read("hello\n"); });
   EXPECT_NE(msg.find("not a Gmsh file"), std::string::npos) << msg;
+}
+
+// Files that are not Gmsh meshes are refused after a bounded read: a device, a directory or a
+// FIFO by stat before opening; a first line other than $MeshFormat at that line (it used to be
+// scanned to the end for one); a line over kMaxInputLine characters when it passes that length.
+TEST(GmshReader, RefusesNonRegularFilesWrongHeadersAndEndlessLines) {
+  EXPECT_NE(expectInputError([] {
+              readGmsh("/dev/zero");
+            }).find("/dev/zero: the mesh file is a device, not a regular file"),
+            std::string::npos);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("mixcon-gmsh-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  EXPECT_NE(expectInputError([&] { readGmsh(dir.string()); }).find("the mesh file is a directory"),
+            std::string::npos);
+  const auto fifo = dir / "fifo.msh";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(expectInputError([&] { readGmsh(fifo.string()); }).find("the mesh file is a FIFO"),
+            std::string::npos);
+  EXPECT_NE(expectInputError([&] {
+              readGmsh((dir / "none.msh").string());
+            }).find("none.msh: cannot open the mesh file"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
+
+  auto read = [](std::string text) {
+    std::istringstream in(text);
+    return readGmsh(in, "bad.msh");
+  };
+  const std::string t = kGmshQuad4;
+  auto msg = expectInputError([&] { read("# exported\n" + t); });
+  EXPECT_NE(msg.find("bad.msh:1: not a Gmsh file: expected $MeshFormat first, found '#'"),
+            std::string::npos)
+      << msg;
+  msg = expectInputError([&] { read("\n\n$Nodes\n" + t); });
+  EXPECT_NE(msg.find("bad.msh:3: not a Gmsh file"), std::string::npos) << msg;
+  // One endless line (a 1 GB file of one line is refused after its first MiB).
+  msg = expectInputError([&] { read(std::string(kMaxInputLine + 10, '1')); });
+  EXPECT_NE(msg.find("bad.msh:1: line longer than 1048576 characters"), std::string::npos) << msg;
+  msg = expectInputError(
+      [&] { read("$MeshFormat\n4.1 0 8 " + std::string(kMaxInputLine, ' ') + "\n"); });
+  EXPECT_NE(msg.find("bad.msh:2: line longer than"), std::string::npos) << msg;
+  // A long token is echoed cut to 80 characters.
+  msg = expectInputError([&] {
+    read("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n" + std::string(500, '7') + "x 1 1 1\n");
+  });
+  EXPECT_NE(msg.find("found '" + std::string(77, '7') + "...'"), std::string::npos) << msg;
+  EXPECT_LT(msg.size(), 200u) << msg;
 }
 
 // Reproducers found by fuzz/fuzz_gmsh.cpp: header counts, numbers and element blocks that used to

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 using namespace mixcon;
@@ -129,7 +130,7 @@ output: {directory: somewhere}
 struct BadCase {
   const char *name;
   std::string yaml;
-  const char *expected; ///< substring of the message
+  std::string expected; ///< substring of the message
   int line;             ///< expected line in "file:line:" (0: not checked)
 };
 
@@ -148,7 +149,7 @@ std::vector<BadCase> badCases() {
   return {
       {"unknown_key", replace(g, "thickness: 0.5", "thicknes: 0.5"), "unknown key 'thicknes'", 3},
       {"missing_mesh_file", replace(g, kGenerator, "file: does-not-exist.msh"),
-       "cannot open mesh file", 2},
+       "cannot open the mesh file", 2},
       {"unknown_region", replace(g, "region: body, type", "region: wood, type"),
        "unknown region 'wood'", 5},
       {"unsupported_element", replace(g, "element: quad8", "element: tri3"),
@@ -284,7 +285,9 @@ std::vector<BadCase> badCases() {
       {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
-       "applies to the linear mixed model's Schur solver", 3},
+       "compliance applies to the linear mixed model's Schur solver; the geometrically nonlinear "
+       "mixed model uses the consistent M and equal-order interpolation",
+       3},
       {"mixed_newton_method_on_displacement",
        replace(g, "solver: {type: direct}", "solver: {type: amg, method: schur}"),
        "applies to the geometrically nonlinear mixed model's solver: amg only", 14},
@@ -292,6 +295,55 @@ std::vector<BadCase> badCases() {
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, stress_update: projected"),
        "stress_update applies to mixed_form: incremental only", 3},
+      // Repeated keys (yaml-cpp keeps both pairs; a lookup took the first): block and flow style,
+      // top level and nested, each naming both lines.
+      {"duplicate_key_block",
+       replace(g, "output: {directory: somewhere}", "output:\n  directory: a\n  directory: b"),
+       "output: key 'directory' given twice (first at line 16)", 17},
+      {"duplicate_key_flow", replace(g, "nu12: 0.4,", "nu12: 0.4, nu12: 0.3,"),
+       "materials[0]: key 'nu12' given twice (first at line 5, column", 5},
+      {"duplicate_top_level_key",
+       replace(g, "solver: {type: direct}", "solver: {type: direct}\nsolver: {type: amg}"),
+       "key 'solver' given twice (first at line 14)", 15},
+      // Conflicting Dirichlet values (the last one used to win), on one set and on two sets
+      // sharing a node (left and bottom share the corner).
+      {"conflicting_conditions_same_boundary",
+       replace(g, "  - {boundary: left, ux: 0, uy: 0}\n",
+               "  - {boundary: left, ux: 0, uy: 0}\n  - {boundary: left, ux: 0.1}\n"),
+       "boundary_conditions[1] (line 8, on 'left') prescribes ux = 0.1 at node 1 but "
+       "boundary_conditions[0] (line 7, on 'left') prescribes ux = 0 there",
+       8},
+      {"conflicting_conditions_shared_node",
+       replace(g, "  - {boundary: left, ux: 0, uy: 0}\n",
+               "  - {boundary: left, ux: 0, uy: 0}\n  - {boundary: bottom, uy: -0.5}\n"),
+       "(line 8, on 'bottom') prescribes uy = -0.5 at node 1 but boundary_conditions[0] (line 7, "
+       "on 'left') prescribes uy = 0 there: conflicting boundary conditions",
+       8},
+      // Counts and ranges of the solver section (0 iterations used to "converge").
+      {"solver_max_iterations_zero",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, max_iterations: 0}"),
+       "solver.max_iterations: must be at least 1", 14},
+      {"solver_max_iterations_negative",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, max_iterations: -1}"),
+       "solver.max_iterations: must be at least 1", 14},
+      {"solver_aggressive_levels_negative",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, aggressive_levels: -2}"),
+       "solver.aggressive_levels: must be at least 0", 14},
+      {"solver_print_level_negative",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, print_level: -1}"),
+       "solver.print_level: must be at least 0", 14},
+      {"solver_interpolation_max_elements_negative",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, interpolation_max_elements: -4}"),
+       "solver.interpolation_max_elements: must be at least 0", 14},
+      {"solver_strong_threshold_out_of_range",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, strong_threshold: 1.5}"),
+       "solver.strong_threshold: the AMG strength threshold must lie in [0, 1)", 14},
+      // Files that are not regular files are refused by stat before anything is read.
+      {"mesh_file_is_a_directory", replace(g, kGenerator, "file: ."),
+       "the mesh file is a directory, not a regular file", 2},
+      // A long value is echoed cut to 80 characters.
+      {"long_value_clipped", replace(g, "nu12: 0.4", "nu12: " + std::string(100000, 'x')),
+       "expected a number, found '" + std::string(77, 'x') + "...'", 5},
   };
 }
 
@@ -450,10 +502,53 @@ TEST(Problem, FuzzedInputsAreInputErrorsNamingTheKey) {
   EXPECT_NE(msg.find("case.yaml:2:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("generator pinned_plate: the node coordinates overflow"), std::string::npos)
       << msg;
+  // A bad key inside the generator is located once (was: "case.yaml:2:14: mesh.generator:
+  // case.yaml:2:...").
+  msg = errorOf(replace(g, "element: quad8}", "element: quad8, origin: [.nan, 0]}"));
+  EXPECT_EQ(msg.rfind("case.yaml:2:92: mesh.generator.origin[0]: expected a finite number", 0), 0u)
+      << msg;
   // Increments whose load factors would not fit in memory (was: 16 GB of push_back).
   msg = errorOf(replace(g, "steps: {load_factors: [0.5, 1.0]}", "steps: {increments: 2000000000}"));
   EXPECT_EQ(msg.rfind("case.yaml:13:", 0), 0u) << msg;
   EXPECT_NE(msg.find("steps.increments: at most 1000000 increments"), std::string::npos) << msg;
+}
+
+// A problem file is read to at most 64 MiB (a mistaken argument is not read whole).
+TEST(Problem, ProblemFileOverSixtyFourMiBIsRefused) {
+  TempDir dir;
+  const fs::path file = dir.path() / "huge.yaml";
+  {
+    std::ofstream out(file);
+    out << kGood;
+    const std::string comment = "# " + std::string(1022, 'c') + "\n";
+    for (int i = 0; i < 65 * 1024; ++i)
+      out << comment;
+  }
+  try {
+    readProblem(file.string());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError &e) {
+    EXPECT_NE(std::string(e.what()).find("huge.yaml:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(": the problem file is larger than 67108864 bytes"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// Two conditions on one set prescribing a component with the same value pass, with a warning
+// naming both entries; conditions on sets sharing nodes with equal values (a clamped corner) pass
+// without one.
+TEST(Problem, RepeatedEqualConditionsPassWithAWarning) {
+  const std::string g = kGood;
+  const Problem p = parseProblem(replace(g, "  - {boundary: left, ux: 0, uy: 0}\n",
+                                         "  - {boundary: left, ux: 0, uy: 0}\n"
+                                         "  - {boundary: bottom, uy: 0}\n"
+                                         "  - {boundary: left, uy: 0}\n"),
+                                 "case.yaml", "");
+  ASSERT_EQ(p.dirichlet.size(), 3u);
+  ASSERT_EQ(p.mesh.warnings.size(), 1u);
+  EXPECT_EQ(p.mesh.warnings[0], "case.yaml:9: boundary_conditions[2] (line 9, on 'left') repeats "
+                                "uy = 0 of boundary_conditions[0] (line 7, on 'left')");
 }
 
 namespace {
@@ -475,7 +570,26 @@ TEST(Cli, BadInputExitsWithCodeTwoAndMessage) {
   }
   std::string out;
   EXPECT_EQ(runMixcon("run " + (dir.path() / "nothing.yaml").string(), out, dir.path()), 2);
-  EXPECT_NE(out.find("cannot open problem file"), std::string::npos) << out;
+  EXPECT_NE(out.find("cannot open the problem file"), std::string::npos) << out;
+  // A problem file that is a device, a directory or a FIFO is refused by stat, before a read
+  // that would never end (/dev/zero) or block (a FIFO without a writer).
+  EXPECT_EQ(runMixcon("run /dev/zero", out, dir.path()), 2) << out;
+  EXPECT_NE(out.find("/dev/zero: the problem file is a device, not a regular file"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(runMixcon("run " + dir.path().string(), out, dir.path()), 2) << out;
+  EXPECT_NE(out.find("the problem file is a directory"), std::string::npos) << out;
+  const fs::path fifo = dir.path() / "fifo.yaml";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(runMixcon("run " + fifo.string(), out, dir.path()), 2) << out;
+  EXPECT_NE(out.find("fifo.yaml: the problem file is a FIFO"), std::string::npos) << out;
+  // A mesh file that is a device: refused naming the problem file, line and key.
+  const fs::path zero = dir.path() / "zero.yaml";
+  std::ofstream(zero) << replace(kGood, kGenerator, "file: /dev/zero");
+  EXPECT_EQ(runMixcon("run " + zero.string(), out, dir.path()), 2) << out;
+  EXPECT_NE(out.find("zero.yaml:2:9: mesh.file: /dev/zero: the mesh file is a device"),
+            std::string::npos)
+      << out;
   EXPECT_EQ(runMixcon("--version", out, dir.path()), 0);
   EXPECT_NE(out.find("mixcon 0."), std::string::npos) << out;
   EXPECT_EQ(runMixcon("frobnicate", out, dir.path()), 2) << out;
