@@ -115,11 +115,11 @@ std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
 /// Writes a step (with the state a restart needs, if given), keeps its fields in the result and
 /// prints its progress line (with ETA from the steps this process ran after `firstStep`, and the
 /// contact counts) to `log`, in hybrid mode a second line with the inferred friction
-/// coefficients; with `verbose`, also the obstacle motions.
+/// coefficients; with `verbose`, also the obstacle motions (obstacles named as in `contacts`).
 void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, StepFields &f,
-                std::ostream *log, bool verbose, int nsteps,
-                std::chrono::steady_clock::time_point start, const Checkpoint *state = nullptr,
-                int firstStep = 0) {
+                std::ostream *log, bool verbose, const std::vector<ContactSpec> &contacts,
+                int nsteps, std::chrono::steady_clock::time_point start,
+                const Checkpoint *state = nullptr, int firstStep = 0) {
   writer.writeStep(r, f, state);
   result.steps.push_back(r);
   result.displacement = std::move(f.displacement);
@@ -145,7 +145,8 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
   if (verbose) {
     for (std::size_t o = 0; 2 * o + 1 < r.obstacleMotion.size(); ++o)
       if (r.obstacleMotion[2 * o] != 0.0 || r.obstacleMotion[2 * o + 1] != 0.0) {
-        std::snprintf(line, sizeof line, "        obstacle %zu moved by (%.6g, %.6g)\n", o + 1,
+        std::snprintf(line, sizeof line, "        obstacle %zu ('%s') moved by (%.6g, %.6g)\n",
+                      o + 1, o < contacts.size() ? contacts[o].boundary.c_str() : "",
                       r.obstacleMotion[2 * o], r.obstacleMotion[2 * o + 1]);
         *log << line;
       }
@@ -340,7 +341,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       s.name = c.boundary + " -> " + c.target;
       specs.push_back(s);
     }
-    surface = std::make_unique<SurfaceContact>(p.mesh.numNodes(), specs);
+    surface = std::make_unique<SurfaceContact>(p.mesh.numNodes(), specs, p.mesh.nodeIds);
     model.setSurfaceContact(surface.get());
   } else if (!p.contact.empty()) {
     std::vector<RigidContactSpec> specs;
@@ -363,7 +364,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       s.name = c.boundary;
       specs.push_back(s);
     }
-    contact = std::make_unique<RigidContact>(p.mesh.numNodes(), specs);
+    contact = std::make_unique<RigidContact>(p.mesh.numNodes(), specs, p.mesh.nodeIds);
     model.setContact(contact.get());
   }
   // Hybrid mode: both displacement components of the measured boundary are prescribed; their
@@ -514,8 +515,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         model.contactIterations()->saveCommitted(state);
       state.putScalar("stepper/load_factor", stepper.loadFactor());
     }
-    recordStep(writer, result, r, f, log, verbose, nsteps, start, o.converged ? &state : nullptr,
-               firstStep);
+    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, start,
+               o.converged ? &state : nullptr, firstStep);
     if (!o.converged) {
       result.converged = false;
       writer.finish(false, "step " + std::to_string(k + 1) + ": " + o.message +
@@ -617,7 +618,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =
         std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
-    recordStep(writer, result, r, f, log, verbose, nsteps, start);
+    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, start);
     if (log && verbose) {
       char line[256];
       if (mixed) {

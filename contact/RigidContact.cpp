@@ -9,8 +9,9 @@
 
 namespace mixcon {
 
-RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs)
-    : specs_(std::move(specs)), numNodes_(numNodes) {
+RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs,
+                           std::vector<long> nodeIds)
+    : specs_(std::move(specs)), nodeIds_(std::move(nodeIds)), numNodes_(numNodes) {
   for (std::size_t s = 0; s < specs_.size(); ++s) {
     std::set<LocalIndex> unique(specs_[s].nodes.begin(), specs_[s].nodes.end());
     for (LocalIndex n : unique) {
@@ -48,6 +49,11 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   Kokkos::deep_copy(obstacleDevice_, hw);
   detection_ = ContactDetection<DeviceSpace>(static_cast<LocalIndex>(m));
   buildConstraints();
+}
+
+std::string RigidContact::obstacleLabel(int s) const {
+  return "obstacle " + std::to_string(s + 1) + " ('" + specs_[static_cast<std::size_t>(s)].name +
+         "')";
 }
 
 void RigidContact::uploadObstacles() {
@@ -118,8 +124,8 @@ int RigidContact::seatForceDriven() {
       }
     }
     if (!std::isfinite(best))
-      throw InputError("obstacle on '" + spec.name +
-                       "' is driven by a force but no node of that boundary lies in its path: "
+      throw InputError(obstacleLabel(static_cast<int>(s)) +
+                       " is driven by a force but no node of its boundary lies in its path: "
                        "the force cannot be carried by the body");
     const double delta[2] = {best * d[0], best * d[1]};
     moveObstacle(static_cast<int>(s), delta);
@@ -224,13 +230,14 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     if (!r.changed)
       continue;
     ++changes;
+    // "contact: node <mesh id> on obstacle <1-based> ('<boundary>'): ..."
+    out << "    contact: node " << Mesh::externalId(nodeIds_, p) << " on "
+        << obstacleLabel(obstacle_[k]) << ": ";
     if (r.friction)
-      out << "    contact: node " << p << " friction " << r.previousFriction << " -> "
-          << tangentForce_[k] << "\n";
+      out << "friction " << r.previousFriction << " -> " << tangentForce_[k] << "\n";
     else
-      out << "    contact: node " << p << " " << contactStatusName(before) << " -> "
-          << contactStatusName(status_[k]) << " (gap " << gap_[k] << ", N " << nForce << ", T "
-          << tForce << ")\n";
+      out << contactStatusName(before) << " -> " << contactStatusName(status_[k]) << " (gap "
+          << gap_[k] << ", N " << nForce << ", T " << tForce << ")\n";
   }
   buildConstraints();
   log = out.str();
@@ -257,8 +264,8 @@ bool RigidContact::penetrationWithin(double relative, std::string &where) const 
   if (worst <= relative)
     return true;
   std::ostringstream m;
-  m << "node " << node_[at] + 1 << " on '" << specs_[obstacle_[at]].name << "' penetrates by "
-    << -gap_[at] << " (" << worst << " of the obstacle size)";
+  m << "node " << Mesh::externalId(nodeIds_, node_[at]) << " on " << obstacleLabel(obstacle_[at])
+    << " penetrates it by " << -gap_[at] << " (" << worst << " of the obstacle size)";
   where = m.str();
   return false;
 }

@@ -12,6 +12,7 @@
 
 #include <contact/ContactStatus.hpp>
 #include <contact/RigidObstacle.hpp>
+#include <mesh/Mesh.hpp>
 #include <solver/ContactIterations.hpp>
 #include <solver/LinearSolver.hpp>
 
@@ -56,7 +57,10 @@ struct DrivenComponent {
 
 class RigidContact final : public ContactIterations {
 public:
-  RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs);
+  /// `nodeIds`: the mesh's external node ids (Mesh::nodeIds) that messages name nodes by; empty:
+  /// index + 1.
+  RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> specs,
+               std::vector<long> nodeIds = {});
 
   /// Moves every obstacle to its position at load factor lambda: point + lambda drive along
   /// displacement-driven components; force-driven components keep their current motion.
@@ -133,10 +137,13 @@ public:
   }
   int obstacleOf(LocalIndex k) const { return obstacle_[k]; }
   double arcCoordinate(LocalIndex k) const { return arc_[k]; }
+  /// "obstacle <s + 1> ('<name>')": obstacle s as the problem file's `contact:` list numbers it.
+  std::string obstacleLabel(int s) const;
 
 private:
   void buildConstraints();
   std::vector<RigidContactSpec> specs_;
+  std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
   LocalIndex numNodes_;
   std::vector<LocalIndex> node_; ///< candidate k -> node
   std::vector<int> obstacle_;    ///< candidate k -> spec index

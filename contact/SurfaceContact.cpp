@@ -63,13 +63,15 @@ std::vector<std::array<LocalIndex, 3>> boundarySegments(const Mesh &mesh, const 
   return segs;
 }
 
-SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs)
-    : specs_(std::move(specs)), numNodes_(numNodes) {
+SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs,
+                               std::vector<long> nodeIds)
+    : nodeIds_(std::move(nodeIds)), specs_(std::move(specs)), numNodes_(numNodes) {
   std::set<LocalIndex> contactors, targets;
   for (std::size_t s = 0; s < specs_.size(); ++s) {
     const auto &sp = specs_[s];
     if (sp.contactor.empty() || sp.target.empty())
-      throw InputError("contact '" + sp.name + "': the contactor or the target surface is empty");
+      throw InputError(pairLabel(static_cast<int>(s)) +
+                       ": the contactor or the target surface is empty");
     std::set<LocalIndex> unique(sp.contactor.begin(), sp.contactor.end());
     for (LocalIndex n : unique) {
       node_.push_back(n);
@@ -103,7 +105,7 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
   }
   for (LocalIndex n : contactors)
     if (targets.count(n))
-      throw InputError("node " + std::to_string(n + 1) +
+      throw InputError("node " + std::to_string(Mesh::externalId(nodeIds_, n)) +
                        " is both a contactor and a target node; the surfaces of a "
                        "node_to_segment contact must not share nodes");
   const std::size_t m = node_.size();
@@ -358,12 +360,13 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
     if (!r.changed)
       continue;
     ++changes;
+    // "contact: node <mesh id> on contact <1-based> ('<contactor> -> <target>'): ..."
+    out << "    contact: node " << Mesh::externalId(nodeIds_, p) << " on " << pairLabel(spec_[k])
+        << ": ";
     if (r.friction)
-      out << "    contact: node " << p + 1 << " friction " << r.previousFriction << " -> "
-          << tangentForce_[k] << "\n";
+      out << "friction " << r.previousFriction << " -> " << tangentForce_[k] << "\n";
     else
-      out << "    contact '" << specs_[spec_[k]].name << "': node " << p + 1 << " "
-          << contactStatusName(before) << " -> " << contactStatusName(status_[k]) << " (gap "
+      out << contactStatusName(before) << " -> " << contactStatusName(status_[k]) << " (gap "
           << gap_[k] << ", N " << nForce << ", T " << tForce << ")\n";
   }
   buildPairs();
@@ -386,8 +389,8 @@ bool SurfaceContact::penetrationWithin(double relative, std::string &where) cons
   if (worst <= relative)
     return true;
   std::ostringstream m;
-  m << "contactor node " << node_[at] + 1 << " of '" << specs_[spec_[at]].name
-    << "' penetrates its target by " << -gap_[at] << " (" << worst
+  m << "contactor node " << Mesh::externalId(nodeIds_, node_[at]) << " of " << pairLabel(spec_[at])
+    << " penetrates its target by " << -gap_[at] << " (" << worst
     << " of the target surface's length)";
   where = m.str();
   return false;
@@ -415,6 +418,11 @@ void SurfaceContact::rollback() {
     tangentForce_ = saved_.tangentForce;
   }
   buildPairs();
+}
+
+std::string SurfaceContact::pairLabel(int s) const {
+  return "contact " + std::to_string(s + 1) + " ('" + specs_[static_cast<std::size_t>(s)].name +
+         "')";
 }
 
 std::string SurfaceContact::signature() const { return statusSignature(status_); }

@@ -59,7 +59,10 @@ class SurfaceContact final : public ContactIterations {
 public:
   /// Throws InputError when a node is both contactor and target (in any pair) or a surface is
   /// empty.
-  SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs);
+  /// `nodeIds`: the mesh's external node ids (Mesh::nodeIds) that messages name nodes by; empty:
+  /// index + 1.
+  SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSpec> specs,
+                 std::vector<long> nodeIds = {});
 
   /// Projects every contactor node at the current positions (coordinates + u, `stride`
   /// unknowns per node, displacements first) onto its target; returns the number penetrating.
@@ -108,9 +111,12 @@ public:
   const std::vector<SurfaceContactSpec> &specs() const { return specs_; }
   /// Mean reference length of spec s's target segments.
   double segmentLength(int s) const { return meanLength_[s]; }
+  /// "contact <s + 1> ('<name>')": pair s as the problem file's `contact:` list numbers it.
+  std::string pairLabel(int s) const;
 
 private:
   void buildPairs();
+  std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;

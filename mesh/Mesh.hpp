@@ -63,6 +63,16 @@ struct Mesh {
   std::string namedSets() const;
   /// Fills default external ids (index + 1) where a generator left them empty.
   void finalizeIds();
+  /// The external id of node n (its Gmsh tag, or n + 1 where nodeIds is not filled): the number
+  /// every message and output file names the node by.
+  long nodeId(LocalIndex n) const { return externalId(nodeIds, n); }
+  /// The external id of element e (its Gmsh tag, or e + 1 where elementIds is not filled).
+  long elementId(LocalIndex e) const { return externalId(elementIds, e); }
+  /// ids[i], or i + 1 where `ids` does not reach i (a mesh built without external ids).
+  static long externalId(const std::vector<long> &ids, LocalIndex i) {
+    return static_cast<std::size_t>(i) < ids.size() ? ids[static_cast<std::size_t>(i)]
+                                                    : static_cast<long>(i) + 1;
+  }
 };
 
 /// Signed area of an element, the integral of its Jacobian determinant (element quadrature):

@@ -80,7 +80,7 @@ void ModelBase::updatePrescribed(const std::vector<PrescribedValue> &values) {
   for (const auto &v : values) {
     const LocalIndex i = dofs_.dof(v.node, v.comp);
     if (!constrainedHost_[i])
-      throw InputError("node " + std::to_string(v.node + 1) + " component " +
+      throw InputError("node " + std::to_string(mesh_.nodeId(v.node)) + " component " +
                        std::to_string(v.comp) + " is not prescribed; cannot update its value");
     prescribedHost_[i] = v.value;
   }

@@ -415,10 +415,8 @@ std::vector<double> NonlinearMixedModel::contactStressHost() const { return toHo
 std::string NonlinearModel::invertedElementMessage() const {
   if (invertedElement_ < 0)
     return "no element is inverted";
-  const auto e = static_cast<std::size_t>(invertedElement_);
-  const long id = e < mesh_.elementIds.size() ? mesh_.elementIds[e] : static_cast<long>(e) + 1;
-  return "element " + std::to_string(id) + " (index " + std::to_string(e) +
-         ") is inverted (non-positive Jacobian in the deformed configuration)";
+  return "element " + std::to_string(mesh_.elementId(invertedElement_)) +
+         " is inverted (non-positive Jacobian in the deformed configuration)";
 }
 
 LinearSolveStats NonlinearModel::solve(double loadFactor) {
@@ -629,8 +627,7 @@ LinearSolveStats NonlinearModel::correctWithContact(
     if (fx || fy) {
       const int fixed = fx ? 0 : 1, other = 1 - fixed;
       if (std::abs(n[other]) < 0.999)
-        throw InputError("node " +
-                         std::to_string(mesh_.nodeIds.empty() ? p + 1 : mesh_.nodeIds[p]) +
+        throw InputError("node " + std::to_string(mesh_.nodeId(p)) +
                          ": contact on a surface not normal to its free direction while the "
                          "other direction is prescribed is not supported");
       flags[i0 + other] = 1;
@@ -753,8 +750,8 @@ LinearSolveStats NonlinearModel::correctWithContact(
   lu.setThreshold(1e-10);
   if (!lu.isInvertible()) {
     std::ostringstream m;
-    m << "a force-driven obstacle ('" << contact_->specs()[driven[0].obstacle].name
-      << "') has no stiffness along a driven direction: its closed nodes cannot carry the force "
+    m << "force-driven " << contact_->obstacleLabel(driven[0].obstacle)
+      << " has no stiffness along a driven direction: its closed nodes cannot carry the force "
          "there (too few contact nodes, or frictionless contact loaded tangentially)";
     throw std::runtime_error(m.str());
   }
@@ -799,10 +796,9 @@ void NonlinearModel::surfaceConstraints(int stride, const std::vector<int> &flag
       const int fixed = fx ? 0 : 1, other = 1 - fixed;
       const double nf = q.normal[fixed], no = q.normal[other];
       if (std::abs(no) < 0.7)
-        throw InputError(
-            "node " + std::to_string(mesh_.nodeIds.empty() ? q.node + 1 : mesh_.nodeIds[q.node]) +
-            ": node-to-segment contact on a surface not normal to its free direction "
-            "while the other direction is prescribed is not supported");
+        throw InputError("node " + std::to_string(mesh_.nodeId(q.node)) +
+                         ": node-to-segment contact on a surface not normal to its free direction "
+                         "while the other direction is prescribed is not supported");
       auto row = normalRow;
       for (auto &e : row)
         e.second /= no;
