@@ -374,9 +374,7 @@ Mesh readMesh(const Item &m, const std::string &baseDir, bool body = false) {
         mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et, grading[0],
                                grading[1]);
       }
-    } catch (const InputError &e) {
-      if (std::string(e.what()).rfind(*g.file + ":", 0) == 0)
-        throw; // a key of the generator, already located
+    } catch (const GeneratorError &e) { // the keys' own errors above carry their location already
       g.fail(e.what());
     }
   }

@@ -58,8 +58,8 @@ Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::stri
   std::map<std::pair<long long, long long>, LocalIndex> lookup;
   auto addNode = [&](std::array<double, 2> x) {
     if (!std::isfinite(x[0]) || !std::isfinite(x[1]))
-      throw InputError(mesh.source + ": the node coordinates overflow (sizes, radii, origin or "
-                                     "grading too large for the divisions)");
+      throw GeneratorError(mesh.source + ": the node coordinates overflow (sizes, radii, origin or "
+                                         "grading too large for the divisions)");
     const auto key = std::make_pair(std::llround(x[0] / tol), std::llround(x[1] / tol));
     // Also look at neighbouring cells so that rounding at a cell boundary cannot split a node.
     for (long long dx = -1; dx <= 1; ++dx)
@@ -138,7 +138,7 @@ LocalIndex closestNode(const Mesh &mesh, double x, double y) {
 
 void requirePositive(const char *what, double v, const std::string &gen) {
   if (!(v > 0.0))
-    throw InputError("mesh generator " + gen + ": " + what + " must be positive");
+    throw GeneratorError("mesh generator " + gen + ": " + what + " must be positive");
 }
 
 } // namespace
@@ -183,7 +183,7 @@ Mesh quarterAnnulusMesh(double a, double b, int nr, int nt, ElementType type, do
   requirePositive("divisions[1]", nt, "quarter_annulus");
   requirePositive("grading", ratio, "quarter_annulus");
   if (!(b > a))
-    throw InputError("mesh generator quarter_annulus: outer_radius must exceed inner_radius");
+    throw GeneratorError("mesh generator quarter_annulus: outer_radius must exceed inner_radius");
   Patch p{[=](double u, double v) {
             const double r = a + u * (b - a), t = v * M_PI / 2;
             return std::array<double, 2>{r * std::cos(t), r * std::sin(t)};
@@ -202,7 +202,8 @@ Mesh plateWithHoleMesh(double a, double w, double h, int nr, int nt, ElementType
   requirePositive("divisions[1]", nt, "plate_with_hole");
   requirePositive("grading", ratio, "plate_with_hole");
   if (!(w > a && h > a))
-    throw InputError("mesh generator plate_with_hole: width and height must exceed hole_radius");
+    throw GeneratorError(
+        "mesh generator plate_with_hole: width and height must exceed hole_radius");
   const double tc = std::atan2(h, w); // angle of the plate corner
   // Block 1: theta in [0, tc], outer side on x = w. Block 2: theta in [tc, pi/2], outer on y = h.
   Patch right{[=](double u, double v) {
@@ -323,11 +324,11 @@ Mesh pinnedPlateMesh(double r, double b, double e, double l, int n, int m, int n
   requirePositive("grading", ratio, gen);
   const double a = b / std::sqrt(3.0); // O-grid half-length: its corners lie at 60 and 120 deg
   if (!(a > 1.05 * r))
-    throw InputError("mesh generator pinned_plate: half_width must exceed sqrt(3) * 1.05 * "
-                     "hole_radius (the O-grid around the hole needs room)");
+    throw GeneratorError("mesh generator pinned_plate: half_width must exceed sqrt(3) * 1.05 * "
+                         "hole_radius (the O-grid around the hole needs room)");
   if (!(e > a * 1.05) || !(l > a * 1.05))
-    throw InputError("mesh generator pinned_plate: end_distance and length must exceed "
-                     "half_width / sqrt(3) by 5 % (the O-grid around the hole)");
+    throw GeneratorError("mesh generator pinned_plate: end_distance and length must exceed "
+                         "half_width / sqrt(3) by 5 % (the O-grid around the hole)");
   const double third = M_PI / 3;
   const auto hole = [r](double t) { return Point{r * std::cos(t), r * std::sin(t)}; };
   // Sectors: u radial from the hole (graded), v counter-clockwise along it.

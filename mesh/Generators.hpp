@@ -9,6 +9,14 @@
 
 namespace mixcon {
 
+/// Raised by the generators below for arguments that cannot make a mesh. The message names the
+/// generator but no file location: a problem reader adds the one of the `generator:` entry (and
+/// adds it to these errors only, so that a message carries one location).
+class GeneratorError : public InputError {
+public:
+  using InputError::InputError;
+};
+
 /// Rectangle [x0, x0 + lx] x [y0, y0 + ly] with nx x ny elements; grading exponents gx, gy > 1
 /// cluster the elements toward x0 and y0 (x = x0 + lx u^gx; 1: uniform).
 /// Region "body"; boundaries "left", "right", "bottom", "top"; node sets "bottom_left",
