@@ -521,7 +521,10 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
   if (group >= 0) {
     const hid_t g = static_cast<hid_t>(group);
     const hid_t cg = H5Gcreate2(g, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(cg, "obstacle", c.obstacle.data(), H5T_NATIVE_INT, n, 0);
+    std::vector<int> obstacleNumber(c.obstacle); // 1-based, as the problem's `contact:` list
+    for (int &o : obstacleNumber)
+      ++o;
+    writeDataset(cg, "obstacle", obstacleNumber.data(), H5T_NATIVE_INT, n, 0);
     writeDataset(cg, "node_id", c.node.data(), H5T_NATIVE_LONG, n, 0);
     writeDataset(cg, "status", c.status.data(), H5T_NATIVE_INT, n, 0);
     writeDataset(cg, "gap", c.gap.data(), H5T_NATIVE_DOUBLE, n, 0);
@@ -547,7 +550,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
                                 "tangential_stress,sigma_nn,tau_nt");
   static const char *names[] = {"open", "stick", "slip"};
   for (hsize_t k = 0; k < n; ++k)
-    csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] << "," << c.node[k] << ","
+    csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] + 1 << "," << c.node[k] << ","
         << names[c.status[k]] << "," << c.gap[k] << "," << c.normalForce[k] << ","
         << c.tangentForce[k] << "," << c.angle[k] * 180.0 / M_PI << "," << c.arc[k] << "," << c.x[k]
         << "," << c.y[k] << "," << c.normalStress[k] << "," << c.tangentStress[k] << ","
