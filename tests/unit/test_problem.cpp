@@ -1159,7 +1159,7 @@ TEST(Cli, NodeToSegmentRunWritesTheMultipliers) {
     for (std::string c; std::getline(ss, c, ',');)
       cells.push_back(c);
     ASSERT_EQ(cells.size(), 16u) << line;
-    EXPECT_EQ(cells[2], "0") << line; // the pair
+    EXPECT_EQ(cells[2], "1") << line; // the pair, numbered from 1
     EXPECT_EQ(cells[4], "slip") << line;
     EXPECT_NEAR(std::stod(cells[11]), 1.0 - 0.005, 1e-6) << line; // current y of the interface
     EXPECT_NEAR(std::stod(cells[12]), expected, 1e-5 * expected) << line;
