@@ -30,14 +30,18 @@ void check(HYPRE_Int err, const char *what) {
 }
 
 /// The convergence decision every path shares, on the true relative residual: met within the
-/// tolerance, or within 10x the tolerance when the method itself reported success (its recursive
-/// residual drifts from the true one by rounding: hypre GMRES ends at 3.1e-10 for 1e-10). Never
-/// for a NaN or a zero iterate (x = 0 for a nonzero b is what a breakdown leaves).
+/// tolerance, or within `slack` times the tolerance when the method itself reported success.
+/// Krylov (slack 10): the recursive residual drifts from the true one by rounding (hypre GMRES
+/// ends at 3.1e-10 for 1e-10). Direct (slack 100): its residual is about eps * cond(A) and
+/// cannot be iterated down (refinement with the same factors gains little: 1.2e-7 -> 6.8e-8 on a
+/// strip at L/h = 100; the slender_displacement example's tangents give 2.3e-7 for 1e-8).
+/// Never for a NaN or a zero iterate (x = 0 for a nonzero b is what a breakdown leaves).
 bool trueResidualConverged(double relativeResidual, double xNormSquared, double tolerance,
-                           bool methodConverged) {
+                           bool methodConverged, double slack) {
   if (!std::isfinite(relativeResidual) || !(xNormSquared > 0.0) || !std::isfinite(xNormSquared))
     return false;
-  return relativeResidual <= tolerance || (methodConverged && relativeResidual <= 10.0 * tolerance);
+  return relativeResidual <= tolerance ||
+         (methodConverged && relativeResidual <= slack * tolerance);
 }
 
 class HypreAmgSolver final : public LinearSolver {
@@ -164,7 +168,7 @@ public:
     Kokkos::deep_copy(x, hx);
     s.iterations = its;
     s.relativeResidual = std::sqrt(rr / bnorm);
-    s.converged = trueResidualConverged(s.relativeResidual, xx, options_.tolerance, err == 0);
+    s.converged = trueResidualConverged(s.relativeResidual, xx, options_.tolerance, err == 0, 10.0);
     s.solveSeconds = seconds(start);
     s.setupSeconds = setupSeconds_;
     return s;
@@ -289,8 +293,8 @@ public:
     for (LocalIndex i = 0; i < static_cast<LocalIndex>(ex.size()); ++i)
       hx(i) = ex(i);
     Kokkos::deep_copy(x, hx);
-    s.converged =
-        bn == 0.0 || trueResidualConverged(s.relativeResidual, ex.squaredNorm(), tolerance_, true);
+    s.converged = bn == 0.0 || trueResidualConverged(s.relativeResidual, ex.squaredNorm(),
+                                                     tolerance_, true, 100.0);
     s.iterations = 1;
     s.solveSeconds = seconds(start);
     s.setupSeconds = setupSeconds_;
