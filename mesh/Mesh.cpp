@@ -328,6 +328,16 @@ void validateMesh(const Mesh &mesh) {
     msg << ")";
     throw InputError(msg.str());
   }
+  // A node in no element has no stiffness: its row of the system is empty (singular). Checked
+  // after the elements, so that a degenerate element (a repeated node) is named as such.
+  std::vector<char> used(mesh.numNodes(), 0);
+  for (LocalIndex n : mesh.connectivity)
+    used[n] = 1;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    if (!used[n])
+      throw InputError(mesh.source + ": node " + std::to_string(mesh.nodeIds[n]) +
+                       " is used by no element (it would have no stiffness); remove it from the "
+                       "mesh or connect it to an element");
 }
 
 } // namespace mixcon

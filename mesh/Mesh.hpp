@@ -113,7 +113,8 @@ std::optional<Overlap> findOverlap(const Mesh &mesh, const std::vector<LocalInde
 std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds);
 
 /// Checks connectivity bounds and the Jacobian sign at every quadrature point and node of every
-/// element (on the device); throws InputError naming the first inverted or degenerate element.
+/// element (on the device), and that every node belongs to an element; throws InputError naming
+/// the first inverted or degenerate element or the first node used by no element.
 void validateMesh(const Mesh &mesh);
 
 /// Device-resident copy of the geometry and topology the element kernels read.

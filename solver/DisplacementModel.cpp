@@ -7,6 +7,7 @@ namespace mixcon {
 
 void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   const auto start = std::chrono::steady_clock::now();
+  checkRigidBodyModes(); // before assembly: a singular system is refused, naming the free mode
   if (stiffness_.numRows == 0) {
     graph_ = buildNodeGraph(mesh_);
     stiffness_ = expandGraph<Memory>(graph_, dofs_.dofsPerNode);

@@ -2,6 +2,8 @@
 #include <solver/Krylov.hpp>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace mixcon {
@@ -162,6 +164,9 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
 KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const LinearMap &p,
                         const ConstDeviceVector &b, const DeviceVector &x,
                         KrylovWorkspace *workspace) {
+  if (options.maxIterations < 1)
+    throw std::invalid_argument("Krylov solver: max_iterations must be at least 1 (got " +
+                                std::to_string(options.maxIterations) + ")");
   const double bnorm = std::sqrt(dot(b, b));
   if (bnorm == 0.0) { // the answer is x = 0 (relative residuals are undefined)
     Kokkos::deep_copy(x, 0.0);

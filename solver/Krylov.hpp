@@ -23,9 +23,9 @@ enum class KrylovMethod { Cg, Gmres };
 
 struct KrylovOptions {
   KrylovMethod method = KrylovMethod::Cg;
-  double tolerance = 1e-8; ///< relative residual ||b - A x|| / ||b||
-  int maxIterations = 1000;
-  int restart = 60; ///< GMRES restart length
+  double tolerance = 1e-8;  ///< relative residual ||b - A x|| / ||b||
+  int maxIterations = 1000; ///< at least 1; krylovSolve throws std::invalid_argument
+  int restart = 60;         ///< GMRES restart length
 };
 
 struct KrylovStats {

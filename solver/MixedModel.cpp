@@ -95,6 +95,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
                      "serendipity row sums are negative at corner nodes, and the positive (HRZ) "
                      "lumping fails the constant-stress patch test; use compliance: consistent "
                      "(preconditioner: lumped_schur still uses the HRZ-lumped operator for AMG)");
+  checkRigidBodyModes(); // a singular system is refused before assembly, naming the free mode
   options_ = options;
   if (options_.preconditioner == SchurPreconditioner::Auto)
     options_.preconditioner = options_.compliance == ComplianceMass::Lumped

@@ -1,7 +1,12 @@
 // ModelBase: loads, constraints and displacement output shared by both models.
 #include <solver/ModelBase.hpp>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
 
 namespace mixcon {
 
@@ -92,6 +97,116 @@ void ModelBase::updatePrescribed(const std::vector<PrescribedValue> &values) {
 
 LocalIndex ModelBase::numConstrained() const {
   return static_cast<LocalIndex>(std::count(constrainedHost_.begin(), constrainedHost_.end(), 1));
+}
+
+namespace {
+/// Root of `i` in a union-find forest (path halving).
+LocalIndex findRoot(std::vector<LocalIndex> &parent, LocalIndex i) {
+  while (parent[i] != i)
+    i = parent[i] = parent[parent[i]];
+  return i;
+}
+} // namespace
+
+void ModelBase::checkRigidBodyModes() const {
+  // Bodies: the nodes connected through elements (a node in no element is refused by
+  // validateMesh).
+  const LocalIndex nn = mesh_.numNodes();
+  std::vector<LocalIndex> parent(nn);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (LocalIndex e = 0; e < mesh_.numElements(); ++e)
+    for (int a = 1; a < mesh_.nodesPerElement; ++a) {
+      const LocalIndex r0 = findRoot(parent, mesh_.node(e, 0)),
+                       r = findRoot(parent, mesh_.node(e, a));
+      parent[r] = r0;
+    }
+  // Per body, the rigid-body modes t_x = (1, 0), t_y = (0, 1), r = (-y', x') in coordinates
+  // centred on the body and scaled by its size; a prescribed component c at a node is one row of
+  // C (its value under each mode). C^T C is singular exactly when a combination of the modes moves
+  // no prescribed component.
+  struct Body {
+    double sum[2] = {0, 0}, lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    LocalIndex count = 0, first = -1;
+    bool anyX = false, anyY = false;
+    Eigen::Matrix3d gram = Eigen::Matrix3d::Zero();
+  };
+  std::vector<LocalIndex> bodyOf(nn);
+  std::vector<Body> bodies;
+  std::vector<LocalIndex> rootBody(nn, -1);
+  for (LocalIndex n = 0; n < nn; ++n) {
+    const LocalIndex r = findRoot(parent, n);
+    if (rootBody[r] < 0) {
+      rootBody[r] = static_cast<LocalIndex>(bodies.size());
+      bodies.emplace_back();
+      bodies.back().first = n;
+    }
+    Body &b = bodies[bodyOf[n] = rootBody[r]];
+    const double xy[2] = {mesh_.x(n), mesh_.y(n)};
+    for (int c = 0; c < 2; ++c) {
+      b.sum[c] += xy[c];
+      b.lo[c] = std::min(b.lo[c], xy[c]);
+      b.hi[c] = std::max(b.hi[c], xy[c]);
+    }
+    ++b.count;
+  }
+  for (LocalIndex n = 0; n < nn; ++n) {
+    Body &b = bodies[bodyOf[n]];
+    const double size = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], 1e-300});
+    const double x = (mesh_.x(n) - b.sum[0] / b.count) / size;
+    const double y = (mesh_.y(n) - b.sum[1] / b.count) / size;
+    for (int c = 0; c < 2; ++c)
+      if (constrainedHost_[dofs_.dof(n, c)]) {
+        const Eigen::Vector3d row =
+            c == 0 ? Eigen::Vector3d(1.0, 0.0, -y) : Eigen::Vector3d(0.0, 1.0, x);
+        b.gram += row * row.transpose();
+        (c == 0 ? b.anyX : b.anyY) = true;
+      }
+  }
+  for (const Body &b : bodies) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.gram);
+    const Eigen::Vector3d lambda = eig.eigenvalues(); // ascending
+    const double scale = std::max(lambda(2), 1.0);
+    int free = 0;
+    for (int k = 0; k < 3; ++k)
+      free += lambda(k) <= 1e-10 * scale;
+    if (free == 0)
+      continue;
+    std::ostringstream m;
+    m << "the displacement conditions leave ";
+    if (bodies.size() == 1)
+      m << "the body";
+    else
+      m << "the body that contains node " << mesh_.nodeIds[b.first];
+    m << " free to ";
+    std::vector<std::string> modes;
+    if (!b.anyX)
+      modes.push_back("translate in x (no ux is prescribed on it)");
+    if (!b.anyY)
+      modes.push_back("translate in y (no uy is prescribed on it)");
+    if (free > static_cast<int>(modes.size())) {
+      const double size = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], 1e-300});
+      const Eigen::Vector3d v = eig.eigenvectors().col(0); // the free combination
+      std::ostringstream r;
+      if (free == 1 && std::fabs(v(2)) > 1e-6) {
+        // v(0) t_x + v(1) t_y + v(2) r is a rotation about (x0', y0') = (-v(1), v(0)) / v(2)
+        // (rounding below 1e-9 of the body's size printed as 0)
+        const auto snap = [size](double t) { return std::fabs(t) < 1e-9 * size ? 0.0 : t; };
+        r << "rotate about (" << snap(b.sum[0] / b.count - size * v(1) / v(2)) << ", "
+          << snap(b.sum[1] / b.count + size * v(0) / v(2)) << ")";
+      } else if (free == 1) {
+        r << "translate along (" << v(0) << ", " << v(1) << ")";
+      } else {
+        r << "rotate";
+      }
+      modes.push_back(r.str());
+    }
+    for (std::size_t k = 0; k < modes.size(); ++k)
+      m << (k == 0 ? "" : k + 1 == modes.size() ? " and to " : ", to ") << modes[k];
+    m << ": its stiffness matrix is singular (a rigid-body mode without stiffness). Hold it by "
+         "displacement conditions that stop every translation and the rotation (e.g. ux and uy "
+         "at one node and one more component at a node away from it)";
+    throw InputError(m.str());
+  }
 }
 
 void ModelBase::commitStaged() {

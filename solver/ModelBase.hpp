@@ -40,6 +40,11 @@ public:
   /// Prescribes component `comp` (0: x, 1: y) of `node` (reference value, scaled too).
   void prescribe(LocalIndex node, int comp, double value);
   LocalIndex numConstrained() const;
+  /// Throws InputError naming the mode when the prescribed components leave a body (a part of the
+  /// mesh connected through elements) free to move as a rigid body: a translation in x or y or a
+  /// rotation, whose stiffness is zero, so that the system is singular. The linear models call
+  /// it in setup(); the contact models do not (a body may rest on obstacles).
+  void checkRigidBodyModes() const;
   /// Replaces the reference values of components prescribed before setup() (e.g. measured
   /// displacements that change from step to step) and copies them to the device.
   struct PrescribedValue {

@@ -24,7 +24,9 @@ std::vector<double> solveStrip(ElementType type, LinearSolverType solver, Linear
   model.addBodyForce([](double x, double, LocalIndex) { return std::array<double, 2>{x, -1.0}; });
   LinearSolverOptions o;
   o.type = solver;
-  o.tolerance = 1e-12;
+  // The true residual decides convergence: the direct solve's own is 2e-11 (Quad4) and 1e-10
+  // (Quad8) here, so 1e-12 (the recursive residual's old target) is out of reach.
+  o.tolerance = 1e-10;
   model.setup(o, MPI_COMM_WORLD);
   stats = model.solve(1.0);
   (void)type;
@@ -41,8 +43,8 @@ TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
   LinearSolveStats amg, direct;
   const auto ua = solveStrip(GetParam(), LinearSolverType::Amg, amg, mesh);
   const auto ud = solveStrip(GetParam(), LinearSolverType::Direct, direct, mesh);
-  EXPECT_TRUE(amg.converged);
-  EXPECT_TRUE(direct.converged);
+  EXPECT_TRUE(amg.converged) << amg.relativeResidual;
+  EXPECT_TRUE(direct.converged) << direct.relativeResidual;
   EXPECT_GT(amg.iterations, 1);
   EXPECT_LT(amg.iterations, 100);
   double diff = 0, norm = 0;
@@ -50,7 +52,7 @@ TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
     diff += (ua[i] - ud[i]) * (ua[i] - ud[i]);
     norm += ud[i] * ud[i];
   }
-  EXPECT_LT(std::sqrt(diff / norm), 1e-8);
+  EXPECT_LT(std::sqrt(diff / norm), 1e-8) << std::sqrt(diff / norm);
   EXPECT_GT(norm, 0.0);
 }
 
