@@ -407,6 +407,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
                        restart ? &*restart : nullptr);
   if (log)
     *log << modelLine(p, model, mixed);
+  // Without contact nothing but the supports holds the bodies: a free rigid-body mode is an
+  // input error, named before any solve (bodies in contact may rest on obstacles or each other).
+  if (p.contact.empty())
+    model.checkRigidBodyModes();
   model.setup(p.solver, comm);
   if (log)
     *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "

@@ -258,6 +258,9 @@ std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<Local
 
 // Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
 namespace mesh_detail {
+/// Magnitude beyond which a Jacobian determinant counts as overflowed (a double's range).
+constexpr double kJacobianOverflow = 1e308;
+
 template <class Elem> Kokkos::MinLoc<double, LocalIndex>::value_type minJacobian(const Mesh &mesh) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const auto dev = toDevice<Exec::memory_space>(mesh);
@@ -281,7 +284,11 @@ template <class Elem> Kokkos::MinLoc<double, LocalIndex>::value_type minJacobian
             Elem::nodeNatural(q - Elem::kNumQp, xi, eta);
           double n[Elem::kNumNodes], dn[Elem::kNumNodes][2], dndx[Elem::kNumNodes][2];
           Elem::shape(xi, eta, n, dn);
-          const double det = physicalGradients<Elem>(xe, dn, dndx);
+          // A determinant that overflows (or is NaN) counts as the worst: it is reported, and the
+          // reduction always ends on an element.
+          const double raw = physicalGradients<Elem>(xe, dn, dndx);
+          const double det =
+              raw > -kJacobianOverflow && raw < kJacobianOverflow ? raw : -kJacobianOverflow;
           if (det < acc.val) {
             acc.val = det;
             acc.loc = e;
@@ -307,8 +314,16 @@ void validateMesh(const Mesh &mesh) {
         throw InputError(mesh.source + ": element " + std::to_string(mesh.elementIds[e]) +
                          " references a node that does not exist");
     }
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    if (!std::isfinite(mesh.x(n)) || !std::isfinite(mesh.y(n)))
+      throw InputError(mesh.source + ": node " + std::to_string(mesh.nodeId(n)) +
+                       " has a coordinate that is not a finite number");
   const auto r = dispatchElement(mesh.elementType,
                                  [&](auto elem) { return minJacobian<decltype(elem)>(mesh); });
+  if (r.val <= -kJacobianOverflow)
+    throw InputError(mesh.source + ": element " + std::to_string(mesh.elementId(r.loc)) +
+                     ": its Jacobian determinant is not a finite number in double precision "
+                     "(coordinates too large: give the model in other units)");
   // Relative threshold: the Jacobian scales with the element area.
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -130,6 +132,30 @@ TEST(MeshValidation, RejectsInvertedElementAndNamesIt) {
   const std::string msg = expectInputError([&] { validateMesh(m); });
   EXPECT_NE(msg.find("element 2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("Jacobian"), std::string::npos) << msg;
+}
+
+// Coordinates that are not finite, or whose Jacobian overflows a double, are input errors naming
+// the node or element (f4b0a44: a size of 1e200 crashed in the minimum-Jacobian reduction, which
+// never saw a finite value and indexed with its initial location).
+TEST(MeshValidation, NonFiniteCoordinatesAndOverflowingJacobiansAreNamed) {
+  for (const ElementType type : {ElementType::Quad4, ElementType::Quad8}) {
+    Mesh huge = rectangleMesh(1e200, 1e200, 2, 2, type);
+    std::string msg = expectInputError([&] { validateMesh(huge); });
+    EXPECT_NE(msg.find("element 1: its Jacobian determinant is not a finite number"),
+              std::string::npos)
+        << msg;
+    Mesh nan = rectangleMesh(2.0, 1.0, 2, 1, type);
+    nan.coordinates[2 * 3 + 1] = std::numeric_limits<double>::quiet_NaN();
+    msg = expectInputError([&] { validateMesh(nan); });
+    EXPECT_NE(msg.find("node " + std::to_string(nan.nodeId(3)) +
+                       " has a coordinate that is not a finite number"),
+              std::string::npos)
+        << msg;
+    Mesh inf = rectangleMesh(2.0, 1.0, 2, 1, type);
+    inf.coordinates[0] = std::numeric_limits<double>::infinity();
+    msg = expectInputError([&] { validateMesh(inf); });
+    EXPECT_NE(msg.find("node " + std::to_string(inf.nodeId(0))), std::string::npos) << msg;
+  }
 }
 
 namespace {

@@ -361,6 +361,31 @@ TEST(Cli, LameCylinderWithASupportRemovedNamesTheRigidBodyMode) {
     ::unsetenv("OMP_NUM_THREADS");
 }
 
+// The same check on the geometrically nonlinear path (no contact): a cantilever whose clamp lost
+// its ux condition is refused naming the mode, before any solve (f4b0a44: exit 3 with "no element
+// is inverted at the start of the increment"). With contact a body may rest on an obstacle, so the
+// rigid contact examples still run (tests of the contact examples).
+TEST(Cli, NonlinearRunWithASupportRemovedNamesTheRigidBodyMode) {
+  test::ScratchDir dir("singular-nonlinear");
+  const auto file = dir.path() / "cantilever.yaml";
+  std::ofstream(file) << R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [8, 2], element: quad4}}
+model: {formulation: displacement, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, uy: 0}]
+loads: [{boundary: top, traction: [0, -10.0]}]
+steps: {increments: 2}
+solver: {type: direct}
+)";
+  std::string out;
+  EXPECT_EQ(
+      test::runMixcon("run -q " + file.string() + " --output " + (dir.path() / "out").string(), out,
+                      dir.path()),
+      2)
+      << out;
+  EXPECT_NE(out.find("free to translate in x"), std::string::npos) << out;
+}
+
 TEST(Cli, NodeInNoElementIsNamedForGmshAndMultiBodyMeshes) {
   test::ScratchDir dir("orphan");
   std::ofstream(dir.path() / "orphan.msh") << kOrphanMsh;
