@@ -3,7 +3,7 @@
 then tests/paraview/check_paraview.py under pvpython on their results.xdmf.
 
 Exits 77 (CTest SKIP_RETURN_CODE) with a message when pvpython is not installed (Debian:
-apt-get install python3-paraview) or when there is neither an X display nor xvfb-run (Debian's
+apt-get install python3-paraview) or when there is neither an X display nor Xvfb (Debian's
 ParaView renders through X only; apt-get install xvfb).
 Usage: run_paraview_check.py --mixcon build/apps/mixcon --out DIR
 """
@@ -28,14 +28,28 @@ def main():
     if not pvpython:
         print("SKIPPED: pvpython not found (apt-get install python3-paraview)")
         return SKIP
-    prefix = []
-    if not os.environ.get("DISPLAY"):
-        xvfb = shutil.which("xvfb-run")
+    env = dict(os.environ)
+    server = None
+    if not env.get("DISPLAY"):
+        xvfb = shutil.which("Xvfb")
         if not xvfb:
-            print("SKIPPED: no X display and no xvfb-run for ParaView's offscreen rendering "
+            print("SKIPPED: no X display and no Xvfb for ParaView's offscreen rendering "
                   "(apt-get install xvfb)")
             return SKIP
-        prefix = [xvfb, "-a"]
+        # Xvfb picks a free display itself and says which (-displayfd): no race between runs
+        # for the same number, as `xvfb-run -a` has.
+        r, w = os.pipe()
+        server = subprocess.Popen([xvfb, "-displayfd", str(w), "-screen", "0", "1024x768x24",
+                                   "-nolisten", "tcp"], pass_fds=(w,),
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(w)
+        with os.fdopen(r) as f:
+            display = f.readline().strip()
+        if not display:
+            server.kill()
+            print("FAIL: Xvfb did not start")
+            return 1
+        env["DISPLAY"] = ":" + display
     dirs = []
     for e in EXAMPLES:
         out = os.path.join(args.out, e.replace("/", "_"))
@@ -47,8 +61,13 @@ def main():
             print(f"FAIL: mixcon run {e} exited {run.returncode}")
             return 1
         dirs.append(out)
-    check = prefix + [pvpython, os.path.join(HERE, "check_paraview.py")] + dirs
-    return subprocess.run(check).returncode
+    try:
+        check = [pvpython, os.path.join(HERE, "check_paraview.py")] + dirs
+        return subprocess.run(check, env=env).returncode
+    finally:
+        if server:
+            server.terminate()
+            server.wait()
 
 
 if __name__ == "__main__":

@@ -15,9 +15,11 @@
 using namespace mixcon;
 
 namespace {
+// 1e-9: the true residual of these systems stalls near 1e-10 in double precision (the 160 x 16
+// Quad4 strip: 1.5e-10 after restarts), and convergence is decided on the true residual.
 LinearSolverOptions amg() {
   LinearSolverOptions o;
-  o.tolerance = 1e-11;
+  o.tolerance = 1e-9;
   return o;
 }
 } // namespace
@@ -72,7 +74,9 @@ TEST_P(CantileverTest, TipDeflectionMatchesTimoshenkoBeam) {
   }
   ASSERT_NEAR(total, p, 1e-12);
   model.setup(amg(), MPI_COMM_WORLD);
-  ASSERT_TRUE(model.solve(1.0).converged);
+  const LinearSolveStats solve = model.solve(1.0);
+  ASSERT_TRUE(solve.converged) << "true relative residual " << solve.relativeResidual << " after "
+                               << solve.iterations << " iterations";
   const auto u = model.displacementHost();
   double tip = 0;
   for (LocalIndex n : nodes)
