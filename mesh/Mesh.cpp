@@ -230,8 +230,8 @@ std::optional<Overlap> findOverlap(const Mesh &mesh, const std::vector<LocalInde
   return worst;
 }
 
-std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds) {
-  // Union-find over the element connectivity.
+std::vector<LocalIndex> connectedComponents(const Mesh &mesh) {
+  // Union-find over the element connectivity (path halving).
   std::vector<LocalIndex> parent(mesh.numNodes());
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
     parent[n] = n;
@@ -246,12 +246,25 @@ std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<Local
       if (r0 != r1)
         parent[r1] = r0;
     }
+  std::vector<LocalIndex> component(mesh.numNodes()), numberOfRoot(mesh.numNodes(), -1);
+  LocalIndex count = 0;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
+    LocalIndex &number = numberOfRoot[root(n)];
+    if (number < 0)
+      number = count++;
+    component[n] = number;
+  }
+  return component;
+}
+
+std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds) {
+  const std::vector<LocalIndex> component = connectedComponents(mesh);
   std::vector<char> wanted(mesh.numNodes(), 0);
   for (LocalIndex s : seeds)
-    wanted[root(s)] = 1;
+    wanted[component[s]] = 1;
   std::vector<LocalIndex> nodes;
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
-    if (wanted[root(n)])
+    if (wanted[component[n]])
       nodes.push_back(n);
   return nodes;
 }

@@ -109,6 +109,10 @@ struct Overlap {
 std::optional<Overlap> findOverlap(const Mesh &mesh, const std::vector<LocalIndex> &nodeStart,
                                    const std::vector<LocalIndex> &elementStart, double tolerance);
 
+/// The body of every node: nodes connected through elements share a number; bodies are numbered
+/// 0, 1, ... in the order of their first node.
+std::vector<LocalIndex> connectedComponents(const Mesh &mesh);
+
 /// The nodes connected to `seeds` through elements (the bodies they lie on), sorted.
 std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<LocalIndex> &seeds);
 

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 
 namespace mixcon {
@@ -99,27 +98,11 @@ LocalIndex ModelBase::numConstrained() const {
   return static_cast<LocalIndex>(std::count(constrainedHost_.begin(), constrainedHost_.end(), 1));
 }
 
-namespace {
-/// Root of `i` in a union-find forest (path halving).
-LocalIndex findRoot(std::vector<LocalIndex> &parent, LocalIndex i) {
-  while (parent[i] != i)
-    i = parent[i] = parent[parent[i]];
-  return i;
-}
-} // namespace
-
 void ModelBase::checkRigidBodyModes() const {
   // Bodies: the nodes connected through elements (a node in no element is refused by
   // validateMesh).
   const LocalIndex nn = mesh_.numNodes();
-  std::vector<LocalIndex> parent(nn);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (LocalIndex e = 0; e < mesh_.numElements(); ++e)
-    for (int a = 1; a < mesh_.nodesPerElement; ++a) {
-      const LocalIndex r0 = findRoot(parent, mesh_.node(e, 0)),
-                       r = findRoot(parent, mesh_.node(e, a));
-      parent[r] = r0;
-    }
+  const std::vector<LocalIndex> bodyOf = connectedComponents(mesh_);
   // Per body, the rigid-body modes t_x = (1, 0), t_y = (0, 1), r = (-y', x') in coordinates
   // centred on the body and scaled by its size; a prescribed component c at a node is one row of
   // C (its value under each mode). C^T C is singular exactly when a combination of the modes moves
@@ -130,17 +113,13 @@ void ModelBase::checkRigidBodyModes() const {
     bool anyX = false, anyY = false;
     Eigen::Matrix3d gram = Eigen::Matrix3d::Zero();
   };
-  std::vector<LocalIndex> bodyOf(nn);
   std::vector<Body> bodies;
-  std::vector<LocalIndex> rootBody(nn, -1);
   for (LocalIndex n = 0; n < nn; ++n) {
-    const LocalIndex r = findRoot(parent, n);
-    if (rootBody[r] < 0) {
-      rootBody[r] = static_cast<LocalIndex>(bodies.size());
+    if (bodyOf[n] == static_cast<LocalIndex>(bodies.size())) { // its first node
       bodies.emplace_back();
       bodies.back().first = n;
     }
-    Body &b = bodies[bodyOf[n] = rootBody[r]];
+    Body &b = bodies[bodyOf[n]];
     const double xy[2] = {mesh_.x(n), mesh_.y(n)};
     for (int c = 0; c < 2; ++c) {
       b.sum[c] += xy[c];
