@@ -288,7 +288,7 @@ RestartPoint restartPoint(const Problem &p, const std::string &directory) {
     throw InputError(from + ": the run already ended at step " + std::to_string(last) + " of " +
                      std::to_string(p.loadFactors.size()) + "; nothing to restart");
   for (int i = 0; i < last; ++i) {
-    const double saved = point.steps[i].loadFactor, now = p.loadFactors[i];
+    const double saved = point.steps[i].record.loadFactor, now = p.loadFactors[i];
     if (std::abs(saved - now) > 1e-12 * std::max(1.0, std::abs(now))) {
       std::ostringstream m;
       m << from << ": step " << i + 1 << " ran at load factor " << saved << ", but " << p.file
@@ -429,7 +429,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     } catch (const std::runtime_error &e) {
       throw InputError(from + ": " + e.what() + " (restart with the problem file of that run)");
     }
-    result.steps = restart->steps;
+    for (const WrittenStep &w : restart->steps)
+      result.steps.push_back(w.record);
     if (log)
       *log << "mixcon: restarting from step " << firstStep << " of " << from << " (load factor "
            << stepper.loadFactor() << ")\n";

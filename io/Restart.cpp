@@ -139,9 +139,7 @@ RestartPoint readRestart(const std::string &directory) {
     std::sort(numbers.begin(), numbers.end());
     // Steps in order up to the first that is missing, unreadable or not converged; the restart
     // point is the last of them with a saved state.
-    std::vector<StepRecord> records;
-    std::vector<std::string> summaries;
-    std::vector<StepArrays> arrays;
+    std::vector<WrittenStep> written;
     std::size_t withState = 0; // steps up to the restart point
     int expected = 1;
     for (int k : numbers) {
@@ -165,30 +163,27 @@ RestartPoint readRestart(const std::string &directory) {
         H5Gclose(g);
         break;
       }
-      records.push_back(r);
-      summaries.push_back(summary);
-      arrays.push_back({H5Lexists(g, "reaction", H5P_DEFAULT) > 0,
-                        H5Lexists(g, "contact_nodal", H5P_DEFAULT) > 0,
-                        H5Lexists(g, "hybrid_nodal", H5P_DEFAULT) > 0});
+      written.push_back({r,
+                         summary,
+                         {H5Lexists(g, "reaction", H5P_DEFAULT) > 0,
+                          H5Lexists(g, "contact_nodal", H5P_DEFAULT) > 0,
+                          H5Lexists(g, "hybrid_nodal", H5P_DEFAULT) > 0}});
       if (hasState)
-        withState = records.size();
+        withState = written.size();
       H5Gclose(g);
     }
     if (withState == 0)
       throw std::runtime_error("no converged step with a saved state to restart from");
-    const std::string name = "/steps/" + std::to_string(records[withState - 1].step) + "/restart";
+    const std::string name =
+        "/steps/" + std::to_string(written[withState - 1].record.step) + "/restart";
     const hid_t st = H5Gopen2(file, name.c_str(), H5P_DEFAULT);
     std::vector<std::string> sets;
     collectDatasets(st, "", sets);
     for (const auto &set : sets)
       point.state.put(set, readDoubles(st, set.c_str()));
     H5Gclose(st);
-    records.resize(withState);
-    summaries.resize(withState);
-    arrays.resize(withState);
-    point.steps = std::move(records);
-    point.stepSummaries = std::move(summaries);
-    point.stepArrays = std::move(arrays);
+    written.resize(withState);
+    point.steps = std::move(written);
   } catch (const std::runtime_error &e) {
     H5Fclose(file);
     throw InputError(path + ": " + e.what());

@@ -13,14 +13,12 @@ namespace mixcon {
 /// Where a restarted run continues: the steps already written (up to the last converged one
 /// with a saved state) and that state.
 struct RestartPoint {
-  std::vector<StepRecord> steps;          ///< steps 1..k as recorded (load factors, convergence)
-  std::vector<std::string> stepSummaries; ///< their summary.json entries
-  std::vector<StepArrays> stepArrays;     ///< their optional node arrays
-  Checkpoint state;                       ///< the committed state after step k
-  std::string directory;                  ///< the folder it was read from
+  std::vector<WrittenStep> steps; ///< steps 1..k as written (load factors, convergence)
+  Checkpoint state;               ///< the committed state after step k
+  std::string directory;          ///< the folder it was read from
   long numNodes = 0, numElements = 0;
   std::vector<double> nodes; ///< mesh coordinates, N x 2 (to check the problem's mesh)
-  int lastStep() const { return steps.empty() ? 0 : steps.back().step; }
+  int lastStep() const { return steps.empty() ? 0 : steps.back().record.step; }
 };
 
 /// Reads the last converged step with a saved state from `directory`/results.h5; throws

@@ -381,9 +381,10 @@ void ResultsWriter::writeIndex() const {
         0)
       throw std::runtime_error("HDF5: cannot link the mesh");
     const hid_t steps = H5Gcreate2(root, "steps", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    for (const auto &r : steps_) {
-      const std::string name = std::to_string(r.step), target = "/steps/" + name;
-      if (H5Lcreate_external(stepFileName(r.step).c_str(), target.c_str(), steps, name.c_str(),
+    for (const WrittenStep &w : steps_) {
+      const int step = w.record.step;
+      const std::string name = std::to_string(step), target = "/steps/" + name;
+      if (H5Lcreate_external(stepFileName(step).c_str(), target.c_str(), steps, name.c_str(),
                              H5P_DEFAULT, H5P_DEFAULT) < 0)
         throw std::runtime_error("HDF5: cannot link step " + name);
     }
@@ -392,8 +393,8 @@ void ResultsWriter::writeIndex() const {
 }
 
 void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Checkpoint *state) {
-  steps_.push_back(r);
-  stepSummaries_.push_back(stepSummary(r));
+  steps_.push_back(
+      {r, stepSummary(r), {!f.reaction.empty(), !f.contact.node.empty(), !f.hybrid.node.empty()}});
   if (hdf5_) {
     // The step's own file, complete before it is renamed into place and linked from results.h5.
     writeHdf5File(directory_ + "/" + stepFileName(r.step), [&](hid_t file) {
@@ -434,13 +435,12 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
       writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
       writeAttribute(g, "converged", static_cast<int>(r.converged), H5T_NATIVE_INT);
       writeAttribute(g, "contact_closed", r.contactClosed, H5T_NATIVE_INT);
-      writeStringAttribute(g, "summary", stepSummaries_.back());
+      writeStringAttribute(g, "summary", steps_.back().summary);
       if (state)
         writeState(g, *state);
       H5Gclose(g);
     });
     writeIndex();
-    stepArrays_.push_back({!f.reaction.empty(), !f.contact.node.empty(), !f.hybrid.node.empty()});
     writeXdmf();
   } else {
     if (!f.contact.node.empty())
@@ -620,9 +620,9 @@ void ResultsWriter::writeXdmf() const {
   };
   x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
     << "    <Grid Name=\"mixcon\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (std::size_t i = 0; i < steps_.size(); ++i) {
-    const StepRecord &s = steps_[i];
-    const StepArrays &has = stepArrays_[i];
+  for (const WrittenStep &w : steps_) {
+    const StepRecord &s = w.record;
+    const StepArrays &has = w.arrays;
     const std::string base = "/steps/" + std::to_string(s.step);
     x << "     <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
       << "      <Time Value=\"" << number(s.loadFactor) << "\"/>\n"
@@ -666,10 +666,11 @@ void ResultsWriter::writeSummary() const {
     j << ",\n  \"message\": " << jsonString(message_);
   j << ",\n  \"nodes\": " << mesh_.numNodes() << ",\n  \"elements\": " << mesh_.numElements()
     << ",\n  \"converged\": "
-    << ((status_ == "completed" && !steps_.empty() && steps_.back().converged) ? "true" : "false")
+    << ((status_ == "completed" && !steps_.empty() && steps_.back().record.converged) ? "true"
+                                                                                      : "false")
     << ",\n  \"steps\": [";
-  for (std::size_t i = 0; i < stepSummaries_.size(); ++i)
-    j << (i ? "," : "") << "\n    " << stepSummaries_[i];
+  for (std::size_t i = 0; i < steps_.size(); ++i)
+    j << (i ? "," : "") << "\n    " << steps_[i].summary;
   j << "\n  ]";
   for (const auto &[k, v] : extra_)
     j << ",\n  " << jsonString(k) << ": " << v;
@@ -706,8 +707,6 @@ void ResultsWriter::writeState(long long group, const Checkpoint &state) const {
 
 void ResultsWriter::resumeFrom(const RestartPoint &point) {
   steps_ = point.steps;
-  stepSummaries_ = point.stepSummaries;
-  stepArrays_ = point.stepArrays;
   const int last = point.lastStep();
   std::error_code ec;
   if (!fs::equivalent(point.directory, directory_, ec)) {

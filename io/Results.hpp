@@ -93,6 +93,13 @@ struct StepArrays {
   bool reaction = false, contact = false, hybrid = false;
 };
 
+/// A step as written: its record, its summary.json entry and its optional node arrays.
+struct WrittenStep {
+  StepRecord record;
+  std::string summary;
+  StepArrays arrays;
+};
+
 struct RestartPoint; // io/Restart.hpp
 
 class ResultsWriter {
@@ -138,9 +145,7 @@ private:
   bool hdf5_;
   int lock_ = -1;                             ///< file descriptor holding the folder's lock
   int uncaught_ = std::uncaught_exceptions(); ///< at construction (to see an error unwinding)
-  std::vector<StepRecord> steps_;
-  std::vector<std::string> stepSummaries_; ///< each step's summary.json entry
-  std::vector<StepArrays> stepArrays_;     ///< per step: its optional node arrays (XDMF index)
+  std::vector<WrittenStep> steps_;
   std::vector<std::pair<std::string, std::string>> extra_;
   bool contactCsvStarted_ = false, hybridCsvStarted_ = false;
   void writeHybrid(long long group, const StepRecord &r, const HybridFields &h);
