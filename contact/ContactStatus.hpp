@@ -7,7 +7,7 @@
 // Data flow: contact.
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 
 #include <string>
 #include <vector>

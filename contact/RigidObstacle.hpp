@@ -7,7 +7,7 @@
 // the point is clear of the obstacle and negative when it penetrates. Data flow: solver -> contact.
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 #include <mesh/Mesh.hpp>
 
 #include <Kokkos_Core.hpp>

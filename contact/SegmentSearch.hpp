@@ -22,7 +22,7 @@
 // replaces the projection; nothing else here is 2D-specific. Data flow: solver -> contact.
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 
 #include <Kokkos_Core.hpp>
 

@@ -6,7 +6,7 @@
 // -> solver.
 #pragma once
 
-#include <kernels/ElementTraits.hpp>
+#include <core/ElementTraits.hpp>
 #include <kernels/Material.hpp>
 #include <kernels/SparseMatrix.hpp>
 

@@ -5,7 +5,7 @@
 // functions, callable on host and device. Data flow: kernels (used by every element kernel).
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 
 namespace mixcon {
 

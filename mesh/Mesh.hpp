@@ -3,7 +3,7 @@
 // data flow: mesh -> kernels -> solver -> contact -> io.
 #pragma once
 
-#include <kernels/ElementTraits.hpp>
+#include <core/ElementTraits.hpp>
 
 #include <map>
 #include <optional>

@@ -3,7 +3,7 @@
 // slots in without changing the solver interfaces. Data flow: solver.
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 
 #include <cstdint>
 

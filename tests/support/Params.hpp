@@ -1,7 +1,7 @@
 // Shared GoogleTest parameter helpers.
 #pragma once
 
-#include <kernels/ElementTraits.hpp>
+#include <core/ElementTraits.hpp>
 
 #include <gtest/gtest.h>
 

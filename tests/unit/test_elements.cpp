@@ -1,6 +1,6 @@
-// Shape functions and quadrature of the element traits (kernels/ElementTraits.hpp) against the
+// Shape functions and quadrature of the element traits (core/ElementTraits.hpp) against the
 // independent reference in tests/support and finite differences.
-#include <kernels/ElementTraits.hpp>
+#include <core/ElementTraits.hpp>
 #include <support/Reference.hpp>
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Portability shims between Kokkos 3.4 (Debian's trilinos sources) and Kokkos 4.x.
-// Sits at the bottom of the data flow: every kernel header may include it.
+// The bottom layer (core): every other layer may include it; it includes only Kokkos.
 #pragma once
 
 #include <Kokkos_Core.hpp>

@@ -1,9 +1,10 @@
 // Element types as compile-time traits: shape functions, natural-coordinate derivatives,
 // quadrature rules and edge topology for the 2D isoparametric quadrilaterals of the report.
-// Everything here is device-callable and allocation free. Data flow: mesh -> kernels.
+// Everything here is device-callable and allocation free. Layer: core, the bottom one (mesh,
+// kernels and everything above include it).
 #pragma once
 
-#include <kernels/Compat.hpp>
+#include <core/Compat.hpp>
 
 namespace mixcon {
 
