@@ -342,7 +342,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       specs.push_back(s);
     }
     surface = std::make_unique<SurfaceContact>(p.mesh.numNodes(), specs, p.mesh.nodeIds);
-    model.setSurfaceContact(surface.get());
+    model.setContact(surface.get());
   } else if (!p.contact.empty()) {
     std::vector<RigidContactSpec> specs;
     for (const auto &c : p.contact) {

@@ -78,6 +78,19 @@ public:
   /// InputError when no candidate lies in the way. Returns how many obstacles moved.
   int seatForceDriven() override;
 
+  // ContactIterations: the enforcement in the models' evaluations and corrections.
+  void locate(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+              const Kokkos::View<const double *, DeviceSpace> &x, int stride,
+              const Kokkos::View<const int *, DeviceSpace> &flags) override;
+  void subtractForces(const Kokkos::View<double *, DeviceSpace> &g, int stride) const override;
+  double freeResidualNorm(const Kokkos::View<const double *, DeviceSpace> &g,
+                          const Kokkos::View<const int *, DeviceSpace> &flags,
+                          int stride) const override;
+  bool constrains() const override;
+  LinearSolveStats correct(const ContactCorrection &system,
+                           const Kokkos::View<double *, DeviceSpace> &dx) override;
+  double externalForceNorm(double appliedLoads) const override;
+
   /// Projects every candidate at the current position (coordinates + u, `stride` unknowns per
   /// node, displacements first) onto its obstacle; returns the number penetrating.
   LocalIndex detect(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,

@@ -16,6 +16,7 @@
 
 #include <contact/RigidContact.hpp>
 #include <solver/ContactIterations.hpp>
+#include <solver/MultiPointConstraints.hpp>
 
 #include <array>
 #include <string>
@@ -78,6 +79,18 @@ public:
   const std::vector<SurfacePair> &closedPairs() const { return pairs_; }
   const std::vector<double> &frictionForces() const { return friction_; }
 
+  // ContactIterations: the enforcement in the models' evaluations and corrections.
+  void locate(const Kokkos::View<const double *[2], DeviceSpace> &coordinates,
+              const Kokkos::View<const double *, DeviceSpace> &x, int stride,
+              const Kokkos::View<const int *, DeviceSpace> &flags) override;
+  void subtractForces(const Kokkos::View<double *, DeviceSpace> &g, int stride) const override;
+  double freeResidualNorm(const Kokkos::View<const double *, DeviceSpace> &g,
+                          const Kokkos::View<const int *, DeviceSpace> &flags,
+                          int stride) const override;
+  bool constrains() const override { return !pairs_.empty(); }
+  LinearSolveStats correct(const ContactCorrection &system,
+                           const Kokkos::View<double *, DeviceSpace> &dx) override;
+
   void setLoadFactor(double) override {}
   int closeTouching(double tolerance) override;
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
@@ -116,7 +129,11 @@ public:
 
 private:
   void buildPairs();
-  std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
+  /// The closed pairs as multipoint constraints on `stride` unknowns per node (`flags`: the
+  /// Dirichlet flags per unknown).
+  void constraints(int stride, const std::vector<int> &flags, MultiPointConstraints &c) const;
+  CsrMatrix<DeviceSpace> work_; ///< the eliminated system of the last correction
+  std::vector<long> nodeIds_;   ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;

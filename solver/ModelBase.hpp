@@ -73,16 +73,17 @@ public:
   /// elsewhere.
   virtual std::vector<double> reactionHost(double loadFactor) const = 0;
 
+  /// Host vector of a device view.
+  static std::vector<double> toHost(const Kokkos::View<const double *, Memory> &v);
+  /// Copies a host vector into a device view of the same length (or a prefix of it).
+  static void fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v);
+
 protected:
   /// Copies the staged nodal forces (then clears them) and constraints to the device.
   void commitStaged();
   /// Host copy of internalForce - lambda F (the reactions).
   std::vector<double> reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
                                    double loadFactor) const;
-  /// Host vector of a device view.
-  static std::vector<double> toHost(const Kokkos::View<const double *, Memory> &v);
-  /// Copies a host vector into a device view of the same length (or a prefix of it).
-  static void fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v);
 
   Mesh const &mesh_;
   DofMap dofs_;

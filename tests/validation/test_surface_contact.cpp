@@ -63,7 +63,7 @@ Stack makeStack(int nxLower, int nxUpper, ElementType type, double friction, boo
   spec.name = "upper.bottom -> lower.top";
   s.contact =
       std::make_unique<SurfaceContact>(s.mesh.numNodes(), std::vector<SurfaceContactSpec>{spec});
-  s.model->setSurfaceContact(s.contact.get());
+  s.model->setContact(s.contact.get());
   return s;
 }
 
@@ -175,7 +175,7 @@ std::vector<Slide> slide(double mu, int steps, double delta, double travel, bool
   spec.name = "upper.bottom -> lower.top";
   s.contact =
       std::make_unique<SurfaceContact>(s.mesh.numNodes(), std::vector<SurfaceContactSpec>{spec});
-  s.model->setSurfaceContact(s.contact.get());
+  s.model->setContact(s.contact.get());
   finish(s);
   // The load factor counts steps; prescribed values are reference values times the load factor,
   // so each step sets value = target / lambda: first the press (step 1), then the travel.

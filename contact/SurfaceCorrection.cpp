@@ -1,0 +1,145 @@
+// Node-to-segment contact in the linearized system (contact/SurfaceContact.hpp): the closed pairs
+// as multipoint constraints eliminated from the corrections of the nonlinear models (x = T y + s),
+// the residual T^T G the constrained system balances, friction forces as loads.
+// Layer: contact (uses solver/).
+#include <contact/SurfaceContact.hpp>
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/ModelBase.hpp>
+
+#include <chrono>
+#include <cmath>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+void SurfaceContact::locate(const Kokkos::View<const double *[2], Memory> &coordinates,
+                            const Kokkos::View<const double *, Memory> &x, int stride,
+                            const Kokkos::View<const int *, Memory> &flags) {
+  // The displacement unknowns held by Dirichlet conditions (contactors held there take the
+  // normal condition on their free component).
+  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
+  std::vector<int> held(2 * static_cast<std::size_t>(numNodes_), 0);
+  for (LocalIndex p = 0; p < numNodes_; ++p)
+    for (int i = 0; i < 2; ++i)
+      held[2 * p + i] = hf(stride * p + i);
+  setPrescribed(held);
+  detect(coordinates, x, stride);
+}
+
+void SurfaceContact::subtractForces(const Kokkos::View<double *, Memory> &g, int stride) const {
+  subtractNodalForces(g, stride, friction_);
+}
+
+double SurfaceContact::freeResidualNorm(const Kokkos::View<const double *, Memory> &g,
+                                        const Kokkos::View<const int *, Memory> &flags,
+                                        int stride) const {
+  // The residual the constrained system balances, T^T G, over the unknowns held neither by
+  // Dirichlet conditions nor as contact slaves.
+  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
+  std::vector<int> fl(hf.data(), hf.data() + hf.extent(0));
+  MultiPointConstraints c;
+  constraints(stride, fl, c);
+  std::vector<double> gh = ModelBase::toHost(g);
+  condenseVector(c, gh);
+  for (LocalIndex sl : c.slaves)
+    fl[sl] = 1;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < gh.size(); ++i)
+    if (static_cast<int>(i % stride) < 2 && !fl[i])
+      sum += gh[i] * gh[i];
+  return std::sqrt(sum);
+}
+
+void SurfaceContact::constraints(int stride, const std::vector<int> &flags,
+                                 MultiPointConstraints &c) const {
+  // Per closed contactor p on target nodes i with weights w_i: in its local frame (n, t) the
+  // normal displacement is sum_i w_i n . u_i - gap (slave), in stick the tangential one
+  // sum_j w_j t . u_j + tangentStep at the anchor (slave), in slip the tangential one free:
+  // u_p = n (sum_i w_i n . u_i + step_n) + t (...). A contactor with one component held by a
+  // Dirichlet condition (a symmetry line) takes the normal condition on its other component.
+  c.clear();
+  for (const SurfacePair &q : pairs_) {
+    const LocalIndex i0 = stride * q.node;
+    const bool fx = flags[i0] != 0, fy = flags[i0 + 1] != 0;
+    if (fx && fy)
+      continue;
+    std::vector<std::pair<LocalIndex, double>> normalRow, tangentRow;
+    for (int a = 0; a < q.normalCount; ++a)
+      for (int d = 0; d < 2; ++d)
+        normalRow.emplace_back(stride * q.normalNodes[a] + d, q.normalWeights[a] * q.normal[d]);
+    if (fx || fy) {
+      const int fixed = fx ? 0 : 1, other = 1 - fixed;
+      const double nf = q.normal[fixed], no = q.normal[other];
+      if (std::abs(no) < 0.7)
+        throw InputError("node " + std::to_string(Mesh::externalId(nodeIds_, q.node)) +
+                         ": node-to-segment contact on a surface not normal to its free direction "
+                         "while the other direction is prescribed is not supported");
+      auto row = normalRow;
+      for (auto &e : row)
+        e.second /= no;
+      row.emplace_back(i0 + fixed, -nf / no);
+      c.addRow(i0 + other, row, q.normalStep / no);
+      c.slaves.push_back(i0 + other);
+      continue;
+    }
+    if (q.stick)
+      for (int a = 0; a < q.tangentCount; ++a)
+        for (int d = 0; d < 2; ++d)
+          tangentRow.emplace_back(stride * q.tangentNodes[a] + d,
+                                  q.tangentWeights[a] * q.tangent[d]);
+    for (int d = 0; d < 2; ++d) {
+      std::vector<std::pair<LocalIndex, double>> row;
+      for (const auto &e : normalRow)
+        row.emplace_back(e.first, q.normal[d] * e.second);
+      double offset = q.normal[d] * q.normalStep;
+      if (q.stick) {
+        for (const auto &e : tangentRow)
+          row.emplace_back(e.first, q.tangent[d] * e.second);
+        offset += q.tangent[d] * q.tangentStep;
+      } else {
+        row.emplace_back(i0 + 1, q.tangent[d]); // the free local tangential component
+      }
+      c.addRow(i0 + d, row, offset);
+    }
+    c.slaves.push_back(i0);
+    if (q.stick)
+      c.slaves.push_back(i0 + 1);
+  }
+}
+
+LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
+                                         const Kokkos::View<double *, Memory> &dx) {
+  // The contact constraints eliminated (solver/MultiPointConstraints.hpp): (T^T K T + D) y =
+  // T^T (-G - K s), the Dirichlet conditions applied to that system as usual, x = T y + s.
+  const int stride = sys.stride;
+  const auto &fv = sys.flags;
+  const auto &rhs = sys.rhs;
+  const auto &target = sys.target;
+  const auto start = std::chrono::steady_clock::now();
+  prescribedStep(fv, sys.prescribed, sys.displacement, sys.lambda, stride, target);
+  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
+  std::vector<int> flags(hf.data(), hf.data() + hf.extent(0));
+  MultiPointConstraints c;
+  constraints(stride, flags, c);
+  axpby(-1.0, sys.g, 0.0, rhs);
+  work_ = eliminateConstraints(*sys.tangent, c, std::max(sys.stiffnessScale, 1e-300), rhs);
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", flags.size());
+  for (LocalIndex sl : c.slaves)
+    flags[sl] = 1;
+  auto hdf = Kokkos::create_mirror_view(df);
+  for (std::size_t i = 0; i < flags.size(); ++i)
+    hdf(i) = flags[i];
+  Kokkos::deep_copy(df, hdf);
+  applyDirichlet(Exec(), work_, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
+  Exec().fence();
+  sys.solver->setup(work_);
+  *sys.setupSeconds += seconds(start);
+  LinearSolveStats s = sys.solver->solve(rhs, dx);
+  expandConstrained(c, dx);
+  return s;
+}
+
+} // namespace mixcon

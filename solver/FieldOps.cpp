@@ -1,0 +1,246 @@
+// Operations on interleaved fields (solver/FieldOps.hpp).
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/ModelBase.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace mixcon {
+namespace fieldops {
+
+double seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Two-norm of the first `width` of every `stride` entries of v, restricted to entries whose
+/// flag is `flagged` (flags: nullptr-like empty view means all).
+double strideNorm(const ConstVec &v, int stride, int first, int width,
+                  const Kokkos::View<const int *, Memory> &flags, int flagged) {
+  const LocalIndex n = v.extent(0) / stride;
+  const bool useFlags = flags.extent(0) > 0;
+  double s = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::nonlinear::norm", Kokkos::RangePolicy<Exec>(0, n),
+      KOKKOS_LAMBDA(LocalIndex k, double &acc) {
+        for (int c = first; c < first + width; ++c) {
+          const LocalIndex i = stride * k + c;
+          if (!useFlags || (flags(i) != 0) == (flagged != 0))
+            acc += v(i) * v(i);
+        }
+      },
+      s);
+  return std::sqrt(s);
+}
+
+double relative(double num, double den) {
+  if (den > 0.0)
+    return num / den;
+  return num == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+}
+
+/// y(stride k + c) += alpha x(2 k + c), c = 0, 1.
+void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / 2) + i % 2) += alpha * x(i); });
+}
+
+/// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
+/// field out of an interleaved vector, e.g. the stresses out of 5 unknowns per node).
+void gather(const ConstVec &src, int stride, int offset, int width, const Vec &dst, double scale) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::gather", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { dst(i) = scale * src(fieldRow(stride, offset, width, i)); });
+}
+
+/// dst(i) = sign a(r, r), r = stride (i / width) + offset + i % width: diagonal entries of the
+/// rows of one field of an interleaved CSR matrix.
+void fieldDiagonal(const CsrMatrix<Memory> &a, int stride, int offset, int width, const Vec &dst,
+                   double sign) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::fieldDiagonal", Kokkos::RangePolicy<Exec>(0, dst.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = fieldRow(stride, offset, width, i);
+        for (Offset k = ro(r); k < ro(r + 1); ++k)
+          if (co(k) == r)
+            dst(i) = sign * va(k);
+      });
+}
+
+/// b <- sign * (the block of a's field rows [rowOffset, rowOffset + rowWidth) and field
+/// columns [columnOffset, columnOffset + columnWidth)), with a on expandGraph(graph, stride) and b
+/// on expandGraph(graph, rowWidth, columnWidth) of the same graph (both list a row's neighbour
+/// nodes in the same order).
+void extractFieldBlock(const CsrMatrix<Memory> &a, int stride, int rowOffset, int rowWidth,
+                       int columnOffset, int columnWidth, const CsrMatrix<Memory> &b, double sign) {
+  auto ra = a.rowOffsets;
+  auto va = a.values;
+  auto rb = b.rowOffsets;
+  auto vb = b.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::extractFieldBlock", Kokkos::RangePolicy<Exec>(0, b.numRows),
+      KOKKOS_LAMBDA(LocalIndex r) {
+        const LocalIndex p = r / rowWidth, i = r % rowWidth;
+        const Offset first = rb(r);
+        const LocalIndex neighbours = static_cast<LocalIndex>((rb(r + 1) - first) / columnWidth);
+        const Offset src = ra(stride * p + rowOffset + i);
+        for (LocalIndex j = 0; j < neighbours; ++j)
+          for (int c = 0; c < columnWidth; ++c)
+            vb(first + columnWidth * j + c) = sign * va(src + stride * j + columnOffset + c);
+      });
+}
+
+/// y(width p + c) = sum_k a(r, k) x(k), r = stride p + offset + c: the rows of one field of an
+/// interleaved CSR matrix times x, gathered (a product with [A B] or [C -M] of the mixed
+/// Jacobian that reads only those rows).
+void multiplyFieldRows(const CsrMatrix<Memory> &a, int stride, int offset, int width,
+                       const ConstVec &x, const Vec &y) {
+  auto ro = a.rowOffsets;
+  auto co = a.columns;
+  auto va = a.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::multiplyFieldRows", Kokkos::RangePolicy<Exec>(0, y.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex r = fieldRow(stride, offset, width, i);
+        double s = 0.0;
+        for (Offset k = ro(r); k < ro(r + 1); ++k)
+          s += va(k) * x(co(k));
+        y(i) = s;
+      });
+}
+
+/// v(stride p + offset + c) *= s for c < width.
+void scaleField(const Vec &v, int stride, int offset, int width, double s) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::scaleField", Kokkos::RangePolicy<Exec>(0, v.extent(0) / stride),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        for (int c = 0; c < width; ++c)
+          v(stride * p + offset + c) *= s;
+      });
+}
+
+/// inv(p) = the inverse of node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
+/// expandGraph(graph, 3)): the nodal block-Jacobi preconditioner of the stress block.
+void invertNodalBlocks(const CsrMatrix<Memory> &m, const Kokkos::View<double *[9], Memory> &inv) {
+  auto ro = m.rowOffsets;
+  auto co = m.columns;
+  auto va = m.values;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::invertNodalBlocks", Kokkos::RangePolicy<Exec>(0, inv.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        double b[3][3] = {};
+        for (int i = 0; i < 3; ++i)
+          for (Offset k = ro(3 * p + i); k < ro(3 * p + i + 1); ++k) {
+            const LocalIndex c = co(k);
+            if (c / 3 == p)
+              b[i][c % 3] = va(k);
+          }
+        const double c00 = b[1][1] * b[2][2] - b[1][2] * b[2][1];
+        const double c01 = b[1][2] * b[2][0] - b[1][0] * b[2][2];
+        const double c02 = b[1][0] * b[2][1] - b[1][1] * b[2][0];
+        const double det = b[0][0] * c00 + b[0][1] * c01 + b[0][2] * c02;
+        const double s = 1.0 / det;
+        inv(p, 0) = c00 * s;
+        inv(p, 1) = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * s;
+        inv(p, 2) = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * s;
+        inv(p, 3) = c01 * s;
+        inv(p, 4) = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * s;
+        inv(p, 5) = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * s;
+        inv(p, 6) = c02 * s;
+        inv(p, 7) = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * s;
+        inv(p, 8) = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * s;
+      });
+}
+
+/// y = blockdiag(inv) x, 3 x 3 blocks per node.
+void applyNodalBlocks(const Kokkos::View<const double *[9], Memory> &inv, const ConstVec &x,
+                      const Vec &y) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::applyNodalBlocks", Kokkos::RangePolicy<Exec>(0, inv.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        const double a = x(3 * p), b = x(3 * p + 1), c = x(3 * p + 2);
+        for (int i = 0; i < 3; ++i)
+          y(3 * p + i) = inv(p, 3 * i) * a + inv(p, 3 * i + 1) * b + inv(p, 3 * i + 2) * c;
+      });
+}
+
+/// y = x / d, entry by entry (Jacobi).
+void divide(const ConstVec &x, const ConstVec &d, const Vec &y) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::divide", Kokkos::RangePolicy<Exec>(0, y.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { y(i) = x(i) / d(i); });
+}
+
+/// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
+/// unknowns of x (out may be base).
+void movedCoordinates(const Kokkos::View<double *[2], Memory> &base, const ConstVec &x, int stride,
+                      const Kokkos::View<double *[2], Memory> &out) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::movedCoordinates", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          out(k, i) = base(k, i) + x(stride * k + i);
+      });
+}
+
+/// The remaining prescribed change of every constrained unknown: t(stride k + c) =
+/// lambda g(2 k + c) - u(2 k + c) where flags(stride k + c) != 0 (c < 2), 0 elsewhere.
+void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
+                    const ConstVec &u, double lambda, int stride, const Vec &t) {
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::prescribedStep", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        const LocalIndex j = 2 * (i / stride) + i % stride; // displacement dof when i % stride < 2
+        t(i) = flags(i) ? lambda * g(j) - u(j) : 0.0;
+      });
+}
+
+/// Solves the constrained tangent for the correction: rhs = -g on free rows; prescribed rows
+/// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained
+/// and handed to the solver; a reused one (modified Newton) keeps its factorization.
+LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
+                                  CsrMatrix<Memory> &work,
+                                  const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
+                                  const ConstVec &target, const Vec &rhs, const Vec &diag,
+                                  LinearSolver &solver, const Vec &dx, double &setupSeconds) {
+  axpby(-1.0, g, 0.0, rhs);
+  if (fresh) {
+    const auto start = std::chrono::steady_clock::now();
+    if (work.numRows == 0)
+      work = cloneValues(tangent);
+    else
+      Kokkos::deep_copy(work.values, tangent.values);
+    applyDirichlet(Exec(), work, flags, target, rhs);
+    constrainedDiagonal(Exec(), work, flags, diag);
+    Exec().fence();
+    solver.setup(work);
+    setupSeconds += seconds(start);
+  } else {
+    Kokkos::parallel_for(
+        "mixcon::nonlinear::constrainedRhs", Kokkos::RangePolicy<Exec>(0, g.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex i) {
+          if (flags(i))
+            rhs(i) = diag(i) * target(i);
+        });
+  }
+  return solver.solve(rhs, dx);
+}
+
+void subtractNodalForces(const Vec &g, int stride, const std::vector<double> &f) {
+  Vec fd("mixcon::nonlinear::friction", f.size());
+  auto h = Kokkos::create_mirror_view(fd);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    h(i) = f[i];
+  Kokkos::deep_copy(fd, h);
+  Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
+  scatter<double>(fd, stride, 0, 2, spread, true);
+  axpby(-1.0, spread, 1.0, g);
+}
+
+} // namespace fieldops
+} // namespace mixcon

@@ -1,0 +1,218 @@
+// The iterative solves of the mixed model's Jacobian J = [A B; C -M] (solver: amg): flexible
+// GMRES right-preconditioned by the block lower-triangular [S~ 0; C -M~], or on the Schur
+// complement A + B M^-1 C; the block-Jacobi CG on the stress block M. Layer: solver.
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/MixedModel.hpp>
+#include <solver/NonlinearMixedModel.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+void NonlinearMixedModel::setupSchurPreconditioner() {
+  // K^L on the current configuration (c1 + increment, or X + total displacement), constrained;
+  // one BoomerAMG V-cycle on it preconditions the Schur complement.
+  const auto start = std::chrono::steady_clock::now();
+  const bool current = form_ == MixedForm::Current;
+  ElementData<Memory> d = current ? static_cast<ElementData<Memory>>(reference_)
+                                  : static_cast<ElementData<Memory>>(current_);
+  const auto base = d.mesh.coordinates;
+  d.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
+  movedCoordinates(base, x_, 5, d.mesh.coordinates);
+  Kokkos::deep_copy(precMatrix_.values, 0.0);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);
+  });
+  Vec zero("mixcon::nonlinear::zero", precDiag_.extent(0)),
+      scratch("mixcon::nonlinear::scratch", precDiag_.extent(0));
+  applyDirichlet(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                 ConstVec(zero), scratch);
+  constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
+                      precDiag_);
+  // The stress block M = -J_tau,tau and its nodal 3 x 3 inverses for the inner CG.
+  extractFieldBlock(tangent_, 5, 2, 3, 2, 3, stressBlock_, -1.0);
+  invertNodalBlocks(stressBlock_, stressBlockInverse_);
+  Exec().fence();
+  solver_->setup(precMatrix_);
+  solverSetupSeconds_ += seconds(start);
+}
+
+long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, double tolerance) {
+  // M z = w with M = -J_tau,tau, extracted from J once per tangent (setupSchurPreconditioner;
+  // a product with it reads 9/25 of J), CG preconditioned by the inverses of M's 3 x 3 nodal
+  // blocks (the stress components coupled at a node: anisotropic compliances).
+  const LinearMap apply = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    multiply(Exec(), stressBlock_, a, y);
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    applyNodalBlocks(stressBlockInverse_, a, y);
+  };
+  KrylovOptions o;
+  o.tolerance = tolerance;
+  o.maxIterations = 2000;
+  Kokkos::deep_copy(z, 0.0);
+  const KrylovStats st = krylovSolve(o, apply, jacobi, w, z, &stressWork_);
+  if (!st.converged)
+    throw std::runtime_error("nonlinear mixed model: the CG on the stress block did not converge "
+                             "(relative residual " +
+                             std::to_string(st.relativeResidual) + ")");
+  return st.iterations;
+}
+
+LinearSolveStats NonlinearMixedModel::solveSchur() {
+  // J [du; dtau] = -G with J = [A B; C -M]: dtau = M^-1 (C du + G_S) and
+  // (A + B M^-1 C) du = -G_u - B M^-1 G_S, prescribed du applied as P S P + D_c.
+  const auto start = std::chrono::steady_clock::now();
+  if (fresh_)
+    setupSchurPreconditioner();
+  const LocalIndex nn = mesh_.numNodes();
+  Vec in5("mixcon::nonlinear::in5", 5 * nn), w("mixcon::nonlinear::w", 3 * nn),
+      z("mixcon::nonlinear::z", 3 * nn), masked("mixcon::nonlinear::masked", 2 * nn);
+  const auto flags = Kokkos::View<const int *, Memory>(isConstrained_);
+  // Inner solves two orders tighter than the outer tolerance, so the outer Krylov sees a fixed
+  // operator to its own accuracy.
+  const double innerTol = std::clamp(1e-2 * linearOptions_.tolerance, 1e-14, 1e-8);
+  long inner = 0;
+  // y = (A + B M^-1 C) v for a displacement vector v (2 per node).
+  const auto schur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    scatter<double>(v, 5, 0, 2, in5, true);
+    multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w); // tau rows: C v
+    inner += solveStressBlock(w, z, innerTol);
+    scatter<double>(z, 5, 2, 3, in5, false);
+    multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), y); // u rows: A v + B z
+  };
+  const LinearMap constrainedSchur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    maskConstrained(Exec(), flags, v, masked);
+    schur(ConstVec(masked), y);
+    finishConstrained(Exec(), flags, ConstVec(precDiag_), v, y);
+  };
+  const LinearMap amg = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    solver_->precondition(r, y);
+  };
+  // Right-hand side: f = -G_u - B M^-1 G_S, then b = P (f - S g) + D_c g.
+  Vec mgs("mixcon::nonlinear::mgs", 3 * nn), f("mixcon::nonlinear::schurRhs", 2 * nn),
+      gc("mixcon::nonlinear::prescribedStep", 2 * nn), sg("mixcon::nonlinear::schurG", 2 * nn),
+      b("mixcon::nonlinear::schurB", 2 * nn), du("mixcon::nonlinear::du", 2 * nn);
+  gather(g_, 5, 2, 3, w);
+  inner += solveStressBlock(w, mgs, innerTol);
+  scatter<double>(mgs, 5, 2, 3, in5, true);
+  multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), f); // u rows: B M^-1 G_S
+  gather(g_, 5, 0, 2, sg);
+  axpby(-1.0, sg, -1.0, f);
+  gather(target_, 5, 0, 2, gc);
+  schur(ConstVec(gc), sg);
+  constrainedRhs(Exec(), flags, ConstVec(precDiag_), ConstVec(f), ConstVec(gc), ConstVec(sg), b);
+  KrylovOptions ko;
+  ko.method = KrylovMethod::Gmres;
+  ko.tolerance = linearOptions_.tolerance;
+  ko.maxIterations = linearOptions_.maxIterations;
+  const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
+  // dtau = M^-1 (C du + G_S).
+  scatter<double>(du, 5, 0, 2, in5, true);
+  multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w);
+  gather(g_, 5, 2, 3, mgs);
+  axpby(1.0, mgs, 1.0, w);
+  inner += solveStressBlock(w, z, innerTol);
+  scatter<double>(du, 5, 0, 2, dx_, true);
+  scatter<double>(z, 5, 2, 3, dx_, false);
+  innerIterations_ = inner;
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.solveSeconds = seconds(start);
+  return s;
+}
+
+LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
+  // Flexible GMRES on the whole Jacobian J = [A B; C -M] (prescribed du as P J P + D_c), right
+  // preconditioned by the block lower-triangular P = [S~ 0; C -M~]: S~^-1 one BoomerAMG V-cycle
+  // on K^L of the current configuration (as for the Schur complement A + B M^-1 C), M~^-1 a
+  // loose block-Jacobi CG on M. With M~ = M, J P^-1 = [S S~^-1, -B M^-1; 0, I] and the
+  // iterations are those of the Schur solve; a loose M~ costs a few more outer iterations but
+  // no tight inner solve per product. The stress rows are scaled by s = sqrt(rms diag K^L /
+  // rms diag M), which balances the two off-diagonal blocks of J P^-1 (s (I - M M~^-1) C S~^-1
+  // against B M^-1 / s): with |diag K^L| / |diag M| itself the residual of the loose M~ swamped
+  // the iteration (no convergence in 1000 iterations).
+  const auto start = std::chrono::steady_clock::now();
+  const LocalIndex nn = mesh_.numNodes();
+  if (fresh_) {
+    setupSchurPreconditioner();
+    Vec da("mixcon::nonlinear::diagA", 2 * nn), dm("mixcon::nonlinear::diagM", 3 * nn);
+    fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0); // K^L: A alone is 0 at a = 0 without stress
+    fieldDiagonal(tangent_, 5, 2, 3, dm, -1.0);
+    const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
+    stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * std::sqrt(3.0 / 2.0)) : 1.0;
+    // C = J_tau,u on its own (6/25 of J's entries; the tau rows of J hold 15/25).
+    if (couplingBlock_.numRows == 0) {
+      couplingBlock_ = expandGraph<Memory>(graph_, 3, 2);
+      precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", 5 * nn);
+    }
+    scatter<double>(ConstVec(precDiag_), 5, 0, 2, precDiag5_, true);
+    extractFieldBlock(tangent_, 5, 2, 3, 0, 2, couplingBlock_, 1.0);
+  }
+  const double scale = stressRowScale_;
+  const auto work = [](const char *label, std::size_t n) {
+    return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+  };
+  // Work vectors, each fully written before it is read.
+  Vec masked = work("mixcon::nonlinear::masked5", 5 * nn),
+      r2 = work("mixcon::nonlinear::r2", 2 * nn), y2 = work("mixcon::nonlinear::y2", 2 * nn),
+      w = work("mixcon::nonlinear::w", 3 * nn), t = work("mixcon::nonlinear::t", 3 * nn),
+      z = work("mixcon::nonlinear::z", 3 * nn);
+  const auto flags = Kokkos::View<const int *, Memory>(constrained5_);
+  const auto flags2 = Kokkos::View<const int *, Memory>(isConstrained_);
+  const auto diag = ConstVec(precDiag5_);
+  // y = D (P J P + D_c) v, D scaling the stress rows.
+  const LinearMap op = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    maskConstrained(Exec(), flags, v, masked);
+    multiply(Exec(), tangent_, ConstVec(masked), y);
+    finishConstrained(Exec(), flags, diag, v, y);
+    scaleField(y, 5, 2, 3, scale);
+  };
+  long inner = 0;
+  const double precTol = mixedOptions_.preconditionerTolerance;
+  // y = P^-1 D^-1 r: y_u = S~^-1 r_u, y_tau = M~^-1 (C P y_u - r_tau / s).
+  const LinearMap prec = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    gather(r, 5, 0, 2, r2);
+    solver_->precondition(r2, y2);
+    scatter<double>(y2, 5, 0, 2, y, true);
+    maskConstrained(Exec(), flags2, ConstVec(y2), r2);
+    multiply(Exec(), couplingBlock_, ConstVec(r2), w);
+    gather(r, 5, 2, 3, t, 1.0 / scale);
+    axpby(-1.0, t, 1.0, w);
+    inner += solveStressBlock(w, z, precTol);
+    scatter<double>(z, 5, 2, 3, y, false);
+  };
+  // b = D (P (-G - J g) + D_c g), g the remaining prescribed step.
+  Vec f = work("mixcon::nonlinear::negativeResidual", 5 * nn),
+      jg = work("mixcon::nonlinear::jg", 5 * nn), b = work("mixcon::nonlinear::rhs5", 5 * nn);
+  axpby(-1.0, g_, 0.0, f);
+  multiply(Exec(), tangent_, ConstVec(target_), jg);
+  constrainedRhs(Exec(), flags, diag, ConstVec(f), ConstVec(target_), ConstVec(jg), b);
+  scaleField(b, 5, 2, 3, scale);
+  KrylovOptions ko;
+  ko.method = KrylovMethod::Gmres;
+  ko.tolerance = linearOptions_.tolerance;
+  ko.maxIterations = linearOptions_.maxIterations;
+  ko.restart = mixedOptions_.restart;
+  Kokkos::deep_copy(dx_, 0.0);
+  const KrylovStats ks = krylovSolve(ko, op, prec, ConstVec(b), dx_, &outerWork_);
+  innerIterations_ = inner;
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.solveSeconds = seconds(start);
+  return s;
+}
+
+} // namespace mixcon

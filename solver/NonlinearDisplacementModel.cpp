@@ -1,0 +1,156 @@
+// The displacement model (solver/NonlinearDisplacementModel.hpp). Layer: solver.
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/NonlinearDisplacementModel.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+NonlinearDisplacementModel::~NonlinearDisplacementModel() = default;
+
+void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (law_ == ElasticLaw::SaintVenantKirchhoff && tangentKind_ == TangentKind::Report)
+    throw InputError("the report's tangent (K^L + K^sigma of the Almansi law) is not available "
+                     "with the St. Venant-Kirchhoff law; use the exact tangent");
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = buildNodeGraph(mesh_);
+  tangent_ = expandGraph<Memory>(graph_, 2);
+  map_ = elementScatterMap<Memory>(mesh_, graph_);
+  setStiffnessScale(graph_, map_);
+  constrained_ = CsrMatrix<Memory>{};
+  commitStaged();
+  follower_ = followerLoads();
+  const LocalIndex n = dofs_.numOwned();
+  g_ = Vec("mixcon::nonlinear::residual", n);
+  committed_ = Vec("mixcon::nonlinear::committed", n);
+  du_ = Vec("mixcon::nonlinear::correction", n);
+  rhs_ = Vec("mixcon::nonlinear::rhs", n);
+  target_ = Vec("mixcon::nonlinear::target", n);
+  diag_ = Vec("mixcon::nonlinear::diagonal", n);
+  Kokkos::deep_copy(committed_, u_);
+  linearOptions_ = options;
+  // The exact tangent of the Almansi law is not symmetric; the report's K^L + K^sigma is, but a
+  // follower pressure's load stiffness is not.
+  linearOptions_.symmetric = false;
+  solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
+  assemblySeconds_ = seconds(start);
+}
+
+std::string NonlinearDisplacementModel::solverName() const {
+  return solver_ ? solver_->name() : std::string("none");
+}
+
+void NonlinearDisplacementModel::setDisplacement(const std::vector<double> &u) { fromHost(u, u_); }
+
+double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::deep_copy(g_, 0.0);
+  if (tangent)
+    Kokkos::deep_copy(tangent_.values, 0.0);
+  const CsrMatrix<Memory> none;
+  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  LocalIndex inverted = -1;
+  double fint = 0.0;
+  const bool report = tangent && tangentKind_ == TangentKind::Report;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    if (small_) {
+      if (linearStiffness_.numRows == 0) {
+        linearStiffness_ = cloneValues(tangent_);
+        Kokkos::deep_copy(linearStiffness_.values, 0.0);
+        assembleLinearStiffness<Elem>(Exec(), data_, map_, linearStiffness_);
+      }
+      multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
+      if (tangent)
+        Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
+    } else {
+      inverted =
+          law_ == ElasticLaw::SaintVenantKirchhoff
+              ? assembleNonlinear<2, Elem>(
+                    Exec(), data_.mesh, SvkKernel<Elem, Memory>{data_, ConstVec(u_)}, map_, a, g_)
+              : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
+    }
+    if (report && !small_)
+      assembleReportTangent<Elem>();
+    fint = strideNorm(g_, 1, 0, 1, {}, 0);
+    addDisplacementVector(g_, 2, -lambda, load_);
+    if (follower_.edges.extent(0) > 0)
+      assembleFollowerPressure<2, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
+                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_,
+                                        a, g_);
+  });
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, 2, isConstrained_,
+                        data_.mesh.coordinates, u_, start);
+}
+
+template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
+  // K^L + K^sigma of Eq. (24)-(25) on the current configuration x = X + u, with tau the Cauchy
+  // stress of the Almansi law at the quadrature points.
+  ElementData<Memory> current = data_;
+  current.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
+  movedCoordinates(data_.mesh.coordinates, u_, 2, current.mesh.coordinates);
+  const LocalIndex ne = mesh_.numElements();
+  Kokkos::View<double **[3], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
+  Kokkos::View<double **[4], Memory> grad("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+  Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+  almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), tau, grad, xq);
+  assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
+  assembleGeometricStiffness<Elem>(
+      Exec(), current, GaussPointStressField<Memory>{Kokkos::View<const double **[3], Memory>(tau)},
+      map_, tangent_);
+}
+
+LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
+  const LinearSolveStats s =
+      contact_ && contact_->constrains()
+          ? correctWithContact(lambda, 2, tangent_, constrained_, isConstrained_, g_, rhs_, target_,
+                               *solver_, du_)
+          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
+             constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, constrained_,
+                              isConstrained_, g_, target_, rhs_, diag_, *solver_, du_,
+                              solverSetupSeconds_));
+  fresh_ = false;
+  axpby(1.0, du_, 1.0, u_);
+  increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  return s;
+}
+
+void NonlinearDisplacementModel::commit() { Kokkos::deep_copy(committed_, u_); }
+void NonlinearDisplacementModel::rollback() { Kokkos::deep_copy(u_, committed_); }
+
+void NonlinearDisplacementModel::saveCommitted(Checkpoint &state) const {
+  state.putScalar("model/formulation", 0.0);
+  state.put("model/displacement", toHost(committed_));
+}
+
+void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
+  detail::checkFormulation(state, 0.0);
+  fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
+  rollback();
+}
+
+std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
+  Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    if (small_)
+      recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_}, s);
+    else
+      recoverNodalStress<Elem>(Exec(), data_.mesh,
+                               AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
+  });
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
+  return std::vector<double>(h.data(), h.data() + h.size());
+}
+
+std::vector<double> NonlinearDisplacementModel::reactionHost(double) const { return toHost(g_); }
+
+} // namespace mixcon

@@ -1,0 +1,305 @@
+// The mixed model (solver/NonlinearMixedModel.hpp): setup, evaluation, correction, stress
+// update, commit and roll back; the iterative solves of its Jacobian are in
+// solver/MixedNewtonSolvers.cpp. Layer: solver.
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/MixedModel.hpp>
+#include <solver/NonlinearMixedModel.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                                         const std::vector<PlaneMatrix> &stiffness,
+                                         double thickness)
+    : NonlinearModel(mesh, elementMaterial, stiffness, thickness) {
+  checkMixedPairing(mesh.elementType, mesh.elementType);
+  reference_ = withCompliance(data_, stiffness);
+  for (const auto &c : stiffness)
+    for (int i = 0; i < 3; ++i)
+      maxModulus_ = std::max(maxModulus_, std::abs(c.m[i][i]));
+  current_ = reference_;
+  current_.mesh.coordinates =
+      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::configuration", mesh.numNodes());
+  Kokkos::deep_copy(current_.mesh.coordinates, data_.mesh.coordinates);
+  const LocalIndex nn = mesh.numNodes();
+  tau_ = Vec("mixcon::nonlinear::cauchyStress", 3 * nn);
+  x_ = Vec("mixcon::nonlinear::increment", 5 * nn);
+}
+
+NonlinearMixedModel::~NonlinearMixedModel() = default;
+
+void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (contact_ && options.type != LinearSolverType::Direct)
+    throw InputError("contact with the mixed model needs solver: {type: direct} in this version");
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = buildNodeGraph(mesh_);
+  tangent_ = expandGraph<Memory>(graph_, 5);
+  map_ = elementScatterMap<Memory>(mesh_, graph_);
+  setStiffnessScale(graph_, map_);
+  commitStaged();
+  follower_ = followerLoads();
+  const LocalIndex nn = mesh_.numNodes();
+  g_ = Vec("mixcon::nonlinear::residual", 5 * nn);
+  committed_ = Vec("mixcon::nonlinear::committed", 2 * nn);
+  dx_ = Vec("mixcon::nonlinear::correction", 5 * nn);
+  rhs_ = Vec("mixcon::nonlinear::rhs", 5 * nn);
+  target_ = Vec("mixcon::nonlinear::target", 5 * nn);
+  diag_ = Vec("mixcon::nonlinear::diagonal", 5 * nn);
+  work_ = CsrMatrix<Memory>{};
+  constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", 5 * nn);
+  scatter<int>(isConstrained_, 5, 0, 2, constrained5_, true);
+  Kokkos::deep_copy(committed_, u_);
+  committedState_ = Vec("mixcon::nonlinear::committedState", 5 * nn);
+  Kokkos::deep_copy(committedState_, x_);
+  linearOptions_ = options;
+  if (options.type == LinearSolverType::Direct) {
+    linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
+    solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
+  } else {
+    // Schur complement on the displacements, BoomerAMG on K^L of the current configuration.
+    precMatrix_ = expandGraph<Memory>(graph_, 2);
+    precDiag_ = Vec("mixcon::nonlinear::precDiagonal", 2 * nn);
+    stressBlock_ = expandGraph<Memory>(graph_, 3);
+    stressBlockInverse_ = Kokkos::View<double *[9], Memory>("mixcon::nonlinear::blockInverse", nn);
+    LinearSolverOptions amg = options;
+    amg.symmetric = true;
+    solver_ = makeLinearSolver(amg, dofs_, comm);
+  }
+  assemblySeconds_ = seconds(start);
+}
+
+std::string NonlinearMixedModel::solverName() const {
+  std::ostringstream o;
+  o << "mixed " << (form_ == MixedForm::Current ? "current-configuration" : "incremental")
+    << " form, a = " << stabilization_ << ", ";
+  if (linearOptions_.type == LinearSolverType::Direct)
+    o << (solver_ ? solver_->name() : std::string("none"));
+  else if (mixedOptions_.method == MixedNewtonSolver::Schur)
+    o << "flexible GMRES on the Schur complement (inner block-Jacobi CG on the stress block), one "
+         "BoomerAMG V-cycle on K^L of the current configuration";
+  else
+    o << "flexible GMRES(" << mixedOptions_.restart
+      << ") on the Jacobian, block-triangular preconditioner: one BoomerAMG V-cycle on K^L of the "
+         "current configuration, block-Jacobi CG on the stress block to "
+      << mixedOptions_.preconditionerTolerance;
+  return o.str();
+}
+
+void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) { fromHost(tau, tau_); }
+
+void NonlinearMixedModel::setIncrement(const std::vector<double> &x) {
+  fromHost(x, x_);
+  updateTotalDisplacement();
+}
+
+void NonlinearMixedModel::updateTotalDisplacement() {
+  gather(x_, 5, 0, 2, u_);
+  if (form_ == MixedForm::Incremental && committed_.extent(0) == u_.extent(0))
+    axpby(1.0, committed_, 1.0, u_);
+}
+
+double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::deep_copy(g_, 0.0);
+  if (tangent)
+    Kokkos::deep_copy(tangent_.values, 0.0);
+  const CsrMatrix<Memory> none;
+  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  LocalIndex inverted = -1;
+  double fint = 0.0;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const bool current = form_ == MixedForm::Current;
+    if (current)
+      inverted =
+          assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_, map_, a, g_);
+    else
+      inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
+                                              stabilization_, map_, a, g_);
+    fint = strideNorm(g_, 5, 0, 2, {}, 0);
+    addDisplacementVector(g_, 5, -lambda, load_);
+    if (follower_.edges.extent(0) > 0)
+      assembleFollowerPressure<5, Elem>(Exec(), current ? reference_.mesh : current_.mesh,
+                                        ConstVec(x_), follower_.edges, ConstVec(follower_.pressure),
+                                        lambda, data_.thickness, map_, a, g_);
+  });
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, 5, constrained5_,
+                        form_ == MixedForm::Current ? reference_.mesh.coordinates
+                                                    : current_.mesh.coordinates,
+                        x_, start);
+}
+
+LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
+  prescribedStep(constrained5_, prescribed_, u_, lambda, 5, target_);
+  const LinearSolveStats s =
+      contact_ && contact_->constrains()
+          ? correctWithContact(lambda, 5, tangent_, work_, constrained5_, g_, rhs_, target_,
+                               *solver_, dx_)
+      : linearOptions_.type == LinearSolverType::Direct
+          ? constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, work_,
+                             constrained5_, g_, target_, rhs_, diag_, *solver_, dx_,
+                             solverSetupSeconds_)
+      : mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur()
+                                                         : solveBlockTriangular();
+  fresh_ = false;
+  axpby(1.0, dx_, 1.0, x_);
+  updateTotalDisplacement();
+  const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
+  const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
+  const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0),
+                             std::max(strideNorm(stressOnly(), 1, 0, 1, {}, 0), stressFloor));
+  increment = std::max(du, ds);
+  return s;
+}
+
+void NonlinearMixedModel::commit() {
+  if (form_ == MixedForm::Current) {
+    Kokkos::deep_copy(committedState_, x_);
+    return;
+  }
+  Vec load;
+  if (stressUpdate_ == StressUpdate::Projected) {
+    load = Vec("mixcon::nonlinear::projectionLoad", tau_.extent(0));
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      pushForwardProjectionLoad<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), load);
+    });
+  } else {
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
+    });
+  }
+  movedCoordinates(current_.mesh.coordinates, x_, 5, current_.mesh.coordinates);
+  Vec increment("mixcon::nonlinear::increment", committed_.extent(0));
+  gather(x_, 5, 0, 2, increment);
+  axpby(1.0, increment, 1.0, committed_);
+  Kokkos::deep_copy(x_, 0.0);
+  updateTotalDisplacement();
+  if (stressUpdate_ == StressUpdate::Projected)
+    projectStress(load);
+}
+
+void NonlinearMixedModel::projectStress(const Vec &load) {
+  // Scalar consistent mass of the new configuration; CG with Jacobi per stress component.
+  if (mass_.numRows == 0)
+    mass_ = expandGraph<Memory>(graph_, 1);
+  Kokkos::deep_copy(mass_.values, 0.0);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
+  });
+  const LocalIndex nn = mesh_.numNodes();
+  Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
+      t("mixcon::nonlinear::projected", nn);
+  fieldDiagonal(mass_, 1, 0, 1, diag, 1.0);
+  const LinearMap apply = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    multiply(Exec(), mass_, x, y);
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    divide(x, diag, y);
+  };
+  KrylovOptions o;
+  o.tolerance = 1e-13;
+  o.maxIterations = 500;
+  for (int c = 0; c < 3; ++c) {
+    gather(load, 3, c, 1, b);
+    gather(tau_, 3, c, 1, t); // the previous stress as the initial guess
+    const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
+    if (!s.converged)
+      throw std::runtime_error("mixed stress update: the mass projection did not converge");
+    scatter<double>(t, 3, c, 1, tau_, false);
+  }
+}
+
+void NonlinearMixedModel::rollback() {
+  if (form_ == MixedForm::Current)
+    Kokkos::deep_copy(x_, committedState_);
+  else
+    Kokkos::deep_copy(x_, 0.0);
+  updateTotalDisplacement();
+}
+
+// Form Current: the committed unknowns (total displacement and nodal Cauchy stress). Form
+// Incremental: the total displacement, the stress tau and the configuration c1 carried from
+// increment to increment (c1 is saved itself: X + u differs from it by rounding).
+void NonlinearMixedModel::saveCommitted(Checkpoint &state) const {
+  if (form_ == MixedForm::Current) {
+    state.putScalar("model/formulation", 1.0);
+    state.put("model/unknowns", toHost(committedState_));
+    return;
+  }
+  state.putScalar("model/formulation", 2.0);
+  state.put("model/displacement", toHost(committed_));
+  state.put("model/stress", toHost(tau_));
+  const auto c =
+      Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), current_.mesh.coordinates);
+  std::vector<double> rows(2 * c.extent(0)); // node by node, whatever the view's layout
+  for (std::size_t i = 0; i < c.extent(0); ++i)
+    for (int d = 0; d < 2; ++d)
+      rows[2 * i + d] = c(i, d);
+  state.put("model/configuration", std::move(rows));
+}
+
+void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
+  if (form_ == MixedForm::Current) {
+    detail::checkFormulation(state, 1.0);
+    fromHost(state.get("model/unknowns", committedState_.extent(0)), committedState_);
+  } else {
+    detail::checkFormulation(state, 2.0);
+    fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
+    fromHost(state.get("model/stress", tau_.extent(0)), tau_);
+    const auto &rows = state.get("model/configuration", current_.mesh.coordinates.size());
+    auto c = Kokkos::create_mirror_view(current_.mesh.coordinates);
+    for (std::size_t i = 0; i < c.extent(0); ++i)
+      for (int d = 0; d < 2; ++d)
+        c(i, d) = rows[2 * i + d];
+    Kokkos::deep_copy(current_.mesh.coordinates, c);
+  }
+  rollback();
+}
+
+std::vector<double> NonlinearMixedModel::nodalStressHost() const { return toHost(stressOnly()); }
+
+std::vector<double> NonlinearMixedModel::reactionHost(double) const {
+  const auto g = toHost(g_);
+  std::vector<double> r(2 * (g.size() / 5));
+  for (std::size_t k = 0; k < r.size() / 2; ++k)
+    for (int i = 0; i < 2; ++i)
+      r[2 * k + i] = g[5 * k + i];
+  return r;
+}
+
+Kokkos::View<double *, Memory> NonlinearMixedModel::stressOnly() const {
+  Vec t("mixcon::nonlinear::nodalStress", tau_.extent(0));
+  gather(x_, 5, 2, 3, t);
+  axpby(1.0, tau_, 1.0, t);
+  return t;
+}
+
+std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
+  std::vector<double> out;
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
+    interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
+    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    out.assign(h.data(), h.data() + h.size());
+  });
+  return out;
+}
+
+std::vector<double> NonlinearMixedModel::contactStressHost() const { return toHost(stressOnly()); }
+
+} // namespace mixcon

@@ -1,0 +1,146 @@
+// The mixed (Hellinger-Reissner) model of the report (Eq. (29)-(32) with (9), (5b)) as a
+// NonlinearModel: displacements and nodal stresses as unknowns, two forms (current, incremental),
+// direct or iterative (block-triangular / Schur GMRES, solver/MixedNewtonSolvers.cpp) solves of
+// its Jacobian. Layer: solver.
+#pragma once
+
+#include <kernels/MixedElasticity.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/NonlinearModel.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+/// How the mixed model turns tau + S into the Cauchy stress of the new configuration (Eq. (5b)).
+enum class StressUpdate {
+  /// L2 projection onto the nodal stress space of c2 of F (tau + S) F^T / J evaluated at the
+  /// quadrature points (default: consistent, no node-to-node error pattern accumulates).
+  Projected,
+  /// The report's literal form: F averaged over the elements at each node, tau <- F Sigma F^T / J
+  /// node by node. Its error pattern accumulates over increments (docs/theory.md).
+  NodalAverage
+};
+
+/// The two forms of the geometrically nonlinear mixed model (docs/theory.md).
+enum class MixedForm {
+  /// Default: unknowns the total displacement and the nodal Cauchy stress in the current
+  /// configuration; Almansi law imposed weakly (the displacement model's law), path independent.
+  Current,
+  /// The report's literal scheme: per increment from c1 the incremental 2nd Piola-Kirchhoff
+  /// stress with S = C E(u) (incremental St. Venant-Kirchhoff), pushed forward at convergence.
+  /// Hypoelastic: its stress is carried from increment to increment.
+  Incremental
+};
+
+/// The iterative solve of the mixed Jacobian J = [A B; C -M] (solver: amg).
+enum class MixedNewtonSolver {
+  /// Default: flexible GMRES on J, right preconditioned by the block lower-triangular
+  /// [S~ 0; C -M~] (one BoomerAMG V-cycle on K^L; a loose block-Jacobi CG on M).
+  BlockTriangular,
+  /// Flexible GMRES on the Schur complement A + B M^-1 C, each product with a tight inner CG on M.
+  Schur
+};
+
+struct MixedNewtonSolverOptions {
+  MixedNewtonSolver method = MixedNewtonSolver::BlockTriangular;
+  /// BlockTriangular: relative tolerance of the CG on M inside the preconditioner (1e-2: 4-5
+  /// CG iterations; 1e-1 and 1e-3 measured slower, docs/performance.md).
+  double preconditionerTolerance = 1e-2;
+  /// BlockTriangular: GMRES restart (vectors of 5 unknowns per node: 2 x restart are stored).
+  int restart = 30;
+};
+
+/// The mixed model (Eq. (29)-(32) with (9), (5b)): per increment from the last converged
+/// configuration c1 with nodal Cauchy stress tau, unknowns the displacement increment u and the
+/// incremental 2nd Piola-Kirchhoff stress S (5 per node, interleaved u, v, Sxx, Syy, Sxy); at
+/// convergence tau <- F (tau + S) F^T / J at the nodes (see StressUpdate) and c1 <- c1 + u.
+class NonlinearMixedModel final : public NonlinearModel {
+public:
+  NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                      const std::vector<PlaneMatrix> &stiffness, double thickness);
+  ~NonlinearMixedModel() override;
+
+  /// solver: direct — sparse LU of the 5-per-node Jacobian; amg — see MixedNewtonSolver (both
+  /// use one BoomerAMG V-cycle on K^L of the current configuration and a block-Jacobi CG on the
+  /// stress block M).
+  void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  /// Which iterative solve (solver: amg); call before the first correction.
+  void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
+  /// Inner CG iterations on the stress block in the last correction (solver: amg).
+  long innerIterations() const { return innerIterations_; }
+  double evaluate(double lambda, bool tangent) override;
+  LinearSolveStats correct(double lambda, double &increment) override;
+  void commit() override;
+  void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
+  void setStressUpdate(StressUpdate u) { stressUpdate_ = u; }
+  /// Call before setup().
+  void setForm(MixedForm f) { form_ = f; }
+  MixedForm form() const { return form_; }
+  /// Stabilization a in [0, 1) (0: the report's model; see mixedIncrementElement).
+  void setStabilization(double a) { stabilization_ = a; }
+
+  std::string solverName() const override;
+  std::vector<double> nodalStressHost() const override; ///< tau (+ S during an increment)
+  std::vector<double> reactionHost(double loadFactor) const override;
+  std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  int unknownsPerNode() const override { return 5; }
+  /// With contact (solver: direct), stick, slip and release are decided from the nodal
+  /// stresses rotated to the contact surface, as in the report.
+  std::vector<double> contactStressHost() const override;
+  /// Nodal stresses interpolated at the quadrature points (the report's way to get Cauchy stress
+  /// in the mixed model), (E * nq) x 3.
+  std::vector<double> interpolatedGaussStressHost() const;
+
+  /// Test access: prestress tau (form Incremental), the unknowns x (5 per node: the increment
+  /// for Incremental, the total state for Current), the last Jacobian and residual.
+  void setPrestress(const std::vector<double> &tau);
+  void setIncrement(const std::vector<double> &x);
+  const CsrMatrix<Memory> &tangent() const { return tangent_; }
+  Kokkos::View<const double *, Memory> residual() const { return g_; }
+  Kokkos::View<const double *, Memory> prestress() const { return tau_; }
+
+private:
+  void updateTotalDisplacement();
+  /// Nodal Cauchy stress tau + S (3 per node).
+  Kokkos::View<double *, Memory> stressOnly() const;
+  /// tau <- M(c2)^-1 load, component by component (the L2 projection of the stress update).
+  void projectStress(const Kokkos::View<double *, Memory> &load);
+  void setupSchurPreconditioner();
+  LinearSolveStats solveSchur();
+  LinearSolveStats solveBlockTriangular();
+  MixedNewtonSolverOptions mixedOptions_;
+  double stressRowScale_ = 1.0;              ///< s of solveBlockTriangular
+  Kokkos::View<double *, Memory> precDiag5_; ///< D_c on 5 unknowns per node
+  CsrMatrix<Memory> couplingBlock_;          ///< C = J_tau,u (solveBlockTriangular)
+  KrylovWorkspace stressWork_, outerWork_;   ///< kept between solves (solver: amg)
+  /// z = M^-1 w on the stress block of the Jacobian (nodal block-Jacobi CG); returns the CG
+  /// iterations.
+  long solveStressBlock(const Kokkos::View<const double *, Memory> &w,
+                        const Kokkos::View<double *, Memory> &z, double tolerance);
+  CsrMatrix<Memory> precMatrix_;
+  Kokkos::View<double *, Memory> precDiag_;
+  CsrMatrix<Memory> stressBlock_;                        ///< M = -J_tau,tau (solver: amg)
+  Kokkos::View<double *[9], Memory> stressBlockInverse_; ///< its 3 x 3 nodal inverses
+  long innerIterations_ = 0;
+  MixedElementData<Memory> reference_; ///< reference geometry (form Current)
+  MixedElementData<Memory> current_;   ///< c1: last converged configuration (form Incremental)
+  MixedForm form_ = MixedForm::Current;
+  Kokkos::View<double *, Memory> committedState_; ///< x at the last commit (form Current)
+  NodeGraph graph_;
+  Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
+  CsrMatrix<Memory> tangent_, work_, mass_;
+  Kokkos::View<double *, Memory> tau_, x_, g_, committed_, dx_, rhs_, target_, diag_;
+  StressUpdate stressUpdate_ = StressUpdate::Projected;
+  double stabilization_ = 0.0;
+  double maxModulus_ = 0.0; ///< largest diagonal entry of the materials' [C]
+  Kokkos::View<int *, Memory> constrained5_;
+  FollowerLoads follower_;
+  std::unique_ptr<LinearSolver> solver_;
+};
+
+} // namespace mixcon

@@ -1,0 +1,197 @@
+// The nonlinear-problem interface's shared parts (solver/NonlinearModel.hpp): follower loads,
+// the common end of an evaluation (contact, relative residual), the contact correction, and
+// quadrature-point output. Layer: solver.
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Krylov.hpp>
+#include <solver/LoadStepper.hpp>
+#include <solver/NonlinearModel.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+const char *iterationMethodName(IterationMethod m) {
+  switch (m) {
+  case IterationMethod::ModifiedNewton:
+    return "modified_newton";
+  case IterationMethod::None:
+    return "none";
+  case IterationMethod::Newton:
+  default:
+    return "newton";
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// NonlinearModel
+
+void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure) {
+  for (const auto &e : edges) {
+    followerEdges_.push_back(e);
+    followerPressure_.push_back(pressure);
+  }
+}
+
+NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
+  FollowerLoads f{Kokkos::View<LocalIndex *[2], Memory>("mixcon::nonlinear::followerEdges",
+                                                        followerEdges_.size()),
+                  Kokkos::View<double *, Memory>("mixcon::nonlinear::followerPressure",
+                                                 followerPressure_.size())};
+  auto he = Kokkos::create_mirror_view(f.edges);
+  auto hp = Kokkos::create_mirror_view(f.pressure);
+  for (std::size_t k = 0; k < followerEdges_.size(); ++k) {
+    he(k, 0) = followerEdges_[k].element;
+    he(k, 1) = followerEdges_[k].edge;
+    hp(k) = followerPressure_[k];
+  }
+  Kokkos::deep_copy(f.edges, he);
+  Kokkos::deep_copy(f.pressure, hp);
+  return f;
+}
+
+double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
+                                      const Kokkos::View<double *, Memory> &g, int stride,
+                                      const Kokkos::View<const int *, Memory> &flags,
+                                      const Kokkos::View<double *[2], Memory> &coordinates,
+                                      const Kokkos::View<const double *, Memory> &x,
+                                      std::chrono::steady_clock::time_point start) {
+  // Contact detection at the positions coordinates + x, the friction forces of slip nodes (on
+  // the body), and the relative residual over the free displacement unknowns.
+  double free = 0.0;
+  if (contact_) {
+    contact_->locate(Kokkos::View<const double *[2], Memory>(coordinates), x, stride, flags);
+    contact_->subtractForces(g, stride);
+    free = contact_->freeResidualNorm(g, flags, stride);
+  } else {
+    free = strideNorm(g, stride, 0, 2, flags, 0);
+  }
+  double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  if (contact_)
+    fext = contact_->externalForceNorm(fext);
+  const double r =
+      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
+  fresh_ = tangent;
+  assemblySeconds_ += seconds(start);
+  invertedElement_ = inverted;
+  return inverted >= 0 ? std::numeric_limits<double>::infinity() : r;
+}
+
+void NonlinearModel::setStiffnessScale(
+    const NodeGraph &graph, const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map) {
+  // RMS diagonal of K^L on the reference configuration, on the model's own pattern: the force a
+  // unit displacement of one node produces.
+  auto k = expandGraph<Memory>(graph, 2);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
+  });
+  Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
+  fieldDiagonal(k, 1, 0, 1, d, 1.0);
+  stiffnessScale_ = strideNorm(d, 1, 0, 1, {}, 0) / std::sqrt(std::max<double>(1.0, k.numRows));
+}
+
+double NonlinearModel::forceFloor(double displacementNorm) const {
+  // 1e-8 of the stiffness scale times ||u|| is round-off level for internal forces: the
+  // reference left when a motion is (nearly) rigid and no force acts.
+  return 1e-8 * stiffnessScale_ * displacementNorm;
+}
+
+std::string NonlinearModel::invertedElementMessage() const {
+  if (invertedElement_ < 0)
+    return "no element is inverted";
+  return "element " + std::to_string(mesh_.elementId(invertedElement_)) +
+         " is inverted (non-positive Jacobian in the deformed configuration)";
+}
+
+LinearSolveStats NonlinearModel::solve(double loadFactor) {
+  LoadStepper stepper(*this, NonlinearOptions{});
+  const IncrementOutcome o = stepper.advance(loadFactor);
+  LinearSolveStats s;
+  s.converged = o.converged;
+  s.iterations = o.linearIterations;
+  s.relativeResidual = o.history.empty() ? o.initialResidual : o.history.back().residual;
+  s.solveSeconds = o.solveSeconds;
+  return s;
+}
+
+void NonlinearModel::gaussPointStressHost(std::vector<double> &coordinates,
+                                          std::vector<double> &stress,
+                                          int &pointsPerElement) const {
+  std::vector<double> gradient, current;
+  gaussPointFieldsHost(coordinates, stress, pointsPerElement, gradient, current);
+}
+
+void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
+                                          std::vector<double> &stress, int &pointsPerElement,
+                                          std::vector<double> &gradient,
+                                          std::vector<double> &currentCoordinates) const {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    const LocalIndex ne = mesh_.numElements();
+    Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);
+    Kokkos::View<double **[2], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
+    Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
+    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
+    if (small_) // linear law on the reference configuration
+      gaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq);
+    const auto assign = [](std::vector<double> &out, const auto &view) {
+      auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+      out.assign(h.data(), h.data() + h.size());
+    };
+    pointsPerElement = Elem::kNumQp;
+    assign(coordinates, xq);
+    assign(stress, sq);
+    assign(gradient, gq);
+    assign(currentCoordinates, xc);
+  });
+}
+
+LinearSolveStats NonlinearModel::correctWithContact(
+    double lambda, int stride, const CsrMatrix<Memory> &tangent, CsrMatrix<Memory> &work,
+    const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
+    const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+    LinearSolver &solver, const Kokkos::View<double *, Memory> &dx) {
+  ContactCorrection system;
+  system.lambda = lambda;
+  system.stride = stride;
+  system.tangent = &tangent;
+  system.work = &work;
+  system.flags = flags;
+  system.g = g;
+  system.prescribed = prescribed_;
+  system.displacement = u_;
+  system.rhs = rhs;
+  system.target = target;
+  system.solver = &solver;
+  system.stiffnessScale = stiffnessScale_;
+  system.setupSeconds = &solverSetupSeconds_;
+  return contact_->correct(system, dx);
+}
+
+namespace detail {
+/// Refuses a saved state of another formulation (0 displacement, 1 and 2 the mixed model's
+/// forms Current and Incremental), naming both.
+void checkFormulation(const Checkpoint &state, double expected) {
+  const auto name = [](double f) -> std::string {
+    return f == 0.0   ? "the displacement model"
+           : f == 1.0 ? "the mixed model (form current)"
+           : f == 2.0 ? "the mixed model (form incremental)"
+                      : "an unknown formulation";
+  };
+  const double saved = state.getScalar("model/formulation");
+  if (saved != expected)
+    throw std::runtime_error("the saved state is of " + name(saved) + ", this problem uses " +
+                             name(expected));
+}
+} // namespace detail
+
+} // namespace mixcon

@@ -1,0 +1,151 @@
+// Geometrically nonlinear (updated-Lagrangian) analysis, the problem interface: a model that
+// evaluates its residual G (internal minus external force) and tangent at the current iterate,
+// corrects, commits or rolls back (solver/LoadStepper.hpp drives it through the load factors;
+// the two models of the report are solver/NonlinearDisplacementModel.hpp and
+// solver/NonlinearMixedModel.hpp). Prescribed displacements and loads scale with the load factor;
+// follower pressures act normal to the deformed boundary; contact enters through one
+// ContactIterations (solver/ContactIterations.hpp). Theory: docs/theory.md. Layer: solver.
+#pragma once
+
+#include <solver/Checkpoint.hpp>
+#include <solver/ContactIterations.hpp>
+#include <solver/ModelBase.hpp>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+enum class IterationMethod { Newton, ModifiedNewton, None };
+
+/// "newton" | "modified_newton" | "none".
+const char *iterationMethodName(IterationMethod m);
+
+struct NonlinearOptions {
+  IterationMethod method = IterationMethod::Newton;
+  /// epsilon: ||delta u|| / ||u|| (mixed: also ||delta S|| / ||tau + S||), the report's measure.
+  double tolerance = 1e-3;
+  /// ||G|| / max(||internal force||, ||external force||) over the free displacement unknowns.
+  double residualTolerance = 1e-6;
+  int maxIterations = 30;
+  /// Halvings of a failed increment before the analysis stops.
+  int maxCuts = 8;
+  /// Contact status updates (each followed by equilibrium iterations) per increment.
+  int maxContactIterations = 30;
+};
+
+/// A geometrically nonlinear model: iterate (evaluate, correct), then commit or roll back.
+/// Host-side interface (virtual, never called on the device).
+class NonlinearModel : public ModelBase {
+public:
+  using ModelBase::ModelBase;
+
+  /// A follower pressure p (reference value, scaled by the load factor; positive pushes into the
+  /// body) on the current, deformed position of `edges`.
+  void addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure);
+
+  /// Builds the sparsity pattern and the linear solver. Call after loads and constraints.
+  virtual void setup(const LinearSolverOptions &options, MPI_Comm comm) = 0;
+  /// Residual G (internal minus external force) at the current iterate for load factor lambda,
+  /// and the tangent when `tangent`. Returns ||G|| / max(||f_int||, ||f_ext||) over the free
+  /// displacement unknowns; infinity when an element is inverted.
+  virtual double evaluate(double lambda, bool tangent) = 0;
+  /// Solves the last tangent for the correction (prescribed values reach lambda g), applies it,
+  /// and returns the solver statistics; `increment` receives the relative increment norm.
+  virtual LinearSolveStats correct(double lambda, double &increment) = 0;
+  /// Accepts the current state as converged (configuration and stress update).
+  virtual void commit() = 0;
+  /// Returns to the last committed state.
+  virtual void rollback() = 0;
+  /// The committed state (what commit() accepted) into `state` under "model/..." names;
+  /// restoreCommitted makes a saved state the committed and the current one (call after
+  /// setup()), so that a restarted run continues as the uninterrupted one would. Throws
+  /// std::runtime_error when `state` does not fit this model (another mesh or formulation).
+  virtual void saveCommitted(Checkpoint &state) const = 0;
+  virtual void restoreCommitted(const Checkpoint &state) = 0;
+
+  /// The contact enforcement (not owned; nullptr: none): rigid obstacles or elastic-elastic
+  /// node-to-segment contact (contact/), one per model in this version; the mixed model needs
+  /// solver: direct with contact. The models ask it for detection, contact forces and the
+  /// constrained corrections; the load stepper for its status iterations.
+  void setContact(ContactIterations *contact) { contact_ = contact; }
+  ContactIterations *contactIterations() const { return contact_; }
+  /// Host copy of the last residual G = f_int - f_ext (unknowns per node as the model's, the
+  /// displacements first) and that count per node.
+  virtual std::vector<double> residualVectorHost() const = 0;
+  virtual int unknownsPerNode() const = 0;
+  /// Nodal Cauchy stresses (3 per node) that decide stick, slip and release, or empty when the
+  /// contact forces decide (displacement model).
+  virtual std::vector<double> contactStressHost() const { return {}; }
+  /// True when the residual is linear in the unknowns (small displacements, dead loads): an
+  /// increment has then converged once the residual criterion holds, whatever |du|/|u|.
+  virtual bool linearResponse() const { return false; }
+
+  /// One increment from the committed state straight to lambda with default NonlinearOptions.
+  LinearSolveStats solve(double loadFactor) override;
+  double assemblySeconds() const override { return assemblySeconds_; }
+  double solverSetupSeconds() const override { return solverSetupSeconds_; }
+  /// The first element found inverted by the last evaluate() (-1: none), and a message naming it
+  /// by its mesh id.
+  LocalIndex invertedElement() const { return invertedElement_; }
+  std::string invertedElementMessage() const;
+
+  /// Quadrature-point output of the current state, in one kernel pass: coordinates (reference),
+  /// the Cauchy stress of the Almansi law from the displacements, the spatial displacement
+  /// gradient du/dx (4 per point), and the current coordinates.
+  void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
+                            int &pointsPerElement) const override;
+  void gaussPointFieldsHost(std::vector<double> &coordinates, std::vector<double> &stress,
+                            int &pointsPerElement, std::vector<double> &gradient,
+                            std::vector<double> &currentCoordinates) const;
+
+protected:
+  struct FollowerLoads {
+    Kokkos::View<LocalIndex *[2], Memory> edges;
+    Kokkos::View<double *, Memory> pressure;
+  };
+  /// Device copy of the staged follower pressures (empty views when none).
+  FollowerLoads followerLoads() const;
+  LinearSolverOptions linearOptions_;
+  double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
+  /// The correction `dx` with the contact constraints enforced (contact_ constrains()).
+  LinearSolveStats correctWithContact(
+      double lambda, int stride, const CsrMatrix<Memory> &tangent, CsrMatrix<Memory> &work,
+      const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
+      const Kokkos::View<double *, Memory> &rhs, const Kokkos::View<double *, Memory> &target,
+      LinearSolver &solver, const Kokkos::View<double *, Memory> &dx);
+  /// The common end of evaluate(): contact detection at coordinates + x (`stride` unknowns per
+  /// node), friction forces, and the relative residual of g over the free displacement unknowns
+  /// (reference max(f_int, f_ext, force floor)); infinity when an element is inverted.
+  double finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
+                        const Kokkos::View<double *, Memory> &g, int stride,
+                        const Kokkos::View<const int *, Memory> &flags,
+                        const Kokkos::View<double *[2], Memory> &coordinates,
+                        const Kokkos::View<const double *, Memory> &x,
+                        std::chrono::steady_clock::time_point start);
+  /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
+  /// rigid motions under no load).
+  double forceFloor(double displacementNorm) const;
+  /// Sets the stiffness scale of forceFloor from K^L assembled on the model's node graph.
+  void setStiffnessScale(const NodeGraph &graph,
+                         const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map);
+  double stiffnessScale_ = 0.0;
+  bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
+  LocalIndex invertedElement_ = -1;
+  ContactIterations *contact_ = nullptr;
+  ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
+  bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
+
+private:
+  std::vector<BoundaryEdge> followerEdges_;
+  std::vector<double> followerPressure_;
+};
+
+namespace detail {
+/// Refuses a saved state of another formulation (0 displacement, 1 and 2 the mixed model's forms
+/// Current and Incremental), naming both (std::runtime_error).
+void checkFormulation(const Checkpoint &state, double expected);
+} // namespace detail
+
+} // namespace mixcon
