@@ -1,10 +1,14 @@
 // Element types as compile-time traits: shape functions, natural-coordinate derivatives,
 // quadrature rules and edge topology for the 2D isoparametric quadrilaterals of the report.
-// Everything here is device-callable and allocation free. Layer: core, the bottom one (mesh,
-// kernels and everything above include it).
+// Everything here is device-callable and allocation free, except dispatchElement (host). Layer:
+// core, the bottom one (mesh, kernels and everything above include it).
 #pragma once
 
 #include <core/Compat.hpp>
+#include <core/Tensor.hpp>
+
+#include <stdexcept>
+#include <string>
 
 namespace mixcon {
 
@@ -33,6 +37,7 @@ KOKKOS_INLINE_FUNCTION double cornerEta(int a) { return (a < 2) ? -1.0 : 1.0; }
 struct Quad4 {
   static constexpr ElementType kType = ElementType::Quad4;
   static constexpr int kDim = 2;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
   static constexpr int kNumNodes = 4;
   static constexpr int kGaussOrder = 2;
   static constexpr int kNumQp = 4;
@@ -71,6 +76,7 @@ struct Quad4 {
 struct Quad8 {
   static constexpr ElementType kType = ElementType::Quad8;
   static constexpr int kDim = 2;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
   static constexpr int kNumNodes = 8;
   static constexpr int kGaussOrder = 3;
   static constexpr int kNumQp = 9;
@@ -154,6 +160,7 @@ template <class Elem>
 KOKKOS_INLINE_FUNCTION double physicalGradients(const double (&xe)[Elem::kNumNodes][2],
                                                 const double (&dn)[Elem::kNumNodes][2],
                                                 double (&dndx)[Elem::kNumNodes][2]) {
+  static_assert(Elem::kDim == 2, "physicalGradients is the 2D map (2x2 Jacobian)");
   double j00 = 0, j01 = 0, j10 = 0, j11 = 0;
   for (int a = 0; a < Elem::kNumNodes; ++a) {
     j00 += xe[a][0] * dn[a][0];
@@ -172,15 +179,20 @@ KOKKOS_INLINE_FUNCTION double physicalGradients(const double (&xe)[Elem::kNumNod
   return det;
 }
 
+/// Field layout (unknowns per node, field offsets) of an element's dimension.
+template <class Elem> using LayoutOf = typename Elem::Layout;
+
 /// Calls f(ElemTraits{}) with the traits matching a runtime element type (host-side dispatch).
+/// Throws std::invalid_argument for a value that names no element type (never falls back).
 template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
   switch (type) {
+  case ElementType::Quad4:
+    return f(Quad4{});
   case ElementType::Quad8:
     return f(Quad8{});
-  case ElementType::Quad4:
-  default:
-    return f(Quad4{});
   }
+  throw std::invalid_argument("dispatchElement: unknown ElementType value " +
+                              std::to_string(static_cast<int>(type)));
 }
 
 } // namespace mixcon

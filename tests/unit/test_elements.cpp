@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 using namespace mixcon;
@@ -146,6 +147,22 @@ const char *expectedDefaultSpace() {
 #endif
 }
 } // namespace
+
+TEST(ElementDispatch, ChoosesTheTraitsAndRefusesUnknownTypes) {
+  EXPECT_EQ(dispatchElement(ElementType::Quad4, [](auto e) { return decltype(e)::kNumNodes; }), 4);
+  EXPECT_EQ(dispatchElement(ElementType::Quad8, [](auto e) { return decltype(e)::kNumNodes; }), 8);
+  EXPECT_EQ(dispatchElement(ElementType::Quad8,
+                            [](auto e) { return LayoutOf<decltype(e)>::kMixedUnknowns; }),
+            5);
+  // A value outside the enumeration (e.g. a corrupted restart record) is an error, not a Quad4.
+  const auto unknown = static_cast<ElementType>(7);
+  try {
+    dispatchElement(unknown, [](auto e) { return decltype(e)::kNumNodes; });
+    FAIL() << "dispatchElement accepted an unknown element type";
+  } catch (const std::invalid_argument &e) {
+    EXPECT_NE(std::string(e.what()).find("7"), std::string::npos) << e.what();
+  }
+}
 
 TEST(Backend, RunsOnTheExpectedKokkosBackend) {
   const std::string actual = Kokkos::DefaultExecutionSpace::name();
