@@ -2,6 +2,7 @@
 // iterations, the linear solver and the mixed model's solve settings, the closed form a run is
 // checked against (io/ProblemReader.hpp). Data flow: io (input side).
 #include <io/ProblemReader.hpp>
+#include <solver/Rules.hpp>
 
 namespace mixcon::detail {
 
@@ -41,10 +42,8 @@ void readSteps(const YamlItem &top, Problem &p) {
                           "iterates with its exact Jacobian)");
       p.tangent = s["tangent"].choice({"exact", "report"}) == "report" ? TangentKind::Report
                                                                        : TangentKind::Exact;
-      if (p.tangent == TangentKind::Report &&
-          p.model.elasticLaw == ElasticLaw::SaintVenantKirchhoff)
-        s["tangent"].fail("tangent: report is the Almansi law's K^L + K^sigma; with elastic_law: "
-                          "saint_venant_kirchhoff use the exact tangent");
+      if (const auto why = rules::reportTangentLaw(p.tangent, p.model.elasticLaw))
+        s["tangent"].fail(*why);
     }
     if (s.has("tolerance"))
       n.tolerance = s["tolerance"].positive();
@@ -138,15 +137,18 @@ void readSolver(const YamlItem &top, Problem &p) {
     }
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();
-    // Counts: an iteration limit below 1 would "converge" without iterating.
+    // Counts of levels and elements: 0 or more.
     auto count = [&](const char *key, int least) {
       const int v = s[key].integer();
       if (v < least)
         s[key].fail("must be at least " + std::to_string(least));
       return v;
     };
-    if (s.has("max_iterations"))
-      p.solver.maxIterations = count("max_iterations", 1);
+    if (s.has("max_iterations")) {
+      p.solver.maxIterations = s["max_iterations"].integer();
+      if (const auto why = rules::iterationLimit(p.solver.maxIterations))
+        s["max_iterations"].fail(*why);
+    }
     if (s.has("strong_threshold")) {
       p.solver.strongThreshold = s["strong_threshold"].number();
       if (!(p.solver.strongThreshold >= 0.0 && p.solver.strongThreshold < 1.0))
@@ -162,9 +164,9 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
   }
 
-  if (!p.contact.empty() && p.model.formulation == Formulation::Mixed &&
-      p.solver.type != LinearSolverType::Direct)
-    top["solver"]["type"].fail("contact with the mixed model needs type: direct in this version");
+  if (const auto why = rules::mixedContactSolver(p.model.formulation == Formulation::Mixed,
+                                                 !p.contact.empty(), p.solver.type))
+    top["solver"]["type"].fail(*why);
 }
 
 void readVerification(const YamlItem &v, Problem &p) {

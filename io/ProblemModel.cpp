@@ -3,6 +3,7 @@
 // flow: io (input side).
 #include <io/ProblemReader.hpp>
 #include <kernels/MixedElasticity.hpp>
+#include <solver/Rules.hpp>
 
 #include <cmath>
 
@@ -25,8 +26,8 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
                              : ComplianceMass::Consistent;
   if (m.has("stabilization")) {
     s.mixed.stabilization = m["stabilization"].number();
-    if (!(s.mixed.stabilization >= 0.0 && s.mixed.stabilization < 1.0))
-      m["stabilization"].fail("stabilization must lie in [0, 1) (0: the report's model)");
+    if (const auto why = rules::stabilizationRange(s.mixed.stabilization))
+      m["stabilization"].fail(*why);
   }
   if (m.has("stress_element"))
     s.stressElement = elementType(m["stress_element"]);
@@ -74,14 +75,11 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   if (s.formulation == Formulation::Mixed) {
     try {
       checkMixedPairing(meshElement, s.stressElement.value_or(meshElement));
-      if (s.mixed.compliance == ComplianceMass::Lumped &&
-          massLumping(meshElement) != MassLumping::RowSum)
-        throw InputError("compliance: lumped is not available for quad8 elements (their "
-                         "positive HRZ lumping fails the constant-stress patch test); use "
-                         "compliance: consistent");
     } catch (const InputError &e) {
       m.fail(e.what());
     }
+    if (const auto why = rules::lumpedCompliance(s.mixed.compliance, meshElement))
+      m.fail(*why);
   }
   return s;
 }
