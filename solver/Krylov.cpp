@@ -1,5 +1,6 @@
 // Flexible CG and flexible GMRES on device vectors; the small Hessenberg system lives on the host.
 #include <solver/Krylov.hpp>
+#include <solver/Rules.hpp>
 
 #include <cmath>
 #include <stdexcept>
@@ -164,8 +165,8 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
 KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const LinearMap &p,
                         const ConstDeviceVector &b, const DeviceVector &x,
                         KrylovWorkspace *workspace) {
-  if (options.maxIterations < 1)
-    throw std::invalid_argument("Krylov solver: max_iterations must be at least 1 (got " +
+  if (const auto why = rules::iterationLimit(options.maxIterations))
+    throw std::invalid_argument("Krylov solver: max_iterations " + *why + " (got " +
                                 std::to_string(options.maxIterations) + ")");
   const double bnorm = std::sqrt(dot(b, b));
   if (bnorm == 0.0) { // the answer is x = 0 (relative residuals are undefined)

@@ -1,5 +1,6 @@
 // hypre (IJ -> ParCSR, PCG + BoomerAMG) and Eigen (SimplicialLDLT) implementations.
 #include <solver/LinearSolver.hpp>
+#include <solver/Rules.hpp>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -360,8 +361,8 @@ private:
 
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &options,
                                                const DofMap &dofs, MPI_Comm comm) {
-  if (options.maxIterations < 1)
-    throw std::invalid_argument("linear solver: max_iterations must be at least 1 (got " +
+  if (const auto why = rules::iterationLimit(options.maxIterations))
+    throw std::invalid_argument("linear solver: max_iterations " + *why + " (got " +
                                 std::to_string(options.maxIterations) + ")");
   if (options.type == LinearSolverType::Direct)
     return std::make_unique<DirectSolver>(comm, options.symmetric, options.tolerance);

@@ -2,6 +2,7 @@
 // Krylov solve (assembled lumped S_a, or matrix-free with consistent M), stress recovery.
 #include <solver/Dirichlet.hpp>
 #include <solver/MixedModel.hpp>
+#include <solver/Rules.hpp>
 
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
@@ -86,15 +87,10 @@ std::string MixedModel::solverName() const {
 }
 
 void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
-  if (!(options.stabilization >= 0.0 && options.stabilization < 1.0))
-    throw InputError("mixed model: stabilization must lie in [0, 1), got " +
-                     std::to_string(options.stabilization));
-  if (options.compliance == ComplianceMass::Lumped &&
-      massLumping(mesh_.elementType) != MassLumping::RowSum)
-    throw InputError("mixed model: compliance: lumped is not available for quad8 elements: "
-                     "serendipity row sums are negative at corner nodes, and the positive (HRZ) "
-                     "lumping fails the constant-stress patch test; use compliance: consistent "
-                     "(preconditioner: lumped_schur still uses the HRZ-lumped operator for AMG)");
+  if (const auto why = rules::stabilizationRange(options.stabilization))
+    throw InputError("mixed model: " + *why + ", got " + std::to_string(options.stabilization));
+  if (const auto why = rules::lumpedCompliance(options.compliance, mesh_.elementType))
+    throw InputError("mixed model: " + *why);
   checkRigidBodyModes(); // a singular system is refused before assembly, naming the free mode
   options_ = options;
   if (options_.preconditioner == SchurPreconditioner::Auto)

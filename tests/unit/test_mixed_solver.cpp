@@ -5,6 +5,7 @@
 // (K11 makes S indefinite), flexible GMRES still reproduces the direct solution.
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
+#include <solver/Rules.hpp>
 
 #include <support/Params.hpp>
 
@@ -150,4 +151,30 @@ TEST(MixedPrestress, GmresSolvesTheIndefiniteSchurComplement) {
     ASSERT_TRUE(gmres.first.converged) << gmres.first.relativeResidual;
     EXPECT_LT(maxRelativeDifference(gmres.second, direct.second), 1e-8);
   }
+}
+
+// The model guards its own options for host codes that bypass the problem reader, with the rule the
+// reader applies (solver/Rules.hpp): the stabilization range and lumped compliance on Quad8.
+TEST(MixedModelGuards, SetupRefusesWhatTheOptionRulesRefuse) {
+  const PlaneMatrix c = isotropicStiffness(1000.0, 0.3, PlaneAnalysis::PlaneStress);
+  auto refusal = [&](ElementType type, const MixedOptions &o) -> std::string {
+    const Mesh mesh = rectangleMesh(2.0, 1.0, 2, 1, type);
+    MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c}, 1.0);
+    try {
+      model.setup(o, MPI_COMM_WORLD);
+    } catch (const InputError &e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  MixedOptions o;
+  o.stabilization = 1.0;
+  EXPECT_NE(refusal(ElementType::Quad4, o).find(*rules::stabilizationRange(1.0)), std::string::npos)
+      << refusal(ElementType::Quad4, o);
+  o.stabilization = 0.0;
+  o.compliance = ComplianceMass::Lumped;
+  const std::string lumped = refusal(ElementType::Quad8, o);
+  EXPECT_EQ(lumped,
+            "mixed model: " + *rules::lumpedCompliance(ComplianceMass::Lumped, ElementType::Quad8))
+      << lumped;
 }

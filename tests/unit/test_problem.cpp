@@ -1,6 +1,7 @@
 // Problem files: a valid file parses; each kind of bad input gives its documented error (with
 // file:line), and `mixcon run` exits with code 2 on it; a run writes HDF5 + XDMF + summary.json.
 #include <io/Problem.hpp>
+#include <solver/Rules.hpp>
 
 #include <support/Program.hpp>
 
@@ -9,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -282,6 +284,14 @@ std::vector<BadCase> badCases() {
                "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
                "[0, 1]}\noutput: {directory: somewhere}"),
        "contact with formulation: mixed needs geometric_nonlinearity: true", 16},
+      {"contact_mixed_amg",
+       replace(replace(replace(g, "formulation: displacement",
+                               "formulation: mixed, geometric_nonlinearity: true"),
+                       "solver: {type: direct}", "solver: {type: amg}"),
+               "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
+               "[0, 1]}\noutput: {directory: somewhere}"),
+       "solver.type: contact with the mixed model needs type: direct in this version", 14},
       {"nonlinear_mixed_compliance",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, compliance: lumped"),
@@ -450,6 +460,79 @@ TEST(Problem, BadInputGivesDocumentedErrors) {
       }
     }
   }
+}
+
+// The rules between options that the solver layer defines (solver/Rules.hpp) are the reader's:
+// each bad combination is refused with the rule's own message after the key's file:line and path,
+// and each rule lets the neighbouring allowed combination through.
+TEST(Problem, CrossOptionRulesAreTheSolverLayersRules) {
+  const std::string g = kGood;
+  const std::string contact = "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, "
+                              "0], normal: [0, 1]}\noutput: {directory: somewhere}";
+  struct RuleCase {
+    const char *name;
+    std::string yaml;
+    std::optional<std::string> rule;
+    std::string where; ///< "file:line:column: path: " of the offending key
+  };
+  const std::vector<RuleCase> cases = {
+      {"stabilization",
+       replace(g, "formulation: displacement", "formulation: mixed, stabilization: 1"),
+       rules::stabilizationRange(1.0), "case.yaml:3:"},
+      {"lumped_compliance",
+       replace(g, "formulation: displacement", "formulation: mixed, compliance: lumped"),
+       rules::lumpedCompliance(ComplianceMass::Lumped, ElementType::Quad8), "case.yaml:3:"},
+      {"report_tangent_law",
+       replace(replace(g, "thickness: 0.5",
+                       "thickness: 0.5, geometric_nonlinearity: true, elastic_law: "
+                       "saint_venant_kirchhoff"),
+               "steps: {load_factors: [0.5, 1.0]}",
+               "steps: {load_factors: [0.5, 1.0], tangent: report}"),
+       rules::reportTangentLaw(TangentKind::Report, ElasticLaw::SaintVenantKirchhoff),
+       "case.yaml:13:"},
+      {"mixed_contact_solver",
+       replace(replace(replace(g, "formulation: displacement",
+                               "formulation: mixed, geometric_nonlinearity: true"),
+                       "solver: {type: direct}", "solver: {type: amg}"),
+               "output: {directory: somewhere}", contact),
+       rules::mixedContactSolver(true, true, LinearSolverType::Amg), "case.yaml:14:"},
+      {"iteration_limit",
+       replace(g, "solver: {type: direct}", "solver: {type: amg, max_iterations: 0}"),
+       rules::iterationLimit(0), "case.yaml:14:"},
+  };
+  for (const auto &c : cases) {
+    ASSERT_TRUE(c.rule) << c.name << ": the rule lets the bad combination through";
+    try {
+      parseProblem(c.yaml, "case.yaml", "");
+      ADD_FAILURE() << c.name << ": no error";
+    } catch (const InputError &e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(c.where, 0), 0u) << c.name << ": " << msg;
+      ASSERT_GE(msg.size(), c.rule->size()) << c.name << ": " << msg;
+      EXPECT_EQ(msg.substr(msg.size() - c.rule->size()), *c.rule) << c.name << ": " << msg;
+    }
+  }
+  // The allowed neighbours.
+  EXPECT_FALSE(rules::stabilizationRange(0.0));
+  EXPECT_FALSE(rules::stabilizationRange(0.999));
+  EXPECT_TRUE(rules::stabilizationRange(-1e-12));
+  EXPECT_FALSE(rules::lumpedCompliance(ComplianceMass::Lumped, ElementType::Quad4));
+  EXPECT_FALSE(rules::lumpedCompliance(ComplianceMass::Consistent, ElementType::Quad8));
+  EXPECT_FALSE(rules::reportTangentLaw(TangentKind::Report, ElasticLaw::Almansi));
+  EXPECT_FALSE(rules::reportTangentLaw(TangentKind::Exact, ElasticLaw::SaintVenantKirchhoff));
+  EXPECT_FALSE(rules::mixedContactSolver(true, true, LinearSolverType::Direct));
+  EXPECT_FALSE(rules::mixedContactSolver(false, true, LinearSolverType::Amg));
+  EXPECT_FALSE(rules::mixedContactSolver(true, false, LinearSolverType::Amg));
+  EXPECT_FALSE(rules::iterationLimit(1));
+  EXPECT_TRUE(rules::iterationLimit(-3));
+  // The same combinations parse where the rule allows them.
+  EXPECT_NO_THROW(parseProblem(
+      replace(g, "formulation: displacement", "formulation: mixed, stabilization: 0.999"),
+      "case.yaml", ""));
+  EXPECT_NO_THROW(parseProblem(replace(replace(g, "formulation: displacement",
+                                               "formulation: mixed, geometric_nonlinearity: true"),
+                                       "output: {directory: somewhere}", contact),
+                               "case.yaml", ""));
 }
 
 // Reproducers found by fuzz/fuzz_problem.cpp, and the sizes the fuzz run must not allocate: each

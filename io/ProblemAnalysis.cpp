@@ -1,0 +1,201 @@
+// The steps, solver and verification sections of the problem file: load factors and equilibrium
+// iterations, the linear solver and the mixed model's solve settings, the closed form a run is
+// checked against (io/ProblemReader.hpp). Data flow: io (input side).
+#include <io/ProblemReader.hpp>
+#include <solver/Rules.hpp>
+
+namespace mixcon::detail {
+
+namespace {
+
+/// Most load steps `increments` may ask for (their load factors are stored up front).
+constexpr int kMaxIncrements = 1000000;
+
+} // namespace
+
+void readSteps(const YamlItem &top, Problem &p) {
+  if (top.has("steps")) {
+    const YamlItem s = top["steps"];
+    if (p.hybrid)
+      for (const char *key : {"increments", "load_factors"})
+        if (s.has(key))
+          s[key].fail("the steps of a hybrid run come from its measurement file");
+    s.allowOnly({"increments", "load_factors", "iteration", "tolerance", "residual_tolerance",
+                 "max_iterations", "max_cuts", "tangent"});
+    for (const char *key :
+         {"iteration", "tolerance", "residual_tolerance", "max_iterations", "max_cuts", "tangent"})
+      if (s.has(key) && !p.model.geometricNonlinearity && p.contact.empty() && !p.hybrid)
+        s[key].fail(std::string(key) +
+                    " applies to geometrically nonlinear or contact analyses (model: "
+                    "geometric_nonlinearity: true, or a contact: section); linear steps are single "
+                    "solves");
+    auto &n = p.nonlinear;
+    if (s.has("iteration")) {
+      const std::string v = s["iteration"].choice({"newton", "modified_newton", "none"});
+      n.method = v == "none"              ? IterationMethod::None
+                 : v == "modified_newton" ? IterationMethod::ModifiedNewton
+                                          : IterationMethod::Newton;
+    }
+    if (s.has("tangent")) {
+      if (p.model.formulation != Formulation::Displacement)
+        s["tangent"].fail("tangent applies to formulation: displacement (the mixed model always "
+                          "iterates with its exact Jacobian)");
+      p.tangent = s["tangent"].choice({"exact", "report"}) == "report" ? TangentKind::Report
+                                                                       : TangentKind::Exact;
+      if (const auto why = rules::reportTangentLaw(p.tangent, p.model.elasticLaw))
+        s["tangent"].fail(*why);
+    }
+    if (s.has("tolerance"))
+      n.tolerance = s["tolerance"].positive();
+    if (s.has("residual_tolerance"))
+      n.residualTolerance = s["residual_tolerance"].positive();
+    if (s.has("max_iterations")) {
+      n.maxIterations = s["max_iterations"].integer();
+      if (n.maxIterations < 1)
+        s["max_iterations"].fail("must be at least 1");
+    }
+    if (s.has("max_cuts")) {
+      n.maxCuts = s["max_cuts"].integer();
+      if (n.maxCuts < 0)
+        s["max_cuts"].fail("must be 0 or more");
+    }
+    if (s.has("increments") && s.has("load_factors"))
+      s.fail("give 'increments' or 'load_factors', not both");
+    if (s.has("increments")) {
+      const int n = s["increments"].integer();
+      if (n < 1)
+        s["increments"].fail("must be at least 1");
+      if (n > kMaxIncrements)
+        s["increments"].fail("at most " + std::to_string(kMaxIncrements) + " increments");
+      p.loadFactors.clear();
+      for (int k = 1; k <= n; ++k)
+        p.loadFactors.push_back(static_cast<double>(k) / n);
+    } else if (s.has("load_factors")) {
+      const YamlItem f = s["load_factors"];
+      f.requireSequence();
+      if (f.node.size() == 0)
+        f.fail("needs at least one load factor");
+      p.loadFactors.clear();
+      for (std::size_t k = 0; k < f.node.size(); ++k)
+        p.loadFactors.push_back(f.at(k).number());
+    }
+  }
+
+  if (p.hybrid) {
+    // One step per measured step; the measured values are prescribed as they are at each step.
+    const std::size_t n = p.hybrid->steps.size();
+    p.loadFactors.clear();
+    for (std::size_t k = 1; k <= n; ++k)
+      p.loadFactors.push_back(static_cast<double>(k) / n);
+    if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity)
+      top["hybrid"].fail("a hybrid run with formulation: mixed needs geometric_nonlinearity: true "
+                         "(the iterating driver has the mixed model's finite kinematics only)");
+  }
+}
+
+void readSolver(const YamlItem &top, Problem &p) {
+  const bool nonlinearMixed =
+      p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
+  if (nonlinearMixed)
+    p.solver.type = LinearSolverType::Direct;
+  if (top.has("solver")) {
+    const YamlItem s = top["solver"];
+    s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
+                 "print_level", "krylov", "preconditioner", "inner_tolerance",
+                 "interpolation_max_elements", "nodal_coarsening", "method",
+                 "stress_block_tolerance"});
+    for (const char *key : {"method", "stress_block_tolerance"})
+      if (s.has(key) && !nonlinearMixed)
+        s[key].fail(std::string(key) +
+                    " applies to the geometrically nonlinear mixed model's solver: amg only");
+    if (s.has("method"))
+      p.model.mixedNewton.method = s["method"].choice({"block_triangular", "schur"}) == "schur"
+                                       ? MixedNewtonSolver::Schur
+                                       : MixedNewtonSolver::BlockTriangular;
+    if (s.has("stress_block_tolerance"))
+      p.model.mixedNewton.preconditionerTolerance = s["stress_block_tolerance"].positive();
+    for (const char *key : {"krylov", "preconditioner", "inner_tolerance"}) {
+      if (s.has(key) && p.model.formulation != Formulation::Mixed)
+        s[key].fail(std::string(key) + " applies to formulation: mixed only");
+      if (s.has(key) && nonlinearMixed)
+        s[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver only");
+    }
+    if (s.has("krylov"))
+      p.model.mixed.krylov =
+          s["krylov"].choice({"cg", "gmres"}) == "gmres" ? KrylovMethod::Gmres : KrylovMethod::Cg;
+    if (s.has("preconditioner")) {
+      const std::string v = s["preconditioner"].choice({"auto", "lumped_schur", "stiffness"});
+      p.model.mixed.preconditioner = v == "stiffness"      ? SchurPreconditioner::Stiffness
+                                     : v == "lumped_schur" ? SchurPreconditioner::LumpedSchur
+                                                           : SchurPreconditioner::Auto;
+    }
+    if (s.has("inner_tolerance"))
+      p.model.mixed.innerTolerance = s["inner_tolerance"].positive();
+    if (s.has("type")) {
+      p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
+                                                                      : LinearSolverType::Amg;
+    }
+    if (s.has("tolerance"))
+      p.solver.tolerance = s["tolerance"].positive();
+    // Counts of levels and elements: 0 or more.
+    auto count = [&](const char *key, int least) {
+      const int v = s[key].integer();
+      if (v < least)
+        s[key].fail("must be at least " + std::to_string(least));
+      return v;
+    };
+    if (s.has("max_iterations")) {
+      p.solver.maxIterations = s["max_iterations"].integer();
+      if (const auto why = rules::iterationLimit(p.solver.maxIterations))
+        s["max_iterations"].fail(*why);
+    }
+    if (s.has("strong_threshold")) {
+      p.solver.strongThreshold = s["strong_threshold"].number();
+      if (!(p.solver.strongThreshold >= 0.0 && p.solver.strongThreshold < 1.0))
+        s["strong_threshold"].fail("the AMG strength threshold must lie in [0, 1)");
+    }
+    if (s.has("aggressive_levels"))
+      p.solver.aggressiveLevels = count("aggressive_levels", 0);
+    if (s.has("print_level"))
+      p.solver.printLevel = count("print_level", 0);
+    if (s.has("interpolation_max_elements"))
+      p.solver.interpolationMaxElements = count("interpolation_max_elements", 0);
+    if (s.has("nodal_coarsening"))
+      p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
+  }
+
+  if (const auto why = rules::mixedContactSolver(p.model.formulation == Formulation::Mixed,
+                                                 !p.contact.empty(), p.solver.type))
+    top["solver"]["type"].fail(*why);
+}
+
+void readVerification(const YamlItem &v, Problem &p) {
+  v.requireMap();
+  auto &s = p.verification;
+  s.type = v.required("type").choice({"lame_cylinder", "cantilever"});
+  if (v.has("tolerance"))
+    s.tolerance = v["tolerance"].positive();
+  if (s.type == "lame_cylinder") {
+    v.allowOnly(
+        {"type", "tolerance", "inner_radius", "outer_radius", "inner_pressure", "outer_pressure"});
+    s.innerRadius = v.required("inner_radius").positive();
+    s.outerRadius = v.required("outer_radius").positive();
+    s.innerPressure = v.required("inner_pressure").number();
+    s.outerPressure = v.has("outer_pressure") ? v["outer_pressure"].number() : 0.0;
+  } else {
+    v.allowOnly({"type", "tolerance", "length", "height", "load", "tip"});
+    s.length = v.required("length").positive();
+    s.height = v.required("height").positive();
+    s.load = v.required("load").number();
+    s.tipNodeSet = v.required("tip").string();
+    checkTarget(p.mesh, v["tip"], s.tipNodeSet);
+  }
+  if (p.materials.size() != 1 || p.materials[0].type != "isotropic")
+    v.fail("closed-form verification needs a single isotropic material");
+  if (p.model.geometricNonlinearity)
+    v.fail("the closed forms of verification are linear; run without geometric_nonlinearity "
+           "(the nonlinear cantilever is checked by examples/cantilever_study.py and the "
+           "validation tests)");
+}
+
+} // namespace mixcon::detail
