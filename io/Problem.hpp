@@ -7,7 +7,7 @@
 #include <kernels/Material.hpp>
 #include <mesh/Mesh.hpp>
 #include <solver/MixedOptions.hpp>
-#include <solver/Nonlinear.hpp>
+#include <solver/NonlinearOptions.hpp>
 
 #include <array>
 #include <optional>

@@ -35,11 +35,6 @@ struct IncrementOutcome {
   double solveSeconds = 0.0;
 };
 
-/// How much progress is printed. Quiet: warnings only (active-set cycling, increment cuts,
-/// failures); Normal: also the driver's start-up lines and one line per step; Verbose: also every
-/// equilibrium iteration and every contact status change.
-enum class Verbosity { Quiet, Normal, Verbose };
-
 /// Drives a NonlinearModel through load factors. Writes to `log` (nullptr: nothing) its warnings
 /// (cycling, cuts) always and, with Verbosity::Verbose, a line per iteration and per contact
 /// status change.

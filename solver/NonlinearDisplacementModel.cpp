@@ -3,6 +3,7 @@
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/NonlinearDisplacementModel.hpp>
+#include <solver/Rules.hpp>
 
 #include <kernels/Nonlinear.hpp>
 
@@ -16,9 +17,8 @@ using namespace fieldops;
 NonlinearDisplacementModel::~NonlinearDisplacementModel() = default;
 
 void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
-  if (law_ == ElasticLaw::SaintVenantKirchhoff && tangentKind_ == TangentKind::Report)
-    throw InputError("the report's tangent (K^L + K^sigma of the Almansi law) is not available "
-                     "with the St. Venant-Kirchhoff law; use the exact tangent");
+  if (const auto why = rules::reportTangentLaw(tangentKind_, law_))
+    throw InputError("nonlinear displacement model: " + *why);
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 2);

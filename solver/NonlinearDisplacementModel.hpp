@@ -11,12 +11,6 @@
 
 namespace mixcon {
 
-/// Which tangent the displacement model iterates with.
-enum class TangentKind {
-  Exact, ///< the derivative of the residual (quadratic Newton convergence; not symmetric)
-  Report ///< the report's K^L + K^sigma of Eq. (24)-(25) on the current configuration
-};
-
 /// The displacement model (Eq. (24)-(28)): Cauchy stress from the Almansi strain of the total
 /// displacement, integrals over the current configuration, exact (nonsymmetric) tangent or the
 /// report's symmetric K^L + K^sigma.

@@ -6,6 +6,7 @@
 #include <solver/Krylov.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/NonlinearMixedModel.hpp>
+#include <solver/Rules.hpp>
 
 #include <kernels/Nonlinear.hpp>
 
@@ -38,8 +39,10 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
 NonlinearMixedModel::~NonlinearMixedModel() = default;
 
 void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
-  if (contact_ && options.type != LinearSolverType::Direct)
-    throw InputError("contact with the mixed model needs solver: {type: direct} in this version");
+  if (const auto why = rules::mixedContactSolver(true, contact_ != nullptr, options.type))
+    throw InputError("nonlinear mixed model: " + *why);
+  if (const auto why = rules::stabilizationRange(stabilization_))
+    throw InputError("nonlinear mixed model: " + *why);
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, 5);

@@ -10,30 +10,13 @@
 #include <solver/Checkpoint.hpp>
 #include <solver/ContactIterations.hpp>
 #include <solver/ModelBase.hpp>
+#include <solver/NonlinearOptions.hpp>
 
 #include <chrono>
 #include <string>
 #include <vector>
 
 namespace mixcon {
-
-enum class IterationMethod { Newton, ModifiedNewton, None };
-
-/// "newton" | "modified_newton" | "none".
-const char *iterationMethodName(IterationMethod m);
-
-struct NonlinearOptions {
-  IterationMethod method = IterationMethod::Newton;
-  /// epsilon: ||delta u|| / ||u|| (mixed: also ||delta S|| / ||tau + S||), the report's measure.
-  double tolerance = 1e-3;
-  /// ||G|| / max(||internal force||, ||external force||) over the free displacement unknowns.
-  double residualTolerance = 1e-6;
-  int maxIterations = 30;
-  /// Halvings of a failed increment before the analysis stops.
-  int maxCuts = 8;
-  /// Contact status updates (each followed by equilibrium iterations) per increment.
-  int maxContactIterations = 30;
-};
 
 /// A geometrically nonlinear model: iterate (evaluate, correct), then commit or roll back.
 /// Host-side interface (virtual, never called on the device).

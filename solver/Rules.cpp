@@ -1,7 +1,7 @@
 // The option rules of the solver layer (solver/Rules.hpp): one message per rule, shared by the
 // problem reader and the models' guards.
 #include <kernels/MixedElasticity.hpp>
-#include <solver/Nonlinear.hpp>
+#include <solver/NonlinearDisplacementModel.hpp>
 #include <solver/Rules.hpp>
 
 namespace mixcon::rules {

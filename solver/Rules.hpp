@@ -13,7 +13,8 @@
 
 namespace mixcon {
 
-/// Defined with the displacement model (solver/Nonlinear.hpp); an int enum like this declaration.
+/// Defined with the displacement model (solver/NonlinearDisplacementModel.hpp); an int enum like
+/// this declaration.
 enum class TangentKind;
 
 namespace rules {
