@@ -1,5 +1,6 @@
 // RigidContact: candidates, detection, statuses and the constraints of one Newton correction.
 #include <contact/RigidContact.hpp>
+#include <core/Transfer.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -39,14 +40,14 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   uploadObstacles();
   nodesDevice_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::contact::nodes", m);
   obstacleDevice_ = Kokkos::View<int *, DeviceSpace>("mixcon::contact::obstacleOf", m);
-  auto hn = Kokkos::create_mirror_view(nodesDevice_);
-  auto hw = Kokkos::create_mirror_view(obstacleDevice_);
+  auto hn = hostMirror(nodesDevice_);
+  auto hw = hostMirror(obstacleDevice_);
   for (std::size_t k = 0; k < m; ++k) {
     hn(k) = node_[k];
     hw(k) = obstacle_[k];
   }
-  Kokkos::deep_copy(nodesDevice_, hn);
-  Kokkos::deep_copy(obstacleDevice_, hw);
+  copyToDevice(nodesDevice_, hn);
+  copyToDevice(obstacleDevice_, hw);
   detection_ = ContactDetection<DeviceSpace>(static_cast<LocalIndex>(m));
   buildConstraints();
 }
@@ -57,13 +58,13 @@ std::string RigidContact::obstacleLabel(int s) const {
 }
 
 void RigidContact::uploadObstacles() {
-  auto ho = Kokkos::create_mirror_view(obstacles_);
+  auto ho = hostMirror(obstacles_);
   for (std::size_t s = 0; s < specs_.size(); ++s) {
     ho(s) = specs_[s].obstacle;
     for (int i = 0; i < 2; ++i)
       ho(s).point[i] += motion_[2 * s + i];
   }
-  Kokkos::deep_copy(obstacles_, ho);
+  copyToDevice(obstacles_, ho);
 }
 
 void RigidContact::setLoadFactor(double lambda) {
@@ -140,10 +141,10 @@ LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpac
       Kokkos::DefaultExecutionSpace(), Kokkos::View<const RigidObstacle *, DeviceSpace>(obstacles_),
       Kokkos::View<const LocalIndex *, DeviceSpace>(nodesDevice_),
       Kokkos::View<const int *, DeviceSpace>(obstacleDevice_), coordinates, u, stride, detection_);
-  auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.gap);
-  auto n = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.normal);
-  auto a = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.angle);
-  auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), detection_.arcCoordinate);
+  auto g = copyToHost(detection_.gap);
+  auto n = copyToHost(detection_.normal);
+  auto a = copyToHost(detection_.angle);
+  auto s = copyToHost(detection_.arcCoordinate);
   for (std::size_t k = 0; k < node_.size(); ++k) {
     gap_[k] = g(k);
     angle_[k] = a(k);

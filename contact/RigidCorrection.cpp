@@ -3,6 +3,7 @@
 // obstacles condensed; the residual the constraints leave free; friction forces as loads.
 // Layer: contact (uses solver/).
 #include <contact/RigidContact.hpp>
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -75,8 +76,8 @@ double RigidContact::freeResidualNorm(const Kokkos::View<const double *, Memory>
                                       int stride) const {
   // ||G|| over the displacement unknowns held neither by Dirichlet nor by contact conditions;
   // at a node held normally on an obstacle only the tangential component counts (slip).
-  const auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), gv);
-  const auto flags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
+  const auto g = copyToHost(gv);
+  const auto flags = copyToHost(fv);
   const auto &c = constraints_;
   double s = 0.0;
   for (LocalIndex p = 0; p < numNodes_; ++p) {
@@ -119,7 +120,7 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   const auto &target = sys.target;
   const auto &c = constraints_;
   const LocalIndex nn = numNodes_;
-  const auto dflags = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
+  const auto dflags = copyToHost(fv);
   std::vector<int> flags(dflags.data(), dflags.data() + dflags.extent(0));
   const auto presc = ModelBase::toHost(sys.prescribed);
   const auto u = ModelBase::toHost(sys.displacement);
@@ -183,10 +184,10 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", flags.size()),
       dfr("mixcon::nonlinear::framed", nn);
   Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
-  auto hf = Kokkos::create_mirror_view(df);
-  auto hfr = Kokkos::create_mirror_view(dfr);
-  auto hn = Kokkos::create_mirror_view(dn);
-  auto ht = Kokkos::create_mirror_view(target);
+  auto hf = hostMirror(df);
+  auto hfr = hostMirror(dfr);
+  auto hn = hostMirror(dn);
+  auto ht = hostMirror(target);
   for (std::size_t i = 0; i < flags.size(); ++i) {
     hf(i) = flags[i];
     ht(i) = step[i];
@@ -196,10 +197,10 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
     hn(p, 0) = c.normal[2 * p];
     hn(p, 1) = c.normal[2 * p + 1];
   }
-  Kokkos::deep_copy(df, hf);
-  Kokkos::deep_copy(dfr, hfr);
-  Kokkos::deep_copy(dn, hn);
-  Kokkos::deep_copy(target, ht);
+  copyToDevice(df, hf);
+  copyToDevice(dfr, hfr);
+  copyToDevice(dn, hn);
+  copyToDevice(target, ht);
   if (work.numRows == 0)
     work = cloneValues(tangent);
   else
@@ -229,10 +230,10 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   constrainedDiagonal(Exec(), work, cf, diag);
   std::vector<Vec> response(nd);
   for (std::size_t j = 0; j < nd; ++j) {
-    auto hu = Kokkos::create_mirror_view(unit);
+    auto hu = hostMirror(unit);
     for (LocalIndex i = 0; i < n; ++i)
       hu(i) = unitStep[j][i];
-    Kokkos::deep_copy(unit, hu);
+    copyToDevice(unit, hu);
     multiply(Exec(), rotated, ConstVec(unit), product);
     constrainedRhs(Exec(), cf, ConstVec(diag), ConstVec(zero), ConstVec(unit), ConstVec(product),
                    lifted);

@@ -1,6 +1,7 @@
 // SurfaceContact: node-to-segment search per iteration, statuses and the closed pairs.
 #include <contact/SegmentSearch.hpp>
 #include <contact/SurfaceContact.hpp>
+#include <core/Transfer.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -88,19 +89,19 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
     d.first = first;
     const auto &sp = specs_[s];
     d.segments = Kokkos::View<int *[3], DeviceSpace>("mixcon::surface::segments", sp.target.size());
-    auto hs = Kokkos::create_mirror_view(d.segments);
+    auto hs = hostMirror(d.segments);
     for (std::size_t j = 0; j < sp.target.size(); ++j)
       for (int a = 0; a < 3; ++a)
         hs(j, a) = sp.target[j][a];
-    Kokkos::deep_copy(d.segments, hs);
+    copyToDevice(d.segments, hs);
     while (first < node_.size() && spec_[first] == static_cast<int>(s))
       ++first;
     d.contactors =
         Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::contactors", first - d.first);
-    auto hq = Kokkos::create_mirror_view(d.contactors);
+    auto hq = hostMirror(d.contactors);
     for (std::size_t k = d.first; k < first; ++k)
       hq(k - d.first) = node_[k];
-    Kokkos::deep_copy(d.contactors, hq);
+    copyToDevice(d.contactors, hq);
     device_.push_back(d);
   }
   for (LocalIndex n : contactors)
@@ -146,7 +147,7 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
   Kokkos::parallel_for("mixcon::surface::positions", Kokkos::RangePolicy<Exec>(0, nn),
                        CurrentPositions{coordinates, u, x, stride});
   {
-    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
+    const auto h = copyToHost(x);
     position_.assign(2 * static_cast<std::size_t>(nn), 0.0);
     for (LocalIndex p = 0; p < nn; ++p) {
       position_[2 * p] = h(p, 0);
@@ -183,10 +184,10 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
     grid.build(Exec(), set, 2.0 * meanLength_[s] + 1e-300);
     SearchResults<DeviceSpace> found(nq);
     grid.query(Exec(), queries, found);
-    const auto seg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.segment);
-    const auto xi = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.xi);
-    const auto nrm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.normal);
-    const auto cp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), found.closest);
+    const auto seg = copyToHost(found.segment);
+    const auto xi = copyToHost(found.xi);
+    const auto nrm = copyToHost(found.normal);
+    const auto cp = copyToHost(found.closest);
     // A continuous normal field: at each target node the average of its segments' unit
     // normals there; along a segment its own normal plus the linear blend of the differences
     // at its ends. Without it a contactor on a vertex where two segments meet at an angle has

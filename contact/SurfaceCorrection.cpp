@@ -3,6 +3,7 @@
 // the residual T^T G the constrained system balances, friction forces as loads.
 // Layer: contact (uses solver/).
 #include <contact/SurfaceContact.hpp>
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -20,7 +21,7 @@ void SurfaceContact::locate(const Kokkos::View<const double *[2], Memory> &coord
                             const Kokkos::View<const int *, Memory> &flags) {
   // The displacement unknowns held by Dirichlet conditions (contactors held there take the
   // normal condition on their free component).
-  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
+  const auto hf = copyToHost(flags);
   std::vector<int> held(2 * static_cast<std::size_t>(numNodes_), 0);
   for (LocalIndex p = 0; p < numNodes_; ++p)
     for (int i = 0; i < 2; ++i)
@@ -38,7 +39,7 @@ double SurfaceContact::freeResidualNorm(const Kokkos::View<const double *, Memor
                                         int stride) const {
   // The residual the constrained system balances, T^T G, over the unknowns held neither by
   // Dirichlet conditions nor as contact slaves.
-  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), flags);
+  const auto hf = copyToHost(flags);
   std::vector<int> fl(hf.data(), hf.data() + hf.extent(0));
   MultiPointConstraints c;
   constraints(stride, fl, c);
@@ -120,7 +121,7 @@ LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
   const auto &target = sys.target;
   const auto start = std::chrono::steady_clock::now();
   prescribedStep(fv, sys.prescribed, sys.displacement, sys.lambda, stride, target);
-  const auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fv);
+  const auto hf = copyToHost(fv);
   std::vector<int> flags(hf.data(), hf.data() + hf.extent(0));
   MultiPointConstraints c;
   constraints(stride, flags, c);
@@ -129,10 +130,10 @@ LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
   Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", flags.size());
   for (LocalIndex sl : c.slaves)
     flags[sl] = 1;
-  auto hdf = Kokkos::create_mirror_view(df);
+  auto hdf = hostMirror(df);
   for (std::size_t i = 0; i < flags.size(); ++i)
     hdf(i) = flags[i];
-  Kokkos::deep_copy(df, hdf);
+  copyToDevice(df, hdf);
   applyDirichlet(Exec(), work_, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
   Exec().fence();
   sys.solver->setup(work_);

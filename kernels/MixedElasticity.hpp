@@ -13,6 +13,7 @@
 // Data flow: mesh -> kernels (this) -> solver (MixedModel).
 #pragma once
 
+#include <core/Transfer.hpp>
 #include <kernels/GeometricStiffness.hpp>
 
 namespace mixcon {
@@ -168,9 +169,9 @@ template <class MemorySpace> DeviceNodeGraph<MemorySpace> toDevice(const NodeGra
   d.rowOffsets = Kokkos::View<Offset *, MemorySpace>("mixcon::graph::rowOffsets", g.numNodes() + 1);
   d.columns = Kokkos::View<LocalIndex *, MemorySpace>("mixcon::graph::columns", g.columns.size());
   d.transpose = Kokkos::View<Offset *, MemorySpace>("mixcon::graph::transpose", g.columns.size());
-  auto hr = Kokkos::create_mirror_view(d.rowOffsets);
-  auto hc = Kokkos::create_mirror_view(d.columns);
-  auto ht = Kokkos::create_mirror_view(d.transpose);
+  auto hr = hostMirror(d.rowOffsets);
+  auto hc = hostMirror(d.columns);
+  auto ht = hostMirror(d.transpose);
   const auto t = transposePositions(g);
   for (std::size_t i = 0; i < g.rowOffsets.size(); ++i)
     hr(i) = g.rowOffsets[i];
@@ -178,9 +179,9 @@ template <class MemorySpace> DeviceNodeGraph<MemorySpace> toDevice(const NodeGra
     hc(k) = g.columns[k];
     ht(k) = t[k];
   }
-  Kokkos::deep_copy(d.rowOffsets, hr);
-  Kokkos::deep_copy(d.columns, hc);
-  Kokkos::deep_copy(d.transpose, ht);
+  copyToDevice(d.rowOffsets, hr);
+  copyToDevice(d.columns, hc);
+  copyToDevice(d.transpose, ht);
   return d;
 }
 

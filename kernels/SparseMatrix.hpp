@@ -3,6 +3,7 @@
 // and the precomputed element-to-CSR scatter map. Data flow: mesh -> kernels (this) -> solver.
 #pragma once
 
+#include <core/Transfer.hpp>
 #include <mesh/Mesh.hpp>
 
 namespace mixcon {
@@ -47,8 +48,8 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int rowDofs, int colu
   a.columns = Kokkos::View<LocalIndex *, MemorySpace>(
       Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::columns"), nnz);
   a.values = Kokkos::View<double *, MemorySpace>("mixcon::csr::values", nnz);
-  auto hr = Kokkos::create_mirror_view(a.rowOffsets);
-  auto hc = Kokkos::create_mirror_view(a.columns);
+  auto hr = hostMirror(a.rowOffsets);
+  auto hc = hostMirror(a.columns);
   hr(0) = 0;
   for (LocalIndex n = 0; n < nn; ++n) {
     const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
@@ -61,8 +62,8 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int rowDofs, int colu
       hr(row + 1) = k;
     }
   }
-  Kokkos::deep_copy(a.rowOffsets, hr);
-  Kokkos::deep_copy(a.columns, hc);
+  copyToDevice(a.rowOffsets, hr);
+  copyToDevice(a.columns, hc);
   return a;
 }
 
@@ -81,7 +82,7 @@ Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const 
   const int npe = mesh.nodesPerElement;
   Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> map("mixcon::assembly::scatterMap",
                                                               mesh.numElements(), npe, npe);
-  auto h = Kokkos::create_mirror_view(map);
+  auto h = hostMirror(map);
   for (LocalIndex e = 0; e < mesh.numElements(); ++e)
     for (int a = 0; a < npe; ++a) {
       const LocalIndex row = mesh.node(e, a);
@@ -90,7 +91,7 @@ Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const 
       for (int b = 0; b < npe; ++b)
         h(e, a, b) = static_cast<int>(std::lower_bound(first, last, mesh.node(e, b)) - first);
     }
-  Kokkos::deep_copy(map, h);
+  copyToDevice(map, h);
   return map;
 }
 

@@ -1,4 +1,5 @@
 // LinearDisplacementModel: host orchestration of device kernels.
+#include <core/Transfer.hpp>
 #include <solver/DisplacementModel.hpp>
 
 #include <chrono>
@@ -38,7 +39,7 @@ std::vector<double> LinearDisplacementModel::nodalStressHost() const {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     nodalStressRecovery<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), s);
   });
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
+  auto h = copyToHost(s);
   std::vector<double> out(3 * static_cast<std::size_t>(mesh_.numNodes()));
   for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
     for (int c = 0; c < 3; ++c)

@@ -1,4 +1,5 @@
 // Operations on interleaved fields (solver/FieldOps.hpp).
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -233,10 +234,10 @@ LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
 
 void subtractNodalForces(const Vec &g, int stride, const std::vector<double> &f) {
   Vec fd("mixcon::nonlinear::friction", f.size());
-  auto h = Kokkos::create_mirror_view(fd);
+  auto h = hostMirror(fd);
   for (std::size_t i = 0; i < f.size(); ++i)
     h(i) = f[i];
-  Kokkos::deep_copy(fd, h);
+  copyToDevice(fd, h);
   Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
   scatter<double>(fd, stride, 0, 2, spread, true);
   axpby(-1.0, spread, 1.0, g);

@@ -1,4 +1,5 @@
 // hypre (IJ -> ParCSR, PCG + BoomerAMG) and Eigen (SimplicialLDLT) implementations.
+#include <core/Transfer.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/Rules.hpp>
 
@@ -56,9 +57,9 @@ public:
     release();
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     const HYPRE_Int n = a.numRows;
-    auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
-    auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
-    auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+    auto ro = copyToHost(a.rowOffsets);
+    auto co = copyToHost(a.columns);
+    auto va = copyToHost(a.values);
 
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
@@ -134,7 +135,7 @@ public:
     const auto start = std::chrono::steady_clock::now();
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
-    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+    auto hb = copyToHost(b);
     double bnorm = 0.0;
     for (HYPRE_Int i = 0; i < n; ++i)
       bnorm += hb(i) * hb(i);
@@ -182,9 +183,9 @@ public:
       err = run();
       relative = trueResidual();
     }
-    auto hx = Kokkos::create_mirror_view(x);
+    auto hx = hostMirror(x);
     HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-    Kokkos::deep_copy(x, hx);
+    copyToDevice(x, hx);
     s.iterations = its;
     s.relativeResidual = relative;
     s.converged = trueResidualConverged(s.relativeResidual, xx, options_.tolerance, err == 0, 10.0);
@@ -196,13 +197,13 @@ public:
   void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
                     const Kokkos::View<double *, DeviceSpace> &x) override {
     const HYPRE_Int n = dofs_.numOwned();
-    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
-    auto hx = Kokkos::create_mirror_view(x);
+    auto hb = copyToHost(b);
+    auto hx = hostMirror(x);
     HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
     HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
     HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
     HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-    Kokkos::deep_copy(x, hx);
+    copyToDevice(x, hx);
   }
 
   std::string name() const override {
@@ -256,9 +257,9 @@ public:
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
     const auto start = std::chrono::steady_clock::now();
-    auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
-    auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
-    auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+    auto ro = copyToHost(a.rowOffsets);
+    auto co = copyToHost(a.columns);
+    auto va = copyToHost(a.values);
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(co.extent(0));
     for (LocalIndex i = 0; i < a.numRows; ++i)
@@ -284,7 +285,7 @@ public:
   LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
                          const Kokkos::View<double *, DeviceSpace> &x) override {
     const auto start = std::chrono::steady_clock::now();
-    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+    auto hb = copyToHost(b);
     Eigen::Map<const Eigen::VectorXd> eb(hb.data(), hb.extent(0));
     const auto factorSolve = [&](const Eigen::VectorXd &r) {
       return useLu_ ? Eigen::VectorXd(lu_.solve(r)) : Eigen::VectorXd(ldlt_.solve(r));
@@ -308,10 +309,10 @@ public:
         s.relativeResidual = r.norm() / bn;
       }
     }
-    auto hx = Kokkos::create_mirror_view(x);
+    auto hx = hostMirror(x);
     for (LocalIndex i = 0; i < static_cast<LocalIndex>(ex.size()); ++i)
       hx(i) = ex(i);
-    Kokkos::deep_copy(x, hx);
+    copyToDevice(x, hx);
     s.converged = bn == 0.0 || trueResidualConverged(s.relativeResidual, ex.squaredNorm(),
                                                      tolerance_, true, 100.0);
     s.iterations = 1;

@@ -1,5 +1,6 @@
 // MixedModel: assembly of the mixed blocks, the direct saddle-point solve, the Schur-complement
 // Krylov solve (assembled lumped S_a, or matrix-free with consistent M), stress recovery.
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Rules.hpp>
@@ -44,14 +45,14 @@ MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
   static_cast<ElementData<DeviceSpace> &>(m) = d;
   m.compliance =
       Kokkos::View<PlaneMatrix *, DeviceSpace>("mixcon::mixed::compliance", stiffness.size());
-  auto h = Kokkos::create_mirror_view(m.compliance);
+  auto h = hostMirror(m.compliance);
   for (std::size_t i = 0; i < stiffness.size(); ++i) {
     if (!isPositiveDefinite(stiffness[i]) || invert3(stiffness[i], h(i)) <= 0.0)
       throw InputError("material " + std::to_string(i) +
                        ": the plane constitutive matrix [C] is not positive definite, so the "
                        "mixed model has no compliance D = C^-1");
   }
-  Kokkos::deep_copy(m.compliance, h);
+  copyToDevice(m.compliance, h);
   return m;
 }
 
@@ -64,10 +65,10 @@ void MixedModel::setInitialStress(const std::vector<double> &tau) {
 Kokkos::View<double *, MixedModel::Memory> MixedModel::initialStressOnDevice() const {
   Kokkos::View<double *, Memory> tau("mixcon::mixed::initialStress", s_.extent(0));
   if (!initialStress_.empty()) {
-    auto h = Kokkos::create_mirror_view(tau);
+    auto h = hostMirror(tau);
     for (std::size_t i = 0; i < initialStress_.size(); ++i)
       h(i) = initialStress_[i];
-    Kokkos::deep_copy(tau, h);
+    copyToDevice(tau, h);
   }
   return tau;
 }
@@ -280,13 +281,13 @@ void MixedModel::setupDirect() {
     if (!initialStress_.empty()) // kg stays zero otherwise
       computeMixedGeometricStiffness<Elem>(Exec(), data_, ConstDeviceVector(tau), kg);
   });
-  auto h12 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k12);
-  auto h22 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lumped ? k22l : k22);
-  auto hd = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kd);
-  auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kg);
-  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), isConstrained_);
-  auto hp = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), prescribed_);
-  auto hf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
+  auto h12 = copyToHost(k12);
+  auto h22 = copyToHost(lumped ? k22l : k22);
+  auto hd = copyToHost(kd);
+  auto hg = copyToHost(kg);
+  auto hc = copyToHost(isConstrained_);
+  auto hp = copyToHost(prescribed_);
+  auto hf = copyToHost(load_);
 
   const Eigen::Index nU = 2 * nn, n = 5 * static_cast<Eigen::Index>(nn);
   direct_ = std::make_unique<Direct>();
@@ -345,14 +346,14 @@ LinearSolveStats MixedModel::solveDirect(double loadFactor) {
   const Eigen::VectorXd b = loadFactor * direct_->rhs;
   const Eigen::VectorXd x = direct_->lu.solve(b);
   const LocalIndex nn = mesh_.numNodes();
-  auto hu = Kokkos::create_mirror_view(u_);
-  auto hs = Kokkos::create_mirror_view(s_);
+  auto hu = hostMirror(u_);
+  auto hs = hostMirror(s_);
   for (LocalIndex i = 0; i < 2 * nn; ++i)
     hu(i) = x(i);
   for (LocalIndex i = 0; i < 3 * nn; ++i)
     hs(i) = x(2 * nn + i);
-  Kokkos::deep_copy(u_, hu);
-  Kokkos::deep_copy(s_, hs);
+  copyToDevice(u_, hu);
+  copyToDevice(s_, hs);
   LinearSolveStats s;
   const double bn = b.norm();
   s.relativeResidual = bn > 0 ? (direct_->matrix * x - b).norm() / bn : 0.0;

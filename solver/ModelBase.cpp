@@ -1,4 +1,5 @@
 // ModelBase: loads, constraints and displacement output shared by both models.
+#include <core/Transfer.hpp>
 #include <solver/ModelBase.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -18,14 +19,14 @@ ModelBase::ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
       Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
   data_.stiffness =
       Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
-  auto hm = Kokkos::create_mirror_view(data_.material);
+  auto hm = hostMirror(data_.material);
   for (LocalIndex e = 0; e < mesh.numElements(); ++e)
     hm(e) = elementMaterial.at(e);
-  Kokkos::deep_copy(data_.material, hm);
-  auto hs = Kokkos::create_mirror_view(data_.stiffness);
+  copyToDevice(data_.material, hm);
+  auto hs = hostMirror(data_.stiffness);
   for (std::size_t i = 0; i < stiffness.size(); ++i)
     hs(i) = stiffness[i];
-  Kokkos::deep_copy(data_.stiffness, hs);
+  copyToDevice(data_.stiffness, hs);
 
   const LocalIndex n = dofs_.numOwned();
   load_ = Kokkos::View<double *, Memory>("mixcon::model::load", n);
@@ -60,16 +61,16 @@ void ModelBase::addBodyForce(
     const LocalIndex ne = mesh_.numElements();
     Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
+    auto hx = copyToHost(xq);
     Kokkos::View<double **[2], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
-    auto hf = Kokkos::create_mirror_view(fq);
+    auto hf = hostMirror(fq);
     for (LocalIndex e = 0; e < ne; ++e)
       for (int q = 0; q < Elem::kNumQp; ++q) {
         const auto v = f(hx(e, q, 0), hx(e, q, 1), e);
         hf(e, q, 0) = v[0];
         hf(e, q, 1) = v[1];
       }
-    Kokkos::deep_copy(fq, hf);
+    copyToDevice(fq, hf);
     assembleBodyForce<Elem>(Exec(), data_, Kokkos::View<const double **[2], Memory>(fq), load_);
   });
 }
@@ -88,10 +89,10 @@ void ModelBase::updatePrescribed(const std::vector<PrescribedValue> &values) {
                        std::to_string(v.comp) + " is not prescribed; cannot update its value");
     prescribedHost_[i] = v.value;
   }
-  auto hp = Kokkos::create_mirror_view(prescribed_);
+  auto hp = hostMirror(prescribed_);
   for (std::size_t i = 0; i < prescribedHost_.size(); ++i)
     hp(i) = prescribedHost_[i];
-  Kokkos::deep_copy(prescribed_, hp);
+  copyToDevice(prescribed_, hp);
 }
 
 LocalIndex ModelBase::numConstrained() const {
@@ -191,19 +192,19 @@ void ModelBase::checkRigidBodyModes() const {
 void ModelBase::commitStaged() {
   // Nodal forces join the reference load and are then cleared, so a second setup() does not add
   // them twice; constraints replace the device flags.
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), load_);
+  auto h = copyToHost(load_);
   for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
     h(i) += stagedNodalForce_[i];
-  Kokkos::deep_copy(load_, h);
+  copyToDevice(load_, h);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
-  auto hc = Kokkos::create_mirror_view(isConstrained_);
-  auto hp = Kokkos::create_mirror_view(prescribed_);
+  auto hc = hostMirror(isConstrained_);
+  auto hp = hostMirror(prescribed_);
   for (std::size_t i = 0; i < constrainedHost_.size(); ++i) {
     hc(i) = constrainedHost_[i];
     hp(i) = prescribedHost_[i];
   }
-  Kokkos::deep_copy(isConstrained_, hc);
-  Kokkos::deep_copy(prescribed_, hp);
+  copyToDevice(isConstrained_, hc);
+  copyToDevice(prescribed_, hp);
 }
 
 Kokkos::View<double *, DeviceSpace> scaledCopy(const Kokkos::View<const double *, DeviceSpace> &v,
@@ -216,15 +217,15 @@ Kokkos::View<double *, DeviceSpace> scaledCopy(const Kokkos::View<const double *
 }
 
 std::vector<double> ModelBase::toHost(const Kokkos::View<const double *, Memory> &v) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  auto h = copyToHost(v);
   return std::vector<double>(h.data(), h.data() + h.extent(0));
 }
 
 void ModelBase::fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v) {
-  auto m = Kokkos::create_mirror_view(v);
+  auto m = hostMirror(v);
   for (std::size_t i = 0; i < h.size(); ++i)
     m(i) = h[i];
-  Kokkos::deep_copy(v, m);
+  copyToDevice(v, m);
 }
 
 std::vector<double>
@@ -248,8 +249,8 @@ void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vect
     Kokkos::View<double **[3], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
     gaussPointStress<Elem>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), sq);
-    auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), xq);
-    auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    auto hx = copyToHost(xq);
+    auto hs = copyToHost(sq);
     pointsPerElement = Elem::kNumQp;
     coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 2);
     stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 3);

@@ -1,3 +1,4 @@
+#include <core/Transfer.hpp>
 #include <solver/MultiPointConstraints.hpp>
 
 #include <Eigen/SparseCore>
@@ -27,9 +28,9 @@ SpMat transformation(const MultiPointConstraints &c, LocalIndex n) {
 }
 
 SpMat toEigen(const CsrMatrix<Memory> &a) {
-  const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
-  const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
-  const auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  const auto ro = copyToHost(a.rowOffsets);
+  const auto co = copyToHost(a.columns);
+  const auto va = copyToHost(a.values);
   std::vector<Eigen::Triplet<double, long>> t;
   t.reserve(co.extent(0));
   for (LocalIndex i = 0; i < a.numRows; ++i)
@@ -70,13 +71,13 @@ CsrMatrix<Memory> eliminateConstraints(const CsrMatrix<Memory> &a, const MultiPo
   reduced += d;
   reduced.makeCompressed();
 
-  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
+  auto hb = copyToHost(rhs);
   Eigen::Map<Eigen::VectorXd> b(hb.data(), n);
   const Eigen::VectorXd shifted = b - am * offsets(c, n);
   b = t.transpose() * shifted;
   for (LocalIndex s : c.slaves)
     b(s) = 0.0;
-  Kokkos::deep_copy(rhs, hb);
+  copyToDevice(rhs, hb);
 
   CsrMatrix<Memory> r;
   r.numRows = r.numColumns = n;
@@ -84,23 +85,23 @@ CsrMatrix<Memory> eliminateConstraints(const CsrMatrix<Memory> &a, const MultiPo
   r.rowOffsets = Kokkos::View<Offset *, Memory>("mixcon::mpc::rowOffsets", n + 1);
   r.columns = Kokkos::View<LocalIndex *, Memory>("mixcon::mpc::columns", nnz);
   r.values = Kokkos::View<double *, Memory>("mixcon::mpc::values", nnz);
-  auto hr = Kokkos::create_mirror_view(r.rowOffsets);
-  auto hc = Kokkos::create_mirror_view(r.columns);
-  auto hv = Kokkos::create_mirror_view(r.values);
+  auto hr = hostMirror(r.rowOffsets);
+  auto hc = hostMirror(r.columns);
+  auto hv = hostMirror(r.values);
   for (LocalIndex i = 0; i <= n; ++i)
     hr(i) = reduced.outerIndexPtr()[i];
   for (Offset k = 0; k < nnz; ++k) {
     hc(k) = static_cast<LocalIndex>(reduced.innerIndexPtr()[k]);
     hv(k) = reduced.valuePtr()[k];
   }
-  Kokkos::deep_copy(r.rowOffsets, hr);
-  Kokkos::deep_copy(r.columns, hc);
-  Kokkos::deep_copy(r.values, hv);
+  copyToDevice(r.rowOffsets, hr);
+  copyToDevice(r.columns, hc);
+  copyToDevice(r.values, hv);
   return r;
 }
 
 void expandConstrained(const MultiPointConstraints &c, const Kokkos::View<double *, Memory> &x) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
+  auto h = copyToHost(x);
   std::vector<double> y(h.data(), h.data() + h.extent(0));
   for (std::size_t r = 0; r < c.rows.size(); ++r) {
     double v = c.offset[r];
@@ -108,7 +109,7 @@ void expandConstrained(const MultiPointConstraints &c, const Kokkos::View<double
       v += a * y[col];
     h(c.rows[r]) = v;
   }
-  Kokkos::deep_copy(x, h);
+  copyToDevice(x, h);
 }
 
 void condenseVector(const MultiPointConstraints &c, std::vector<double> &v) {

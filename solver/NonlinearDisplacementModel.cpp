@@ -1,4 +1,5 @@
 // The displacement model (solver/NonlinearDisplacementModel.hpp). Layer: solver.
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -147,7 +148,7 @@ std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
       recoverNodalStress<Elem>(Exec(), data_.mesh,
                                AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
   });
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s);
+  auto h = copyToHost(s);
   return std::vector<double>(h.data(), h.data() + h.size());
 }
 

@@ -1,6 +1,7 @@
 // The mixed model (solver/NonlinearMixedModel.hpp): setup, evaluation, correction, stress
 // update, commit and roll back; the iterative solves of its Jacobian are in
 // solver/MixedNewtonSolvers.cpp. Layer: solver.
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -245,8 +246,7 @@ void NonlinearMixedModel::saveCommitted(Checkpoint &state) const {
   state.putScalar("model/formulation", 2.0);
   state.put("model/displacement", toHost(committed_));
   state.put("model/stress", toHost(tau_));
-  const auto c =
-      Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), current_.mesh.coordinates);
+  const auto c = copyToHost(current_.mesh.coordinates);
   std::vector<double> rows(2 * c.extent(0)); // node by node, whatever the view's layout
   for (std::size_t i = 0; i < c.extent(0); ++i)
     for (int d = 0; d < 2; ++d)
@@ -263,11 +263,11 @@ void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
     fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
     fromHost(state.get("model/stress", tau_.extent(0)), tau_);
     const auto &rows = state.get("model/configuration", current_.mesh.coordinates.size());
-    auto c = Kokkos::create_mirror_view(current_.mesh.coordinates);
+    auto c = hostMirror(current_.mesh.coordinates);
     for (std::size_t i = 0; i < c.extent(0); ++i)
       for (int d = 0; d < 2; ++d)
         c(i, d) = rows[2 * i + d];
-    Kokkos::deep_copy(current_.mesh.coordinates, c);
+    copyToDevice(current_.mesh.coordinates, c);
   }
   rollback();
 }
@@ -297,7 +297,7 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
     const LocalIndex ne = mesh_.numElements();
     Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
     interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
-    auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sq);
+    auto h = copyToHost(sq);
     out.assign(h.data(), h.data() + h.size());
   });
   return out;

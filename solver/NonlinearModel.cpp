@@ -1,6 +1,7 @@
 // The nonlinear-problem interface's shared parts (solver/NonlinearModel.hpp): follower loads,
 // the common end of an evaluation (contact, relative residual), the contact correction, and
 // quadrature-point output. Layer: solver.
+#include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -45,15 +46,15 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
                                                         followerEdges_.size()),
                   Kokkos::View<double *, Memory>("mixcon::nonlinear::followerPressure",
                                                  followerPressure_.size())};
-  auto he = Kokkos::create_mirror_view(f.edges);
-  auto hp = Kokkos::create_mirror_view(f.pressure);
+  auto he = hostMirror(f.edges);
+  auto hp = hostMirror(f.pressure);
   for (std::size_t k = 0; k < followerEdges_.size(); ++k) {
     he(k, 0) = followerEdges_[k].element;
     he(k, 1) = followerEdges_[k].edge;
     hp(k) = followerPressure_[k];
   }
-  Kokkos::deep_copy(f.edges, he);
-  Kokkos::deep_copy(f.pressure, hp);
+  copyToDevice(f.edges, he);
+  copyToDevice(f.pressure, hp);
   return f;
 }
 
@@ -144,7 +145,7 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
     if (small_) // linear law on the reference configuration
       gaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq);
     const auto assign = [](std::vector<double> &out, const auto &view) {
-      auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+      auto h = copyToHost(view);
       out.assign(h.data(), h.data() + h.size());
     };
     pointsPerElement = Elem::kNumQp;

@@ -1,0 +1,84 @@
+// Counted transfers between device views and host memory: every copy the library makes from a
+// device View to the host (or back) goes through these functions, which count calls and bytes in
+// a process-wide counter. A copy is counted whether or not the current backend's memory is
+// host-accessible (under OpenMP the "copy" may be free, under CUDA it is a PCIe transfer), so a
+// test that counts transfers means the same on every backend. Scalar results of reductions are
+// not transfers. The bottom layer (core): every other layer may include it.
+//
+// Rule (checked by the test repo.transfer_api): solver/, contact/ and kernels/ make no raw host
+// mirror copy (Kokkos::create_mirror_view*); they call these functions instead.
+#pragma once
+
+#include <Kokkos_Core.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+namespace mixcon {
+
+/// Calls and bytes moved since the last reset (host-side counters).
+struct TransferCounts {
+  std::uint64_t toHostCalls = 0, toHostBytes = 0;
+  std::uint64_t toDeviceCalls = 0, toDeviceBytes = 0;
+};
+
+/// The counts accumulated by this process since start or the last resetTransferCounts().
+TransferCounts transferCounts();
+void resetTransferCounts();
+
+namespace detail {
+void countTransfer(bool toHost, std::size_t bytes);
+
+template <class V> std::size_t viewBytes(const V &v) {
+  return v.span() * sizeof(typename V::value_type);
+}
+} // namespace detail
+
+/// A host copy of `v` (its HostSpace mirror, filled). Counted device -> host.
+template <class V> auto copyToHost(const V &v) {
+  detail::countTransfer(true, detail::viewBytes(v));
+  return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+}
+
+/// A host copy of a rank-1 view as a std::vector. Counted device -> host.
+template <class V>
+std::vector<std::remove_const_t<typename V::value_type>> toHostVector(const V &v) {
+  static_assert(V::rank == 1, "toHostVector takes a rank-1 view");
+  const auto h = copyToHost(v);
+  return std::vector<std::remove_const_t<typename V::value_type>>(h.data(), h.data() + h.extent(0));
+}
+
+/// A host mirror of `v` to fill and send with copyToDevice (no copy, not counted). Its contents
+/// are unspecified; on a host-accessible space it may alias `v`.
+template <class V> auto hostMirror(const V &v) { return Kokkos::create_mirror_view(v); }
+
+/// Device view `dst` = host view `src` (same shape). Counted host -> device.
+template <class D, class H> void copyToDevice(const D &dst, const H &src) {
+  detail::countTransfer(false, detail::viewBytes(dst));
+  Kokkos::deep_copy(dst, src);
+}
+
+/// Device view `dst` = the values of `src` (dst.size() entries). Counted host -> device.
+template <class D, class T> void copyToDevice(const D &dst, const std::vector<T> &src) {
+  static_assert(D::rank == 1, "copyToDevice from a std::vector takes a rank-1 view");
+  auto m = hostMirror(dst);
+  for (std::size_t i = 0; i < m.extent(0); ++i)
+    m(i) = src[i];
+  copyToDevice(dst, m);
+}
+
+/// Host view `dst` = device view `src` (same shape). Counted device -> host.
+template <class H, class D> void copyToHost(const H &dst, const D &src) {
+  detail::countTransfer(true, detail::viewBytes(src));
+  Kokkos::deep_copy(dst, src);
+}
+
+/// True where host code may read and write the memory of views in `Space` directly (OpenMP,
+/// Serial, CUDA UVM), so a host library such as hypre can work on their memory without a copy.
+template <class Space>
+inline constexpr bool kHostAccessible =
+    Kokkos::SpaceAccessibility<Kokkos::HostSpace, Space>::accessible;
+
+} // namespace mixcon
