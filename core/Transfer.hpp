@@ -81,4 +81,14 @@ template <class Space>
 inline constexpr bool kHostAccessible =
     Kokkos::SpaceAccessibility<Kokkos::HostSpace, Space>::accessible;
 
+/// A view host code can read: `v` itself where its memory is host-accessible (no copy on any
+/// backend where this branch is taken, so nothing is counted), else a counted host copy. For host
+/// libraries (hypre on the CPU, Eigen) that read device-resident data inside solver loops.
+template <class V> auto hostReadable(const V &v) {
+  if constexpr (kHostAccessible<typename V::memory_space>)
+    return v;
+  else
+    return copyToHost(v);
+}
+
 } // namespace mixcon

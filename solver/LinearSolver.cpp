@@ -8,9 +8,11 @@
 #include <Eigen/SparseLU>
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
+#include <_hypre_parcsr_mv.h> // hypre_ParVectorLocalVector, hypre_VectorData (BorrowedVector)
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -46,6 +48,30 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
          (methodConverged && relativeResidual <= slack * tolerance);
 }
 
+/// Where the Kokkos memory is host-accessible (the OpenMP and Serial builds), hypre (a CPU build)
+/// works on the views' memory directly: for the duration of one call, the local data of a hypre
+/// vector is the view's array (the vector's own array is put back afterwards, so hypre frees
+/// only what it allocated). No copy, nothing counted: the preconditioner applied once per Krylov
+/// iteration and every solve stay off the transfer counts. Where it is not (a CUDA Kokkos with a
+/// CPU hypre), the wrapper copies b to the host and x back through the counted transfer API
+/// (core/Transfer.hpp); a GPU hypre would take the device pointers instead.
+constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
+
+class BorrowedVector {
+public:
+  BorrowedVector(HYPRE_ParVector v, const double *data)
+      : local_(hypre_ParVectorLocalVector(v)), own_(hypre_VectorData(local_)) {
+    hypre_VectorData(local_) = const_cast<double *>(data); // hypre only reads b
+  }
+  ~BorrowedVector() { hypre_VectorData(local_) = own_; }
+  BorrowedVector(const BorrowedVector &) = delete;
+  BorrowedVector &operator=(const BorrowedVector &) = delete;
+
+private:
+  hypre_Vector *local_;
+  HYPRE_Complex *own_;
+};
+
 class HypreAmgSolver final : public LinearSolver {
 public:
   HypreAmgSolver(const LinearSolverOptions &o, const DofMap &dofs, MPI_Comm comm)
@@ -57,9 +83,11 @@ public:
     release();
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     const HYPRE_Int n = a.numRows;
-    auto ro = copyToHost(a.rowOffsets);
-    auto co = copyToHost(a.columns);
-    auto va = copyToHost(a.values);
+    // Set up once per (Newton) tangent: hypre reads the CSR arrays in place where it can.
+    Kokkos::fence();
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    const auto va = hostReadable(a.values);
 
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
@@ -135,18 +163,27 @@ public:
     const auto start = std::chrono::steady_clock::now();
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
-    auto hb = copyToHost(b);
     double bnorm = 0.0;
-    for (HYPRE_Int i = 0; i < n; ++i)
-      bnorm += hb(i) * hb(i);
+    Kokkos::parallel_reduce(
+        "mixcon::solver::rhsNorm", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, n),
+        KOKKOS_LAMBDA(HYPRE_Int i, double &acc) { acc += b(i) * b(i); }, bnorm);
     MPI_Allreduce(MPI_IN_PLACE, &bnorm, 1, MPI_DOUBLE, MPI_SUM, comm_);
     if (bnorm == 0.0) { // hypre divides by ||b||; the answer is x = 0, exactly
       Kokkos::deep_copy(x, 0.0);
       s.converged = true;
       return s;
     }
-    HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
-    HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+    std::optional<BorrowedVector> borrowB, borrowX;
+    if constexpr (kHypreReadsKokkosMemory) {
+      Kokkos::deep_copy(x, 0.0); // the zero initial guess, written where hypre iterates
+      Kokkos::fence();
+      borrowB.emplace(parb_, b.data());
+      borrowX.emplace(parx_, x.data());
+    } else {
+      const auto hb = copyToHost(b);
+      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+    }
     HYPRE_Int err = 0, its = 0;
     const auto run = [&] { // one hypre solve from the current x; adds its iterations
       HYPRE_Int e = 0, k = 0;
@@ -183,9 +220,11 @@ public:
       err = run();
       relative = trueResidual();
     }
-    auto hx = hostMirror(x);
-    HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-    copyToDevice(x, hx);
+    if constexpr (!kHypreReadsKokkosMemory) {
+      auto hx = hostMirror(x);
+      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
+      copyToDevice(x, hx);
+    }
     s.iterations = its;
     s.relativeResidual = relative;
     s.converged = trueResidualConverged(s.relativeResidual, xx, options_.tolerance, err == 0, 10.0);
@@ -196,14 +235,22 @@ public:
 
   void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
                     const Kokkos::View<double *, DeviceSpace> &x) override {
+    // Once per iteration of the Krylov method around it: on the views' memory where hypre can.
     const HYPRE_Int n = dofs_.numOwned();
-    auto hb = copyToHost(b);
-    auto hx = hostMirror(x);
-    HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
-    HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
-    HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
-    HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-    copyToDevice(x, hx);
+    if constexpr (kHypreReadsKokkosMemory) {
+      Kokkos::deep_copy(x, 0.0);
+      Kokkos::fence();
+      const BorrowedVector borrowB(parb_, b.data()), borrowX(parx_, x.data());
+      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+    } else {
+      const auto hb = copyToHost(b);
+      auto hx = hostMirror(x);
+      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
+      copyToDevice(x, hx);
+    }
   }
 
   std::string name() const override {
@@ -257,9 +304,11 @@ public:
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
     const auto start = std::chrono::steady_clock::now();
-    auto ro = copyToHost(a.rowOffsets);
-    auto co = copyToHost(a.columns);
-    auto va = copyToHost(a.values);
+    // Eigen reads the CSR arrays in place where the memory is host-accessible (as hypre above).
+    Kokkos::fence();
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    const auto va = hostReadable(a.values);
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(co.extent(0));
     for (LocalIndex i = 0; i < a.numRows; ++i)
@@ -285,7 +334,8 @@ public:
   LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
                          const Kokkos::View<double *, DeviceSpace> &x) override {
     const auto start = std::chrono::steady_clock::now();
-    auto hb = copyToHost(b);
+    Kokkos::fence(); // b may come from a kernel still running
+    const auto hb = hostReadable(b);
     Eigen::Map<const Eigen::VectorXd> eb(hb.data(), hb.extent(0));
     const auto factorSolve = [&](const Eigen::VectorXd &r) {
       return useLu_ ? Eigen::VectorXd(lu_.solve(r)) : Eigen::VectorXd(ldlt_.solve(r));
@@ -309,10 +359,14 @@ public:
         s.relativeResidual = r.norm() / bn;
       }
     }
-    auto hx = hostMirror(x);
-    for (LocalIndex i = 0; i < static_cast<LocalIndex>(ex.size()); ++i)
-      hx(i) = ex(i);
-    copyToDevice(x, hx);
+    if constexpr (kHostAccessible<DeviceSpace>) {
+      Eigen::Map<Eigen::VectorXd>(x.data(), x.extent(0)) = ex;
+    } else {
+      auto hx = hostMirror(x);
+      for (LocalIndex i = 0; i < static_cast<LocalIndex>(ex.size()); ++i)
+        hx(i) = ex(i);
+      copyToDevice(x, hx);
+    }
     s.converged = bn == 0.0 || trueResidualConverged(s.relativeResidual, ex.squaredNorm(),
                                                      tolerance_, true, 100.0);
     s.iterations = 1;
