@@ -141,16 +141,29 @@ LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpac
       Kokkos::DefaultExecutionSpace(), Kokkos::View<const RigidObstacle *, DeviceSpace>(obstacles_),
       Kokkos::View<const LocalIndex *, DeviceSpace>(nodesDevice_),
       Kokkos::View<const int *, DeviceSpace>(obstacleDevice_), coordinates, u, stride, detection_);
-  auto g = copyToHost(detection_.gap);
-  auto n = copyToHost(detection_.normal);
-  auto a = copyToHost(detection_.angle);
-  auto s = copyToHost(detection_.arcCoordinate);
+  // What the statuses and constraints read (gap, normal, angle, arc per candidate), packed on
+  // the device and copied in one transfer of O(candidates).
+  if (detected_.extent(0) != node_.size())
+    detected_ = Kokkos::View<double *[5], DeviceSpace>("mixcon::contact::detected", node_.size());
+  const auto packed = detected_;
+  const auto d = detection_;
+  Kokkos::parallel_for(
+      "mixcon::contact::packDetection",
+      Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, node_.size()),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        packed(k, 0) = d.gap(k);
+        packed(k, 1) = d.normal(k, 0);
+        packed(k, 2) = d.normal(k, 1);
+        packed(k, 3) = d.angle(k);
+        packed(k, 4) = d.arcCoordinate(k);
+      });
+  const auto h = copyToHost(packed);
   for (std::size_t k = 0; k < node_.size(); ++k) {
-    gap_[k] = g(k);
-    angle_[k] = a(k);
-    arc_[k] = s(k);
-    normal_[2 * k] = n(k, 0);
-    normal_[2 * k + 1] = n(k, 1);
+    gap_[k] = h(k, 0);
+    normal_[2 * k] = h(k, 1);
+    normal_[2 * k + 1] = h(k, 2);
+    angle_[k] = h(k, 3);
+    arc_[k] = h(k, 4);
   }
   buildConstraints();
   return penetrating;
@@ -166,6 +179,7 @@ void RigidContact::buildConstraints() {
   c.tangentStep.assign(numNodes_, 0.0);
   c.force.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
   c.obstacle.assign(numNodes_, -1);
+  deviceStale_ = true;
   for (std::size_t k = 0; k < node_.size(); ++k) {
     if (status_[k] == ContactStatus::Open)
       continue;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -21,31 +22,83 @@ namespace mixcon {
 
 using namespace fieldops;
 
-namespace {
-
-/// Component d of the contact force that obstacle o exerts on the body, from a residual-like
-/// host vector y (`stride` unknowns per node; the Dirichlet flags `dirichlet` per unknown): at
-/// each node closed on o, n (n . y), plus t (t . y) in stick, plus the friction force of slip
-/// nodes when `withFriction`. Nodes with both components prescribed carry no contact force.
-double obstacleForce(const ContactConstraints &c, const double *y, int stride, const int *dirichlet,
-                     LocalIndex numNodes, int o, int d, bool withFriction) {
-  double f = 0.0;
-  for (LocalIndex p = 0; p < numNodes; ++p) {
-    const LocalIndex i0 = stride * p;
-    if (!c.framed[p] || c.obstacle[p] != o || (dirichlet[i0] && dirichlet[i0 + 1]))
-      continue;
-    const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
-    const double t[2] = {-n[1], n[0]};
-    f += n[d] * (n[0] * y[i0] + n[1] * y[i0 + 1]);
-    if (c.tangentFixed[p] && !dirichlet[i0] && !dirichlet[i0 + 1])
-      f += t[d] * (t[0] * y[i0] + t[1] * y[i0 + 1]);
-    if (withFriction)
-      f += c.force[2 * p + d];
+const RigidContact::DeviceConstraints &RigidContact::deviceConstraints() const {
+  // The entries: every node framed on an obstacle or loaded by a friction force, once each.
+  if (!deviceStale_)
+    return device_;
+  const auto &c = constraints_;
+  std::vector<LocalIndex> nodes;
+  for (LocalIndex p : node_)
+    if (c.framed[p] || c.force[2 * p] != 0.0 || c.force[2 * p + 1] != 0.0)
+      nodes.push_back(p);
+  std::sort(nodes.begin(), nodes.end());
+  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  const std::size_t m = nodes.size();
+  auto &d = device_;
+  if (d.node.extent(0) != m) {
+    d.node = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::contact::constrainedNodes", m);
+    d.flags = Kokkos::View<int *[4], DeviceSpace>("mixcon::contact::constraintFlags", m);
+    d.values = Kokkos::View<double *[6], DeviceSpace>("mixcon::contact::constraintValues", m);
   }
-  return f;
+  if (d.entry.extent(0) != static_cast<std::size_t>(numNodes_))
+    d.entry = Kokkos::View<int *, DeviceSpace>("mixcon::contact::constraintEntry", numNodes_);
+  auto hn = hostMirror(d.node);
+  auto hf = hostMirror(d.flags);
+  auto hv = hostMirror(d.values);
+  for (std::size_t k = 0; k < m; ++k) {
+    const LocalIndex p = nodes[k];
+    hn(k) = p;
+    hf(k, 0) = c.framed[p];
+    hf(k, 1) = c.normalFixed[p];
+    hf(k, 2) = c.tangentFixed[p];
+    hf(k, 3) = c.obstacle[p];
+    hv(k, 0) = c.normal[2 * p];
+    hv(k, 1) = c.normal[2 * p + 1];
+    hv(k, 2) = c.normalStep[p];
+    hv(k, 3) = c.tangentStep[p];
+    hv(k, 4) = c.force[2 * p];
+    hv(k, 5) = c.force[2 * p + 1];
+  }
+  copyToDevice(d.node, hn);
+  copyToDevice(d.flags, hf);
+  copyToDevice(d.values, hv);
+  Kokkos::deep_copy(d.entry, -1);
+  const auto node = d.node;
+  const auto entry = d.entry;
+  Kokkos::parallel_for(
+      "mixcon::contact::constraintEntries", Kokkos::RangePolicy<Exec>(0, m),
+      KOKKOS_LAMBDA(LocalIndex k) { entry(node(k)) = k; });
+  deviceStale_ = false;
+  return device_;
 }
 
-} // namespace
+double RigidContact::obstacleForce(const ConstVec &y, int stride,
+                                   const Kokkos::View<const int *, Memory> &dirichlet, int o, int d,
+                                   bool withFriction) const {
+  // At each node closed on o, n (n . y), plus t (t . y) in stick, plus the friction force of
+  // slip nodes when `withFriction`. Nodes with both components prescribed carry no contact force.
+  const DeviceConstraints &c = deviceConstraints();
+  const auto node = c.node;
+  const auto flags = c.flags;
+  const auto values = c.values;
+  double f = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::contact::obstacleForce", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k, double &acc) {
+        const LocalIndex i0 = stride * node(k);
+        if (!flags(k, 0) || flags(k, 3) != o || (dirichlet(i0) && dirichlet(i0 + 1)))
+          return;
+        const double n[2] = {values(k, 0), values(k, 1)};
+        const double t[2] = {-n[1], n[0]};
+        acc += n[d] * (n[0] * y(i0) + n[1] * y(i0 + 1));
+        if (flags(k, 2) && !dirichlet(i0) && !dirichlet(i0 + 1))
+          acc += t[d] * (t[0] * y(i0) + t[1] * y(i0 + 1));
+        if (withFriction)
+          acc += values(k, 4 + d);
+      },
+      f);
+  return f;
+}
 
 void RigidContact::locate(const Kokkos::View<const double *[2], Memory> &coordinates,
                           const Kokkos::View<const double *, Memory> &x, int stride,
@@ -54,7 +107,15 @@ void RigidContact::locate(const Kokkos::View<const double *[2], Memory> &coordin
 }
 
 void RigidContact::subtractForces(const Kokkos::View<double *, Memory> &g, int stride) const {
-  subtractNodalForces(g, stride, constraints_.force);
+  const DeviceConstraints &c = deviceConstraints();
+  const auto node = c.node;
+  const auto values = c.values;
+  Kokkos::parallel_for(
+      "mixcon::contact::subtractFriction", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int d = 0; d < 2; ++d)
+          g(stride * node(k) + d) = -values(k, 4 + d) + g(stride * node(k) + d);
+      });
 }
 
 double RigidContact::externalForceNorm(double appliedLoads) const {
@@ -76,27 +137,31 @@ double RigidContact::freeResidualNorm(const Kokkos::View<const double *, Memory>
                                       int stride) const {
   // ||G|| over the displacement unknowns held neither by Dirichlet nor by contact conditions;
   // at a node held normally on an obstacle only the tangential component counts (slip).
-  const auto g = copyToHost(gv);
-  const auto flags = copyToHost(fv);
-  const auto &c = constraints_;
+  const DeviceConstraints &c = deviceConstraints();
+  const auto entry = c.entry;
+  const auto flags = c.flags;
+  const auto values = c.values;
   double s = 0.0;
-  for (LocalIndex p = 0; p < numNodes_; ++p) {
-    const LocalIndex i0 = stride * p;
-    if (c.framed[p] && !flags(i0) && !flags(i0 + 1)) {
-      const double n0 = c.normal[2 * p], n1 = c.normal[2 * p + 1];
-      const double gt = -n1 * g(i0) + n0 * g(i0 + 1);
-      if (!c.tangentFixed[p])
-        s += gt * gt;
-      continue;
-    }
-    for (int i = 0; i < 2; ++i)
-      if (!flags(i0 + i) && !(c.framed[p] && c.normalFixed[p]))
-        s += g(i0 + i) * g(i0 + i);
-  }
+  Kokkos::parallel_reduce(
+      "mixcon::contact::freeResidual", Kokkos::RangePolicy<Exec>(0, numNodes_),
+      KOKKOS_LAMBDA(LocalIndex p, double &acc) {
+        const LocalIndex i0 = stride * p;
+        const int k = entry(p);
+        const bool framed = k >= 0 && flags(k, 0);
+        if (framed && !fv(i0) && !fv(i0 + 1)) {
+          const double gt = -values(k, 1) * gv(i0) + values(k, 0) * gv(i0 + 1);
+          if (!flags(k, 2))
+            acc += gt * gt;
+          return;
+        }
+        for (int i = 0; i < 2; ++i)
+          if (!fv(i0 + i) && !(framed && flags(k, 1)))
+            acc += gv(i0 + i) * gv(i0 + i);
+      },
+      s);
   // The balance of every force-driven obstacle: applied force minus the contact forces.
   for (const auto &d : drivenComponents()) {
-    const double r = drivenForce(d) - obstacleForce(c, g.data(), stride, flags.data(), numNodes_,
-                                                    d.obstacle, d.direction, true);
+    const double r = drivenForce(d) - obstacleForce(gv, stride, fv, d.obstacle, d.direction, true);
     s += r * r;
   }
   return std::sqrt(s);
@@ -118,42 +183,57 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   const auto &g = sys.g;
   const auto &rhs = sys.rhs;
   const auto &target = sys.target;
-  const auto &c = constraints_;
   const LocalIndex nn = numNodes_;
-  const auto dflags = copyToHost(fv);
-  std::vector<int> flags(dflags.data(), dflags.data() + dflags.extent(0));
-  const auto presc = ModelBase::toHost(sys.prescribed);
-  const auto u = ModelBase::toHost(sys.displacement);
-  std::vector<double> step(stride * static_cast<std::size_t>(nn), 0.0);
-  std::vector<int> framed(nn, 0);
-  for (LocalIndex p = 0; p < nn; ++p)
-    for (int i = 0; i < 2; ++i)
-      if (flags[stride * p + i])
-        step[stride * p + i] = lambda * presc[2 * p + i] - u[2 * p + i];
-  for (LocalIndex p = 0; p < nn; ++p) {
-    if (!c.framed[p])
-      continue;
-    const LocalIndex i0 = stride * p;
-    const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
-    const bool fx = flags[i0] != 0, fy = flags[i0 + 1] != 0;
-    if (fx && fy)
-      continue; // fully prescribed: the contact condition cannot act
-    if (fx || fy) {
-      const int fixed = fx ? 0 : 1, other = 1 - fixed;
-      if (std::abs(n[other]) < 0.999)
-        throw InputError("node " + std::to_string(Mesh::externalId(nodeIds_, p)) +
-                         ": contact on a surface not normal to its free direction while the "
-                         "other direction is prescribed is not supported");
-      flags[i0 + other] = 1;
-      step[i0 + other] = (c.normalStep[p] - n[fixed] * step[i0 + fixed]) / n[other];
-      continue;
-    }
-    framed[p] = 1;
-    flags[i0] = c.normalFixed[p];
-    flags[i0 + 1] = c.tangentFixed[p];
-    step[i0] = c.normalStep[p];
-    step[i0 + 1] = c.tangentStep[p];
-  }
+  // Flags and the prescribed step per unknown, the frames per node, built on the device from the
+  // constraint entries (deviceConstraints: O(candidates) uploaded per detection, nothing here).
+  const DeviceConstraints &dev = deviceConstraints();
+  const auto entry = dev.entry;
+  const auto cflags = dev.flags;
+  const auto values = dev.values;
+  const auto presc = sys.prescribed;
+  const auto u = sys.displacement;
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", fv.extent(0)),
+      dfr("mixcon::nonlinear::framed", nn);
+  Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
+  LocalIndex unsupported = nn; // the first node with an unsupported mix of conditions
+  Kokkos::parallel_reduce(
+      "mixcon::contact::localFrameConditions", Kokkos::RangePolicy<Exec>(0, nn),
+      KOKKOS_LAMBDA(LocalIndex p, LocalIndex & bad) {
+        const LocalIndex i0 = stride * p;
+        for (int i = 0; i < stride; ++i) {
+          df(i0 + i) = fv(i0 + i);
+          target(i0 + i) = i < 2 && fv(i0 + i) ? lambda * presc(2 * p + i) - u(2 * p + i) : 0.0;
+        }
+        const int k = entry(p);
+        if (k < 0 || !cflags(k, 0))
+          return;
+        const double n[2] = {values(k, 0), values(k, 1)};
+        dn(p, 0) = n[0];
+        dn(p, 1) = n[1];
+        const bool fx = fv(i0) != 0, fy = fv(i0 + 1) != 0;
+        if (fx && fy)
+          return; // fully prescribed: the contact condition cannot act
+        if (fx || fy) {
+          const int fixed = fx ? 0 : 1, other = 1 - fixed;
+          if (detail::fabs(n[other]) < 0.999) {
+            bad = p < bad ? p : bad;
+            return;
+          }
+          df(i0 + other) = 1;
+          target(i0 + other) = (values(k, 2) - n[fixed] * target(i0 + fixed)) / n[other];
+          return;
+        }
+        dfr(p) = 1;
+        df(i0) = cflags(k, 1);
+        df(i0 + 1) = cflags(k, 2);
+        target(i0) = values(k, 2);
+        target(i0 + 1) = values(k, 3);
+      },
+      Kokkos::Min<LocalIndex>(unsupported));
+  if (unsupported < nn)
+    throw InputError("node " + std::to_string(Mesh::externalId(nodeIds_, unsupported)) +
+                     ": contact on a surface not normal to its free direction while the "
+                     "other direction is prescribed is not supported");
   // Force-driven obstacles: their motion dc along each driven component is an unknown. The
   // prescribed normal (and stick tangential) components of their closed nodes then read
   // step + (n . dc) (and t . dc), so the correction is dx0 + sum_j dx_j dc_j with dx_j the
@@ -162,45 +242,7 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   // unknowns per obstacle, exact for the linearized problem).
   const auto &driven = drivenComponents();
   const std::size_t nd = driven.size();
-  std::vector<std::vector<double>> unitStep(nd, std::vector<double>(step.size(), 0.0));
-  for (std::size_t j = 0; j < nd; ++j)
-    for (LocalIndex p = 0; p < nn; ++p) {
-      if (!c.framed[p] || c.obstacle[p] != driven[j].obstacle)
-        continue;
-      const LocalIndex i0 = stride * p;
-      const double n[2] = {c.normal[2 * p], c.normal[2 * p + 1]};
-      const double t[2] = {-n[1], n[0]};
-      const int d = driven[j].direction;
-      if (framed[p]) {
-        unitStep[j][i0] = n[d];
-        if (c.tangentFixed[p])
-          unitStep[j][i0 + 1] = t[d];
-      } else if (!(dflags(i0) && dflags(i0 + 1))) {
-        const int other = dflags(i0) ? 1 : 0;
-        unitStep[j][i0 + other] = n[d] / n[other];
-      }
-    }
   const auto start = std::chrono::steady_clock::now();
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", flags.size()),
-      dfr("mixcon::nonlinear::framed", nn);
-  Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
-  auto hf = hostMirror(df);
-  auto hfr = hostMirror(dfr);
-  auto hn = hostMirror(dn);
-  auto ht = hostMirror(target);
-  for (std::size_t i = 0; i < flags.size(); ++i) {
-    hf(i) = flags[i];
-    ht(i) = step[i];
-  }
-  for (LocalIndex p = 0; p < nn; ++p) {
-    hfr(p) = framed[p];
-    hn(p, 0) = c.normal[2 * p];
-    hn(p, 1) = c.normal[2 * p + 1];
-  }
-  copyToDevice(df, hf);
-  copyToDevice(dfr, hfr);
-  copyToDevice(dn, hn);
-  copyToDevice(target, ht);
   if (work.numRows == 0)
     work = cloneValues(tangent);
   else
@@ -230,10 +272,27 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   constrainedDiagonal(Exec(), work, cf, diag);
   std::vector<Vec> response(nd);
   for (std::size_t j = 0; j < nd; ++j) {
-    auto hu = hostMirror(unit);
-    for (LocalIndex i = 0; i < n; ++i)
-      hu(i) = unitStep[j][i];
-    copyToDevice(unit, hu);
+    // The unit motion of component j at the closed nodes of its obstacle, in their frames.
+    Kokkos::deep_copy(unit, 0.0);
+    const auto node = dev.node;
+    const int o = driven[j].obstacle, d = driven[j].direction;
+    Kokkos::parallel_for(
+        "mixcon::contact::unitObstacleStep", Kokkos::RangePolicy<Exec>(0, node.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex k) {
+          const LocalIndex p = node(k), i0 = stride * p;
+          if (!cflags(k, 0) || cflags(k, 3) != o)
+            return;
+          const double nk[2] = {values(k, 0), values(k, 1)};
+          const double t[2] = {-nk[1], nk[0]};
+          if (dfr(p)) {
+            unit(i0) = nk[d];
+            if (cflags(k, 2))
+              unit(i0 + 1) = t[d];
+          } else if (!(fv(i0) && fv(i0 + 1))) {
+            const int other = fv(i0) ? 1 : 0;
+            unit(i0 + other) = nk[d] / nk[other];
+          }
+        });
     multiply(Exec(), rotated, ConstVec(unit), product);
     constrainedRhs(Exec(), cf, ConstVec(diag), ConstVec(zero), ConstVec(unit), ConstVec(product),
                    lifted);
@@ -246,18 +305,15 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   }
   multiply(Exec(), tangent, ConstVec(dx), product);
   axpby(1.0, g, 1.0, product); // G + K dx0: the linearized residual after the base correction
-  const auto base = ModelBase::toHost(product);
   Eigen::MatrixXd a(nd, nd);
   Eigen::VectorXd b(nd);
   for (std::size_t i = 0; i < nd; ++i)
-    b(i) = drivenForce(driven[i]) - obstacleForce(c, base.data(), stride, dflags.data(), nn,
-                                                  driven[i].obstacle, driven[i].direction, true);
+    b(i) = drivenForce(driven[i]) -
+           obstacleForce(product, stride, fv, driven[i].obstacle, driven[i].direction, true);
   for (std::size_t j = 0; j < nd; ++j) {
     multiply(Exec(), tangent, ConstVec(response[j]), product);
-    const auto y = ModelBase::toHost(product);
     for (std::size_t i = 0; i < nd; ++i)
-      a(i, j) = obstacleForce(c, y.data(), stride, dflags.data(), nn, driven[i].obstacle,
-                              driven[i].direction, false);
+      a(i, j) = obstacleForce(product, stride, fv, driven[i].obstacle, driven[i].direction, false);
   }
   Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
   lu.setThreshold(1e-10);

@@ -75,6 +75,9 @@ public:
   /// displacements first) and optionally the nodal stresses; returns the number of changes.
   virtual int updateStatus(const std::vector<double> &g, int stride, std::string &log,
                            const std::vector<double> *stress, bool frozen) = 0;
+  /// The nodes at which updateStatus reads g and the stresses (the rest may be left 0, so only
+  /// those are copied to the host); nullptr: every node.
+  virtual const std::vector<LocalIndex> *statusNodes() const { return nullptr; }
   virtual bool penetrationWithin(double relative, std::string &where) const = 0;
   virtual void commit() = 0;
   virtual void rollback() = 0;

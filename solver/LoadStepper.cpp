@@ -117,10 +117,13 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
   bool frozen = false;
   for (int it = 0; it < options_.maxContactIterations; ++it) {
     std::string changesLog;
-    const auto stress = model_.contactStressHost();
-    const int changes =
-        contact->updateStatus(model_.residualVectorHost(), model_.unknownsPerNode(), changesLog,
-                              stress.empty() ? nullptr : &stress, frozen);
+    // The residual and stresses where the status update reads them (the candidate nodes of
+    // rigid contact: O(candidates) copied), or everywhere.
+    const std::vector<LocalIndex> *nodes = contact->statusNodes();
+    const auto stress = nodes ? model_.contactStressHost(*nodes) : model_.contactStressHost();
+    const auto g = nodes ? model_.residualVectorHost(*nodes) : model_.residualVectorHost();
+    const int changes = contact->updateStatus(g, model_.unknownsPerNode(), changesLog,
+                                              stress.empty() ? nullptr : &stress, frozen);
     ++out.contactIterations;
     if (detail_ && !changesLog.empty())
       *detail_ << changesLog;

@@ -228,6 +228,25 @@ void ModelBase::fromHost(const std::vector<double> &h, const Kokkos::View<double
   copyToDevice(v, m);
 }
 
+std::vector<double> ModelBase::toHostAt(const Kokkos::View<const double *, Memory> &v, int perNode,
+                                        const std::vector<LocalIndex> &nodes) {
+  const std::size_t m = nodes.size();
+  Kokkos::View<LocalIndex *, Memory> at("mixcon::model::gatherNodes", m);
+  Kokkos::View<double *, Memory> packed("mixcon::model::gathered", perNode * m);
+  copyToDevice(at, nodes);
+  Kokkos::parallel_for(
+      "mixcon::model::gatherAtNodes", Kokkos::RangePolicy<Exec>(0, m), KOKKOS_LAMBDA(LocalIndex k) {
+        for (int c = 0; c < perNode; ++c)
+          packed(perNode * k + c) = v(perNode * at(k) + c);
+      });
+  const auto h = copyToHost(packed);
+  std::vector<double> out(v.extent(0), 0.0);
+  for (std::size_t k = 0; k < m; ++k)
+    for (int c = 0; c < perNode; ++c)
+      out[perNode * static_cast<std::size_t>(nodes[k]) + c] = h(perNode * k + c);
+  return out;
+}
+
 std::vector<double>
 ModelBase::reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
                         double loadFactor) const {

@@ -77,6 +77,10 @@ public:
   static std::vector<double> toHost(const Kokkos::View<const double *, Memory> &v);
   /// Copies a host vector into a device view of the same length (or a prefix of it).
   static void fromHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v);
+  /// Host vector of the length of `v` (`perNode` values per node) holding the values of `nodes`
+  /// and 0 elsewhere: only those are copied (O(nodes), e.g. contact candidates).
+  static std::vector<double> toHostAt(const Kokkos::View<const double *, Memory> &v, int perNode,
+                                      const std::vector<LocalIndex> &nodes);
 
 protected:
   /// Copies the staged nodal forces (then clears them) and constraints to the device.

@@ -42,6 +42,9 @@ public:
   /// Elastic law (default Almansi; St. Venant-Kirchhoff needs the exact tangent).
   void setElasticLaw(ElasticLaw law) { law_ = law; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  std::vector<double> residualVectorHost(const std::vector<LocalIndex> &nodes) const override {
+    return toHostAt(g_, 2, nodes);
+  }
   int unknownsPerNode() const override { return 2; }
 
 private:

@@ -49,10 +49,16 @@ public:
   std::vector<double> nodalStressHost() const override; ///< tau (+ S during an increment)
   std::vector<double> reactionHost(double loadFactor) const override;
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  std::vector<double> residualVectorHost(const std::vector<LocalIndex> &nodes) const override {
+    return toHostAt(g_, 5, nodes);
+  }
   int unknownsPerNode() const override { return 5; }
   /// With contact (solver: direct), stick, slip and release are decided from the nodal
   /// stresses rotated to the contact surface, as in the report.
   std::vector<double> contactStressHost() const override;
+  std::vector<double> contactStressHost(const std::vector<LocalIndex> &nodes) const override {
+    return toHostAt(stressOnly(), 3, nodes);
+  }
   /// Nodal stresses interpolated at the quadrature points (the report's way to get Cauchy stress
   /// in the mixed model), (E * nq) x 3.
   std::vector<double> interpolatedGaussStressHost() const;

@@ -61,6 +61,12 @@ public:
   /// Nodal Cauchy stresses (3 per node) that decide stick, slip and release, or empty when the
   /// contact forces decide (displacement model).
   virtual std::vector<double> contactStressHost() const { return {}; }
+  /// The two above with only the values at `nodes` copied (0 elsewhere): what a contact status
+  /// update reads, O(contact candidates) per contact iteration.
+  virtual std::vector<double> residualVectorHost(const std::vector<LocalIndex> &nodes) const = 0;
+  virtual std::vector<double> contactStressHost(const std::vector<LocalIndex> &) const {
+    return {};
+  }
   /// True when the residual is linear in the unknowns (small displacements, dead loads): an
   /// increment has then converged once the residual criterion holds, whatever |du|/|u|.
   virtual bool linearResponse() const { return false; }

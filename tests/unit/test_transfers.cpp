@@ -6,6 +6,9 @@
 //    and the mixed model (flexible GMRES, block-triangular preconditioner, BoomerAMG on K^L)
 //    make at most a small constant number of device -> host copies per Newton iteration, and
 //    the same number on two mesh sizes (a per-node copy would grow with the mesh);
+//  - with a rigid obstacle, the bytes moved per iteration grow with the contact candidate nodes,
+//    not with the mesh: two blocks with the same contact boundary and 4x the interior rows.
+#include <contact/RigidContact.hpp>
 #include <core/Transfer.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/LoadStepper.hpp>
@@ -137,4 +140,67 @@ TEST(Transfers, NonlinearMixedModelIterativeSolveKeepsNewtonOnTheDevice) {
   }
   EXPECT_LE(p[1].toHostBytes, p[0].toHostBytes);
   EXPECT_LE(p[1].toDeviceBytes, p[0].toDeviceBytes);
+}
+
+namespace {
+
+/// An elastic block (W = 2, H = 1, Quad8, finite displacements, hypre AMG) pressed by its top onto
+/// a rigid half-plane with friction: `ny` element rows, 8 columns whatever `ny`, so the contact
+/// candidates (the bottom nodes) are the same on every mesh.
+struct Block {
+  Mesh mesh;
+  std::unique_ptr<NonlinearDisplacementModel> model;
+  std::unique_ptr<RigidContact> contact;
+};
+
+Block pressedBlock(int ny) {
+  Block b;
+  b.mesh = rectangleMesh(2.0, 1.0, 8, ny, ElementType::Quad8);
+  const std::vector<PlaneMatrix> c{isotropicStiffness(21000.0, 0.3, PlaneAnalysis::PlaneStrain)};
+  b.model = std::make_unique<NonlinearDisplacementModel>(
+      b.mesh, std::vector<int>(b.mesh.numElements(), 0), c, 1.0);
+  for (LocalIndex n : b.mesh.nodesOf("left"))
+    b.model->prescribe(n, 0, 0.0);
+  for (LocalIndex n : b.mesh.nodesOf("top"))
+    b.model->prescribe(n, 1, -0.02);
+  RigidContactSpec spec;
+  spec.obstacle.kind = ObstacleKind::HalfPlane;
+  spec.obstacle.point[0] = spec.obstacle.point[1] = 0.0;
+  spec.obstacle.normal[0] = 0.0;
+  spec.obstacle.normal[1] = 1.0;
+  spec.nodes = b.mesh.nodesOf("bottom");
+  spec.friction = 0.3;
+  spec.name = "bottom";
+  b.contact =
+      std::make_unique<RigidContact>(b.mesh.numNodes(), std::vector<RigidContactSpec>{spec});
+  b.model->setContact(b.contact.get());
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Amg;
+  o.tolerance = 1e-10;
+  b.model->setup(o, MPI_COMM_WORLD);
+  return b;
+}
+
+} // namespace
+
+TEST(Transfers, RigidContactMovesBytesOfTheContactNodesNotOfTheMesh) {
+  PerIteration p[2];
+  LocalIndex nodes[2] = {0, 0}, candidates[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    Block b = pressedBlock(k == 0 ? 2 : 8);
+    nodes[k] = b.mesh.numNodes();
+    candidates[k] = b.contact->numCandidates();
+    p[k] = countPerIteration(*b.model, 2);
+  }
+  ASSERT_EQ(candidates[0], candidates[1]);
+  ASSERT_GT(nodes[1], 3 * nodes[0]);
+  std::printf("    %d / %d nodes, %d contact candidates\n", nodes[0], nodes[1], candidates[0]);
+  // Per iteration, bytes bounded by a constant times the candidates (gap, normal, angle, arc
+  // per candidate and the like), and no more on the mesh with 3.3x the nodes.
+  for (const PerIteration &q : p) {
+    EXPECT_LE(q.toHostBytes, 64.0 * sizeof(double) * candidates[0]);
+    EXPECT_LE(q.toDeviceBytes, 64.0 * sizeof(double) * candidates[0]);
+  }
+  EXPECT_LE(p[1].toHostBytes, 1.25 * p[0].toHostBytes);
+  EXPECT_LE(p[1].toDeviceBytes, 1.25 * p[0].toDeviceBytes);
 }
