@@ -155,6 +155,24 @@ public:
   /// "obstacle <s + 1> ('<name>')": obstacle s as the problem file's `contact:` list numbers it.
   std::string obstacleLabel(int s) const;
 
+  // The constraints on the device (public only because CUDA's extended lambdas cannot live in
+  // private member functions; not for callers).
+  /// constraints_ on the device for the kernels of an evaluation and a correction: one entry per
+  /// node that is framed or carries a friction force (O(candidates), uploaded once after each
+  /// buildConstraints), and per mesh node its entry (-1: none), filled on the device.
+  struct DeviceConstraints {
+    Kokkos::View<LocalIndex *, DeviceSpace> node;
+    Kokkos::View<int *[4], DeviceSpace> flags;     ///< framed, normalFixed, tangentFixed, obstacle
+    Kokkos::View<double *[6], DeviceSpace> values; ///< n0, n1, normalStep, tangentStep, fx, fy
+    Kokkos::View<int *, DeviceSpace> entry;        ///< mesh node -> entry, -1: none
+  };
+  const DeviceConstraints &deviceConstraints() const;
+  /// Component d of the contact force obstacle o exerts on the body from a residual-like device
+  /// vector y (`stride` unknowns per node, `dirichlet` flags per unknown), a device reduction.
+  double obstacleForce(const Kokkos::View<const double *, DeviceSpace> &y, int stride,
+                       const Kokkos::View<const int *, DeviceSpace> &dirichlet, int o, int d,
+                       bool withFriction) const;
+
 private:
   void buildConstraints();
   std::vector<RigidContactSpec> specs_;
@@ -180,21 +198,6 @@ private:
   ContactDetection<DeviceSpace> detection_;
   Kokkos::View<double *[5], DeviceSpace> detected_; ///< gap, normal, angle, arc (one copy)
 
-  /// constraints_ on the device for the kernels of an evaluation and a correction: one entry per
-  /// node that is framed or carries a friction force (O(candidates), uploaded once after each
-  /// buildConstraints), and per mesh node its entry (-1: none), filled on the device.
-  struct DeviceConstraints {
-    Kokkos::View<LocalIndex *, DeviceSpace> node;
-    Kokkos::View<int *[4], DeviceSpace> flags;     ///< framed, normalFixed, tangentFixed, obstacle
-    Kokkos::View<double *[6], DeviceSpace> values; ///< n0, n1, normalStep, tangentStep, fx, fy
-    Kokkos::View<int *, DeviceSpace> entry;        ///< mesh node -> entry, -1: none
-  };
-  const DeviceConstraints &deviceConstraints() const;
-  /// Component d of the contact force obstacle o exerts on the body from a residual-like device
-  /// vector y (`stride` unknowns per node, `dirichlet` flags per unknown), a device reduction.
-  double obstacleForce(const Kokkos::View<const double *, DeviceSpace> &y, int stride,
-                       const Kokkos::View<const int *, DeviceSpace> &dirichlet, int o, int d,
-                       bool withFriction) const;
   mutable DeviceConstraints device_;
   mutable bool deviceStale_ = true;
 };

@@ -1,5 +1,6 @@
 // hypre (IJ -> ParCSR, PCG + BoomerAMG) and Eigen (SimplicialLDLT) implementations.
 #include <core/Transfer.hpp>
+#include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/Rules.hpp>
 
@@ -163,10 +164,8 @@ public:
     const auto start = std::chrono::steady_clock::now();
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
-    double bnorm = 0.0;
-    Kokkos::parallel_reduce(
-        "mixcon::solver::rhsNorm", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, n),
-        KOKKOS_LAMBDA(HYPRE_Int i, double &acc) { acc += b(i) * b(i); }, bnorm);
+    const ConstDeviceVector owned = Kokkos::subview(b, std::make_pair(0, static_cast<int>(n)));
+    double bnorm = dot(owned, owned); // a device reduction (b stays where it is)
     MPI_Allreduce(MPI_IN_PLACE, &bnorm, 1, MPI_DOUBLE, MPI_SUM, comm_);
     if (bnorm == 0.0) { // hypre divides by ||b||; the answer is x = 0, exactly
       Kokkos::deep_copy(x, 0.0);
