@@ -11,6 +11,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -24,17 +25,46 @@ struct TransferCounts {
   std::uint64_t toDeviceCalls = 0, toDeviceBytes = 0;
 };
 
-/// The counts accumulated by this process since start or the last resetTransferCounts().
-TransferCounts transferCounts();
-void resetTransferCounts();
-
 namespace detail {
-void countTransfer(bool toHost, std::size_t bytes);
+/// The process-wide counters: a static local of an inline function, one instance in the process
+/// even with one shared library per layer (vague linkage; core stays header-only).
+struct TransferCounters {
+  std::atomic<std::uint64_t> toHostCalls{0}, toHostBytes{0}, toDeviceCalls{0}, toDeviceBytes{0};
+};
+inline TransferCounters &transferCounters() {
+  static TransferCounters counters;
+  return counters;
+}
+
+inline void countTransfer(bool toHost, std::size_t bytes) {
+  TransferCounters &c = transferCounters();
+  (toHost ? c.toHostCalls : c.toDeviceCalls).fetch_add(1, std::memory_order_relaxed);
+  (toHost ? c.toHostBytes : c.toDeviceBytes).fetch_add(bytes, std::memory_order_relaxed);
+}
 
 template <class V> std::size_t viewBytes(const V &v) {
   return v.span() * sizeof(typename V::value_type);
 }
 } // namespace detail
+
+/// The counts accumulated by this process since start or the last resetTransferCounts().
+inline TransferCounts transferCounts() {
+  const detail::TransferCounters &c = detail::transferCounters();
+  TransferCounts t;
+  t.toHostCalls = c.toHostCalls.load();
+  t.toHostBytes = c.toHostBytes.load();
+  t.toDeviceCalls = c.toDeviceCalls.load();
+  t.toDeviceBytes = c.toDeviceBytes.load();
+  return t;
+}
+
+inline void resetTransferCounts() {
+  detail::TransferCounters &c = detail::transferCounters();
+  c.toHostCalls = 0;
+  c.toHostBytes = 0;
+  c.toDeviceCalls = 0;
+  c.toDeviceBytes = 0;
+}
 
 /// A host copy of `v` (its HostSpace mirror, filled). Counted device -> host.
 template <class V> auto copyToHost(const V &v) {
