@@ -311,9 +311,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   const bool verbose = options.verbosity == Verbosity::Verbose;
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<NonlinearModel> owner;
+  const NonlinearMixedModel *mixedModel = nullptr; // the mixed model's own output
   if (mixed) {
     auto m = std::make_unique<NonlinearMixedModel>(p.mesh, elementMaterial, stiffness,
                                                    p.model.thickness);
+    mixedModel = m.get();
     m->setForm(p.model.mixedForm);
     m->setStressUpdate(p.model.stressUpdate);
     m->setStabilization(p.model.mixed.stabilization);
@@ -495,9 +497,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     f.reaction = model.reactionHost(lambda);
     model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
                                f.gaussGradient, f.gaussCurrentCoordinates);
-    if (mixed)
-      f.gaussInterpolatedStress =
-          static_cast<const NonlinearMixedModel &>(model).interpolatedGaussStressHost();
+    if (mixedModel)
+      f.gaussInterpolatedStress = mixedModel->interpolatedGaussStressHost();
     if (contact) {
       contactFields(*contact, p, model.displacementHost(), f, r);
       for (std::size_t sp = 0; sp < contact->specs().size(); ++sp)
@@ -569,14 +570,20 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
                               "linear without contact (its steps are independent: run it again)");
 
   const bool mixed = p.model.formulation == Formulation::Mixed;
-  std::unique_ptr<ModelBase> owner;
-  if (mixed)
-    owner = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,
-                                         p.model.stressElement.value_or(p.mesh.elementType));
-  else
-    owner = std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
-                                                      p.model.thickness);
-  ModelBase &model = *owner;
+  // Both owners typed, so each model's own setup and statistics need no cast.
+  std::unique_ptr<MixedModel> mixedModel;
+  std::unique_ptr<LinearDisplacementModel> displacementModel;
+  ModelBase *base = nullptr;
+  if (mixed) {
+    mixedModel = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,
+                                              p.model.stressElement.value_or(p.mesh.elementType));
+    base = mixedModel.get();
+  } else {
+    displacementModel = std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial,
+                                                                  stiffness, p.model.thickness);
+    base = displacementModel.get();
+  }
+  ModelBase &model = *base;
   applyConditions(p, model, nullptr);
 
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
@@ -586,9 +593,9 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   if (mixed) {
     MixedOptions o = p.model.mixed;
     o.linear = p.solver;
-    static_cast<MixedModel &>(model).setup(o, comm);
+    mixedModel->setup(o, comm);
   } else {
-    static_cast<LinearDisplacementModel &>(model).setup(p.solver, comm);
+    displacementModel->setup(p.solver, comm);
   }
   if (log) {
     char buf[200];
@@ -626,8 +633,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, start);
     if (log && verbose) {
       char line[256];
-      if (mixed) {
-        const auto &m = static_cast<const MixedModel &>(model);
+      if (mixedModel) {
+        const MixedModel &m = *mixedModel;
         if (m.innerIterations() > 0 && m.operatorApplications() > 0) {
           std::snprintf(line, sizeof line,
                         "        inner CG on M: %.1f iterations per Schur "

@@ -198,6 +198,41 @@ template <class MemorySpace> struct MixedOperators {
   Kokkos::View<double *[3][3], MemorySpace> lumpedInverse;
 };
 
+/// y = B x for 3x3 nodal blocks B(k) (the lumped compliance or its inverse).
+template <class ExecSpace, class MemorySpace>
+void applyNodalBlocks(const ExecSpace &exec, const Kokkos::View<double *[3][3], MemorySpace> &b,
+                      const Kokkos::View<const double *, MemorySpace> &x,
+                      const Kokkos::View<double *, MemorySpace> &y) {
+  Kokkos::parallel_for(
+      "mixcon::mixed::nodalBlocks", Kokkos::RangePolicy<ExecSpace>(exec, 0, b.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        const double x0 = x(3 * k), x1 = x(3 * k + 1), x2 = x(3 * k + 2);
+        for (int r = 0; r < 3; ++r)
+          y(3 * k + r) = b(k, r, 0) * x0 + b(k, r, 1) * x1 + b(k, r, 2) * x2;
+      });
+}
+
+/// inv(k) = b(k)^-1 for 3x3 nodal blocks (the lumped compliance, or the nodal blocks of the
+/// nonlinear mixed model's stress block); a singular block (a node without elements) leaves
+/// inv(k) as it was (zero in a new view).
+template <class ExecSpace, class MemorySpace>
+void invertNodalBlocks(const ExecSpace &exec, const Kokkos::View<double *[3][3], MemorySpace> &b,
+                       const Kokkos::View<double *[3][3], MemorySpace> &inv) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::invertNodalBlocks", Kokkos::RangePolicy<ExecSpace>(exec, 0, b.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        Mat<3, 3> a, ai{};
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            a.m[r][c] = b(k, r, c);
+        if (inverse(a, ai) == 0.0)
+          return;
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c)
+            inv(k, r, c) = ai.m[r][c];
+      });
+}
+
 /// Allocates and assembles the mixed operators of all elements (atomic scatter through the node
 /// scatter map of `graph`), then inverts the lumped blocks.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
@@ -238,18 +273,7 @@ assembleMixedOperators(const ExecSpace &exec, const MixedElementData<MemorySpace
               Kokkos::atomic_add(&lm(k, r, s), blk.ml[a] * blk.d.m[r][s]);
         }
       });
-  Kokkos::parallel_for(
-      "mixcon::kernels::invertLumped", Kokkos::RangePolicy<ExecSpace>(exec, 0, nn),
-      KOKKOS_LAMBDA(LocalIndex k) {
-        PlaneMatrix a, inv{};
-        for (int r = 0; r < 3; ++r)
-          for (int s = 0; s < 3; ++s)
-            a.m[r][s] = lm(k, r, s);
-        invert3(a, inv); // nodes without elements keep a zero inverse
-        for (int r = 0; r < 3; ++r)
-          for (int s = 0; s < 3; ++s)
-            li(k, r, s) = inv.m[r][s];
-      });
+  invertNodalBlocks(exec, lm, li); // nodes without elements keep a zero inverse
   return ops;
 }
 
@@ -324,20 +348,6 @@ void applyCompliance(const ExecSpace &exec, const MixedOperators<MemorySpace> &o
         }
         for (int r = 0; r < 3; ++r)
           y(3 * k + r) = s[r];
-      });
-}
-
-/// y = B x for 3x3 nodal blocks B(k) (the lumped compliance or its inverse).
-template <class ExecSpace, class MemorySpace>
-void applyNodalBlocks(const ExecSpace &exec, const Kokkos::View<double *[3][3], MemorySpace> &b,
-                      const Kokkos::View<const double *, MemorySpace> &x,
-                      const Kokkos::View<double *, MemorySpace> &y) {
-  Kokkos::parallel_for(
-      "mixcon::mixed::nodalBlocks", Kokkos::RangePolicy<ExecSpace>(exec, 0, b.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex k) {
-        const double x0 = x(3 * k), x1 = x(3 * k + 1), x2 = x(3 * k + 2);
-        for (int r = 0; r < 3; ++r)
-          y(3 * k + r) = b(k, r, 0) * x0 + b(k, r, 1) * x1 + b(k, r, 2) * x2;
       });
 }
 

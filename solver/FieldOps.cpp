@@ -125,48 +125,22 @@ void scaleField(const Vec &v, int stride, int offset, int width, double s) {
       });
 }
 
-/// inv(p) = the inverse of node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
-/// expandGraph(graph, 3)): the nodal block-Jacobi preconditioner of the stress block.
-void invertNodalBlocks(const CsrMatrix<Memory> &m, const Kokkos::View<double *[9], Memory> &inv) {
+/// blocks(p) = node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
+/// expandGraph(graph, 3)).
+void nodalDiagonalBlocks(const CsrMatrix<Memory> &m,
+                         const Kokkos::View<double *[3][3], Memory> &blocks) {
   auto ro = m.rowOffsets;
   auto co = m.columns;
   auto va = m.values;
   Kokkos::parallel_for(
-      "mixcon::nonlinear::invertNodalBlocks", Kokkos::RangePolicy<Exec>(0, inv.extent(0)),
+      "mixcon::nonlinear::nodalDiagonalBlocks", Kokkos::RangePolicy<Exec>(0, blocks.extent(0)),
       KOKKOS_LAMBDA(LocalIndex p) {
-        double b[3][3] = {};
         for (int i = 0; i < 3; ++i)
           for (Offset k = ro(3 * p + i); k < ro(3 * p + i + 1); ++k) {
             const LocalIndex c = co(k);
             if (c / 3 == p)
-              b[i][c % 3] = va(k);
+              blocks(p, i, c % 3) = va(k);
           }
-        const double c00 = b[1][1] * b[2][2] - b[1][2] * b[2][1];
-        const double c01 = b[1][2] * b[2][0] - b[1][0] * b[2][2];
-        const double c02 = b[1][0] * b[2][1] - b[1][1] * b[2][0];
-        const double det = b[0][0] * c00 + b[0][1] * c01 + b[0][2] * c02;
-        const double s = 1.0 / det;
-        inv(p, 0) = c00 * s;
-        inv(p, 1) = (b[0][2] * b[2][1] - b[0][1] * b[2][2]) * s;
-        inv(p, 2) = (b[0][1] * b[1][2] - b[0][2] * b[1][1]) * s;
-        inv(p, 3) = c01 * s;
-        inv(p, 4) = (b[0][0] * b[2][2] - b[0][2] * b[2][0]) * s;
-        inv(p, 5) = (b[0][2] * b[1][0] - b[0][0] * b[1][2]) * s;
-        inv(p, 6) = c02 * s;
-        inv(p, 7) = (b[0][1] * b[2][0] - b[0][0] * b[2][1]) * s;
-        inv(p, 8) = (b[0][0] * b[1][1] - b[0][1] * b[1][0]) * s;
-      });
-}
-
-/// y = blockdiag(inv) x, 3 x 3 blocks per node.
-void applyNodalBlocks(const Kokkos::View<const double *[9], Memory> &inv, const ConstVec &x,
-                      const Vec &y) {
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::applyNodalBlocks", Kokkos::RangePolicy<Exec>(0, inv.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex p) {
-        const double a = x(3 * p), b = x(3 * p + 1), c = x(3 * p + 2);
-        for (int i = 0; i < 3; ++i)
-          y(3 * p + i) = inv(p, 3 * i) * a + inv(p, 3 * i + 1) * b + inv(p, 3 * i + 2) * c;
       });
 }
 

@@ -78,13 +78,10 @@ void multiplyFieldRows(const CsrMatrix<Memory> &a, int stride, int offset, int w
 /// v(stride p + offset + c) *= s for c < width.
 void scaleField(const Vec &v, int stride, int offset, int width, double s);
 
-/// inv(p) = the inverse of node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
-/// expandGraph(graph, 3)): the nodal block-Jacobi preconditioner of the stress block.
-void invertNodalBlocks(const CsrMatrix<Memory> &m, const Kokkos::View<double *[9], Memory> &inv);
-
-/// y = blockdiag(inv) x, 3 x 3 blocks per node.
-void applyNodalBlocks(const Kokkos::View<const double *[9], Memory> &inv, const ConstVec &x,
-                      const Vec &y);
+/// blocks(p) = node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
+/// expandGraph(graph, 3)); kernels/MixedElasticity.hpp inverts and applies such blocks.
+void nodalDiagonalBlocks(const CsrMatrix<Memory> &m,
+                         const Kokkos::View<double *[3][3], Memory> &blocks);
 
 /// y = x / d, entry by entry (Jacobi).
 void divide(const ConstVec &x, const ConstVec &d, const Vec &y);

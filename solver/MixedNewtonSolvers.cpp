@@ -39,7 +39,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
                       precDiag_);
   // The stress block M = -J_tau,tau and its nodal 3 x 3 inverses for the inner CG.
   extractFieldBlock(tangent_, 5, 2, 3, 2, 3, stressBlock_, -1.0);
-  invertNodalBlocks(stressBlock_, stressBlockInverse_);
+  nodalDiagonalBlocks(stressBlock_, stressNodalBlocks_);
+  invertNodalBlocks(Exec(), stressNodalBlocks_, stressBlockInverse_);
   Exec().fence();
   solver_->setup(precMatrix_);
   solverSetupSeconds_ += seconds(start);
@@ -53,7 +54,7 @@ long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, doub
     multiply(Exec(), stressBlock_, a, y);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
-    applyNodalBlocks(stressBlockInverse_, a, y);
+    applyNodalBlocks(Exec(), stressBlockInverse_, a, y);
   };
   KrylovOptions o;
   o.tolerance = tolerance;

@@ -73,7 +73,10 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     precMatrix_ = expandGraph<Memory>(graph_, 2);
     precDiag_ = Vec("mixcon::nonlinear::precDiagonal", 2 * nn);
     stressBlock_ = expandGraph<Memory>(graph_, 3);
-    stressBlockInverse_ = Kokkos::View<double *[9], Memory>("mixcon::nonlinear::blockInverse", nn);
+    stressNodalBlocks_ =
+        Kokkos::View<double *[3][3], Memory>("mixcon::nonlinear::stressNodalBlocks", nn);
+    stressBlockInverse_ =
+        Kokkos::View<double *[3][3], Memory>("mixcon::nonlinear::blockInverse", nn);
     LinearSolverOptions amg = options;
     amg.symmetric = true;
     solver_ = makeLinearSolver(amg, dofs_, comm);
