@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
@@ -69,21 +70,29 @@ struct SingularLame {
     Kokkos::fence();
   }
 
-  /// ||b - A x|| / ||b|| on the host, independent of the solvers.
-  double relativeResidual(const Kokkos::View<double *, DeviceSpace> &x) const {
+  /// ||b - A x|| / ||b|| on the host, independent of the solvers; `cancellation` receives
+  /// || |A| |x| || / ||b||, the scale of the round-off in that difference (a diverged iterate of a
+  /// singular system is large, and b - A x then loses digits in any evaluation).
+  double relativeResidual(const Kokkos::View<double *, DeviceSpace> &x,
+                          double *cancellation = nullptr) const {
     auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), matrix.rowOffsets);
     auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), matrix.columns);
     auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), matrix.values);
     auto hx = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), x);
     auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
-    double rr = 0.0, bb = 0.0;
+    double rr = 0.0, bb = 0.0, aa = 0.0;
     for (LocalIndex i = 0; i < matrix.numRows; ++i) {
-      double r = hb(i);
-      for (Offset k = ro(i); k < ro(i + 1); ++k)
+      double r = hb(i), a = 0.0;
+      for (Offset k = ro(i); k < ro(i + 1); ++k) {
         r -= va(k) * hx(co(k));
+        a += std::abs(va(k) * hx(co(k)));
+      }
       rr += r * r;
       bb += hb(i) * hb(i);
+      aa += a * a;
     }
+    if (cancellation)
+      *cancellation = std::sqrt(aa / bb);
     return std::sqrt(rr / bb);
   }
 };
@@ -113,10 +122,15 @@ TEST(SingularSystem, AmgReportsNotConvergedWithTheTrueResidual) {
                              << st.relativeResidual;
   // The reported residual is the true one of the returned iterate (no solution exists: it stays
   // far above the tolerance, or is not finite).
-  const double truth = s.relativeResidual(x);
+  double cancellation = 0.0;
+  const double truth = s.relativeResidual(x, &cancellation);
   if (std::isfinite(truth)) {
     EXPECT_GT(st.relativeResidual, o.tolerance);
-    EXPECT_NEAR(st.relativeResidual, truth, 1e-6 * truth);
+    // Equal up to the round-off of b - A x in two evaluations (hypre's and this one): with
+    // OpenMP's summation order of the assembly the iterate can reach |x| ~ 1e13, where the two
+    // differ by ~15% while |A||x| / |b| ~ 1e15 bounds that error far above it.
+    const double roundOff = 64.0 * std::numeric_limits<double>::epsilon() * cancellation;
+    EXPECT_NEAR(st.relativeResidual, truth, 1e-6 * truth + roundOff);
   } else {
     EXPECT_FALSE(std::isfinite(st.relativeResidual));
   }
