@@ -365,4 +365,83 @@ void quadraturePointStress(const ExecSpace &exec, const MeshView<MemorySpace> &m
       });
 }
 
+/// Updated-Lagrangian element of a spatial point law (kernels/PointPhysics.hpp: Cauchy stress
+/// stress(h) of the displacement gradient h = du/dx on the current configuration x = X + u, and
+/// tangent(h) = d sigma / d h) at total displacements u (Dim per node): fe = t int B^T sigma da
+/// over the current element and, when `Tangent`, its exact derivative ke = d fe / du. For the
+/// perturbation delta u_b = unit vector m (dl = d delta u / dx = e_m (x) g_b): dh = (I - h) dl,
+/// dsigma = tangent : dh, d(da) = da g_bm, d g_aj = -g_am g_bj, so
+/// d(sigma_ij g_aj da) = (dsigma_ij g_aj + sigma_ij (g_aj g_bm - g_am g_bj)) da.
+/// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+               const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+               double (&fe)[Elem::kDim * Elem::kNumNodes],
+               double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int nv = Voigt<dim>::kSize;
+  double xe[n][dim], ue[n][dim];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < dim; ++i)
+      xe[a][i] += ue[a][i]; // current configuration
+  const auto point = law.at(e);
+  bool valid = true;
+  for (int i = 0; i < nd; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < nd; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double det = detail::pointGeometry<Elem>(xe, dn, g);
+    if (!(det > 0.0))
+      valid = false;
+    const double jw = thickness * w * det;
+    const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+    const Mat<dim, dim> s = voigtToStress<dim>(point.stress(h));
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j)
+          v += s.m[i][j] * g[a][j];
+        fe[dim * a + i] += jw * v;
+      }
+    if (!Tangent)
+      continue;
+    // am(c, m dim + l) = sum_k tangent(c, k dim + l) (delta_km - h_km): dsigma_c for the
+    // perturbation (b, m) is sum_l am(c, m dim + l) g_bl.
+    const auto t = point.tangent(h);
+    Mat<nv, dim * dim> am{};
+    for (int c = 0; c < nv; ++c)
+      for (int m = 0; m < dim; ++m)
+        for (int l = 0; l < dim; ++l) {
+          double v = 0.0;
+          for (int k = 0; k < dim; ++k)
+            v += t.m[c][k * dim + l] * ((k == m ? 1.0 : 0.0) - h.m[k][m]);
+          am.m[c][m * dim + l] = v;
+        }
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < dim; ++m) {
+        Vector<nv> dsv{};
+        for (int c = 0; c < nv; ++c)
+          for (int l = 0; l < dim; ++l)
+            dsv.v[c] += am.m[c][m * dim + l] * g[b][l];
+        const Mat<dim, dim> ds = voigtToStress<dim>(dsv);
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j)
+              v += ds.m[i][j] * g[a][j] + s.m[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
+            ke[dim * a + i][dim * b + m] += jw * v;
+          }
+      }
+  }
+  return valid;
+}
+
 } // namespace mixcon

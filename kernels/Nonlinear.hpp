@@ -138,45 +138,27 @@ KOKKOS_INLINE_FUNCTION void zeroElement(double (&fe)[N], double (&ke)[N][N]) {
 
 } // namespace detail
 
+/// The Almansi point law of the displacement model for the element driver: element e's
+/// AlmansiPoint with its material's plane stiffness [C].
+template <class MemorySpace> struct AlmansiLaw {
+  Kokkos::View<int *, MemorySpace> material;
+  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION AlmansiPoint<2> at(LocalIndex e) const {
+    return AlmansiPoint<2>{stiffness(material(e))};
+  }
+};
+
 /// Displacement model, element e: internal force fe = t int B^T sigma da on the current
-/// configuration x = X + u (X: d.mesh) and, when `Tangent`, its exact derivative ke = d fe / du.
-/// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
+/// configuration x = X + u (X: d.mesh) and, when `Tangent`, its exact derivative ke = d fe / du
+/// (the element driver's spatialElement with the Almansi point law). Returns false when the
+/// current element is inverted (det dx/dxi <= 0 at a quadrature point).
 template <class Elem, bool Tangent, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
                                            const Kokkos::View<const double *, MemorySpace> &u,
                                            LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
                                            double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2], ue[n][2];
-  detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
-  const PlaneMatrix c = d.stiffness(d.material(e));
-  bool valid = true;
-  detail::zeroElement<Tangent>(fe, ke);
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
-    const double jw = detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        fe[2 * a + i] += jw * (s[i][0] * g[a][0] + s[i][1] * g[a][1]);
-    if (!Tangent)
-      continue;
-    for (int b = 0; b < n; ++b)
-      for (int m = 0; m < 2; ++m) {
-        // Perturbation delta u_b = unit vector m; dsigma = C : de.
-        double de[2][2], ds[2][2];
-        detail::almansiVariation(g[b], m, es, de);
-        detail::stressFromStrainTensor(c, de, ds);
-        for (int a = 0; a < n; ++a)
-          for (int i = 0; i < 2; ++i) {
-            // d(sigma_ij g_aj da) = dsigma_ij g_aj + sigma_ij g_aj tr(dl) - sigma_ij g_ak dl_kj
-            double v = 0.0;
-            for (int j = 0; j < 2; ++j)
-              v += ds[i][j] * g[a][j] + s[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
-            ke[2 * a + i][2 * b + m] += jw * v;
-          }
-      }
-  }
-  return valid;
+  return spatialElement<Elem, Tangent>(
+      d.mesh, d.thickness, AlmansiLaw<MemorySpace>{d.material, d.stiffness}, u, e, fe, ke);
 }
 
 /// Displacement model with the St. Venant-Kirchhoff law, element e, total Lagrangian on the
