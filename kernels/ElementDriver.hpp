@@ -444,4 +444,80 @@ spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &l
   return valid;
 }
 
+/// Total-Lagrangian element of a material point law (kernels/PointPhysics.hpp: 2nd Piola-Kirchhoff
+/// stress stress(F) of the deformation gradient F = I + du/dX on the reference configuration X,
+/// and tangent(F) = d S / d F) at total displacements u (Dim per node): fe = t int P grad_X(N) dA
+/// with P = F S and, when `Tangent`, its exact derivative ke = d fe / du: for delta u_b = unit
+/// vector m, dF = e_m (x) g_b and dP_ij = delta_im (g_b S)_j + F_ik dS_kj, dS = tangent : dF.
+/// Returns false for an inverted element (det dX/dxi <= 0 or det F <= 0 at a quadrature point).
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+materialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+                double (&fe)[Elem::kDim * Elem::kNumNodes],
+                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int nv = Voigt<dim>::kSize;
+  double xe[n][dim], ue[n][dim];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+  const auto point = law.at(e);
+  bool valid = true;
+  for (int i = 0; i < nd; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < nd; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double det = detail::pointGeometry<Elem>(xe, dn, g);
+    Mat<dim, dim> f = detail::displacementGradient<Elem>(ue, g);
+    for (int i = 0; i < dim; ++i)
+      f.m[i][i] += 1.0;
+    if (!(det > 0.0) || !(determinant(f) > 0.0))
+      valid = false;
+    const double jw = thickness * w * det;
+    const Mat<dim, dim> s = voigtToStress<dim>(point.stress(f));
+    const Mat<dim, dim> p = matmul(f, s);
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j)
+          v += p.m[i][j] * g[a][j];
+        fe[dim * a + i] += jw * v;
+      }
+    if (!Tangent)
+      continue;
+    const auto t = point.tangent(f);
+    for (int b = 0; b < n; ++b) {
+      double gs[dim]; // (g_b S)_j
+      for (int j = 0; j < dim; ++j) {
+        gs[j] = 0.0;
+        for (int k = 0; k < dim; ++k)
+          gs[j] += g[b][k] * s.m[k][j];
+      }
+      for (int m = 0; m < dim; ++m) {
+        // dS = tangent(:, m dim + l) g_bl; dP = e_m (x) (g_b S) + F dS.
+        Vector<nv> dsv{};
+        for (int c = 0; c < nv; ++c)
+          for (int l = 0; l < dim; ++l)
+            dsv.v[c] += t.m[c][m * dim + l] * g[b][l];
+        Mat<dim, dim> dp = matmul(f, voigtToStress<dim>(dsv));
+        for (int j = 0; j < dim; ++j)
+          dp.m[m][j] += gs[j];
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j)
+              v += dp.m[i][j] * g[a][j];
+            ke[dim * a + i][dim * b + m] += jw * v;
+          }
+      }
+    }
+  }
+  return valid;
+}
+
 } // namespace mixcon

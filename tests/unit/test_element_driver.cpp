@@ -1,9 +1,12 @@
 // The generic element driver (kernels/ElementDriver.hpp) with the linear point law against the
 // host reference element matrices (tests/support/Reference.hpp: explicit B, Eigen), for both
-// element types and both plane analyses with a rotated orthotropic material; and the point laws
-// (kernels/PointPhysics.hpp) alone: closed forms for Hooke's law, the nonlinear laws' stresses
-// against the element kernels' own strain functions and their tangents against central
-// differences of their stresses.
+// element types and both plane analyses with a rotated orthotropic material; the updated- and
+// total-Lagrangian drivers with the Almansi and St. Venant-Kirchhoff laws against host reference
+// forces (tests/support/NonlinearReference.hpp through b^-1; explicit B_NL(F) here) and their
+// tangents against central differences of the assembled residual, at finite strain plus
+// rotation; and the point laws (kernels/PointPhysics.hpp) alone: closed forms for Hooke's law, the
+// nonlinear laws' stresses against the element kernels' own strain functions and their tangents
+// against central differences of their stresses.
 #include <kernels/ElementDriver.hpp>
 #include <kernels/LinearElasticity.hpp>
 #include <kernels/Nonlinear.hpp>
@@ -121,20 +124,92 @@ LinearElasticPoint<3> isotropicSolidPoint(double e, double nu) {
   return LinearElasticPoint<3>{IsotropicMaterial{e, nu}.stiffness()};
 }
 
-/// Almansi internal force of the displacement model through assembleAlmansi at displacements u
-/// (and, when `a` has rows, its tangent into a).
+/// Internal force of the displacement model with `law` (assembleAlmansi, or assembleNonlinear with
+/// SvkKernel) at displacements u (and, when `a` has rows, its tangent into a).
 template <class Map>
-Eigen::VectorXd almansiForce(const Fixture &f, const Eigen::VectorXd &u, const Map &map,
-                             const CsrMatrix<Memory> &a) {
+Eigen::VectorXd displacementForce(const Fixture &f, const Eigen::VectorXd &u, const Map &map,
+                                  const CsrMatrix<Memory> &a,
+                                  ElasticLaw law = ElasticLaw::Almansi) {
   Kokkos::View<double *, Memory> g("g", u.size());
-  const auto du = toView(u);
+  const Kokkos::View<const double *, Memory> du = toView(u);
   LocalIndex inverted = -2;
   dispatchElement(f.mesh.elementType, [&](auto elem) {
-    inverted = assembleAlmansi<decltype(elem)>(Exec(), f.data,
-                                               Kokkos::View<const double *, Memory>(du), map, a, g);
+    using Elem = decltype(elem);
+    inverted = law == ElasticLaw::Almansi
+                   ? assembleAlmansi<Elem>(Exec(), f.data, du, map, a, g)
+                   : assembleNonlinear<2, Elem>(Exec(), f.data.mesh,
+                                                SvkKernel<Elem, Memory>{f.data, du}, map, a, g);
   });
   EXPECT_EQ(inverted, -1);
   return toEigen(g);
+}
+
+/// Host reference of the St. Venant-Kirchhoff internal force, total Lagrangian: F = I + du/dX,
+/// E = (F^T F - I) / 2, S = C E, f = t int B_NL(F)^T S dA with the explicit 3 x 2n nonlinear
+/// strain-displacement matrix over the reference element.
+Eigen::VectorXd referenceSvkForce(const Fixture &f, const Eigen::VectorXd &u) {
+  const int n = f.mesh.nodesPerElement;
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(2 * f.mesh.numNodes());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
+    Eigen::MatrixXd ue(n, 2);
+    for (int a = 0; a < n; ++a)
+      ue.row(a) = u.segment<2>(2 * f.mesh.node(e, a)).transpose();
+    const Eigen::Matrix3d c = test::toEigen(f.materials[f.elementMaterial[e]]);
+    Eigen::VectorXd fe = Eigen::VectorXd::Zero(2 * n);
+    test::forEachReferencePoint(
+        test::elementCoordinates(f.mesh, e),
+        [&](const Eigen::VectorXd &, const Eigen::MatrixXd &dx, double w) {
+          const Eigen::Matrix2d fg = Eigen::Matrix2d::Identity() + ue.transpose() * dx;
+          const Eigen::Matrix2d green = 0.5 * (fg.transpose() * fg - Eigen::Matrix2d::Identity());
+          Eigen::MatrixXd bnl(3, 2 * n);
+          for (int a = 0; a < n; ++a)
+            for (int m = 0; m < 2; ++m) {
+              bnl(0, 2 * a + m) = fg(m, 0) * dx(a, 0);
+              bnl(1, 2 * a + m) = fg(m, 1) * dx(a, 1);
+              bnl(2, 2 * a + m) = fg(m, 0) * dx(a, 1) + fg(m, 1) * dx(a, 0);
+            }
+          fe += bnl.transpose() * c * Eigen::Vector3d(green(0, 0), green(1, 1), 2 * green(0, 1)) *
+                (w * f.data.thickness);
+        });
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 2; ++i)
+        force(2 * f.mesh.node(e, a) + i) += fe(2 * a + i);
+  }
+  return force;
+}
+
+/// Finite strain (random displacements of size 0.03 on the 3 x 2 body, elements of size 0.5:
+/// strains of a few per cent) plus a rigid rotation of 0.3 rad.
+Eigen::VectorXd strainedAndRotated(const Fixture &f) {
+  Eigen::VectorXd u = 0.03 * randomVector(2 * f.mesh.numNodes(), 5);
+  const double th = 0.3;
+  for (LocalIndex k = 0; k < f.mesh.numNodes(); ++k) {
+    const double x = f.mesh.x(k), y = f.mesh.y(k);
+    u(2 * k) += (std::cos(th) - 1) * x - std::sin(th) * y;
+    u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
+  }
+  return u;
+}
+
+/// Largest deviation of the assembled tangent of `law` at u from central differences (step
+/// 1e-7) of the assembled residual, relative to the largest difference quotient.
+double tangentError(const Fixture &f, const Eigen::VectorXd &u, ElasticLaw law) {
+  const NodeGraph g = buildNodeGraph(f.mesh);
+  auto a = expandGraph<Memory>(g, 2);
+  const auto map = elementScatterMap<Memory>(f.mesh, g);
+  displacementForce(f, u, map, a, law);
+  const CsrMatrix<Memory> none;
+  const double h = 1e-7;
+  Eigen::MatrixXd fd(u.size(), u.size());
+  for (int j = 0; j < u.size(); ++j) {
+    Eigen::VectorXd up = u, um = u;
+    up(j) += h;
+    um(j) -= h;
+    fd.col(j) =
+        (displacementForce(f, up, map, none, law) - displacementForce(f, um, map, none, law)) /
+        (2 * h);
+  }
+  return relativeError(toDense(a), fd);
 }
 
 } // namespace element_driver_tests
@@ -227,36 +302,30 @@ TEST_P(ElementDriverTest, ResidualAndPointStressMatchHostReference) {
   EXPECT_LT((toEigen(fi) - ref).cwiseAbs().maxCoeff(), 1e-13 * ref.cwiseAbs().maxCoeff());
 }
 
+// Tangent tolerance 1e-8: measured 6e-10 to 8e-10 for both laws.
 TEST_P(ElementDriverTest, AlmansiResidualAndTangentMatchReferenceAndDifferences) {
   const auto [type, analysis] = GetParam();
-  Fixture f = makeDriverFixture(type, analysis);
-  // Finite strain (random displacements of size 0.03 on a 3 x 2 mm^2 body with elements of
-  // size 0.5: strains of a few per cent) plus a rigid rotation of 0.3 rad.
-  Eigen::VectorXd u = 0.03 * randomVector(2 * f.mesh.numNodes(), 5);
-  const double th = 0.3;
-  for (LocalIndex k = 0; k < f.mesh.numNodes(); ++k) {
-    const double x = f.mesh.x(k), y = f.mesh.y(k);
-    u(2 * k) += (std::cos(th) - 1) * x - std::sin(th) * y;
-    u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
-  }
+  const Fixture f = makeDriverFixture(type, analysis);
+  const Eigen::VectorXd u = strainedAndRotated(f);
   const NodeGraph g = buildNodeGraph(f.mesh);
-  auto a = expandGraph<Memory>(g, 2);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
-  const Eigen::VectorXd force = almansiForce(f, u, map, a);
+  const Eigen::VectorXd force = displacementForce(f, u, map, CsrMatrix<Memory>{});
   const Eigen::VectorXd ref = referenceAlmansiForce(f, u);
   EXPECT_LT((force - ref).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
-  // Central differences (step 1e-7 against displacements of size 0.03-0.5) of the residual.
-  const CsrMatrix<Memory> none;
-  const double h = 1e-7;
-  Eigen::MatrixXd fd(u.size(), u.size());
-  for (int j = 0; j < u.size(); ++j) {
-    Eigen::VectorXd up = u, um = u;
-    up(j) += h;
-    um(j) -= h;
-    fd.col(j) = (almansiForce(f, up, map, none) - almansiForce(f, um, map, none)) / (2 * h);
-  }
-  // (Measured 6e-10 to 8e-10.)
-  EXPECT_LT(relativeError(toDense(a), fd), 1e-8);
+  EXPECT_LT(tangentError(f, u, ElasticLaw::Almansi), 1e-8);
+}
+
+TEST_P(ElementDriverTest, SaintVenantKirchhoffResidualAndTangentMatchReferenceAndDifferences) {
+  const auto [type, analysis] = GetParam();
+  const Fixture f = makeDriverFixture(type, analysis);
+  const Eigen::VectorXd u = strainedAndRotated(f);
+  const NodeGraph g = buildNodeGraph(f.mesh);
+  const auto map = elementScatterMap<Memory>(f.mesh, g);
+  const Eigen::VectorXd force =
+      displacementForce(f, u, map, CsrMatrix<Memory>{}, ElasticLaw::SaintVenantKirchhoff);
+  const Eigen::VectorXd ref = referenceSvkForce(f, u);
+  EXPECT_LT((force - ref).cwiseAbs().maxCoeff(), 1e-12 * ref.cwiseAbs().maxCoeff());
+  EXPECT_LT(tangentError(f, u, ElasticLaw::SaintVenantKirchhoff), 1e-8);
 }
 
 TEST(PointPhysics, LinearElasticPlaneStrainIsHookesLaw) {
