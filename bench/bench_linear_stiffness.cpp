@@ -65,7 +65,7 @@ void timeElementMatrices(benchmark::State &state, double ne, double bytes, doubl
       benchmark::Counter(ne * flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
 }
 
-/// Floating-point operations of one K^L element (kernels/LinearElasticity.hpp, linearStiffness),
+/// Floating-point operations of one K^L element (kernels/ElementDriver.hpp, stiffnessLanes),
 /// counted from the code, each multiply, add and divide one: per quadrature point the Jacobian
 /// (8n), its inverse (8), the physical gradients (6n), the weight (2), C B_b for every node (24n)
 /// and the 2 x 2 blocks of B_a^T (C B_b) for a <= b (16 per block, n(n+1)/2 blocks). Shape

@@ -2,12 +2,15 @@
 // once: the linear stiffness K^L = t int B^T C B dA (element matrices, or computed and scattered
 // into CSR with atomics in one pass), the load vector F^L = t int Psi^T f dA, boundary tractions
 // and pressures, internal force, and stress recovery. Element type is a template parameter
-// (traits); everything runs on the execution space passed first. Data flow: mesh -> kernels (this)
-// -> solver.
+// (traits); everything runs on the execution space passed first. K^L, the internal force and the
+// quadrature-point stress are the generic element driver (kernels/ElementDriver.hpp) with the
+// linear point law (kernels/PointPhysics.hpp). Data flow: mesh -> kernels (this) -> solver.
 #pragma once
 
 #include <core/ElementTraits.hpp>
+#include <kernels/ElementDriver.hpp>
 #include <kernels/Material.hpp>
+#include <kernels/PointPhysics.hpp>
 #include <kernels/SparseMatrix.hpp>
 
 namespace mixcon {
@@ -20,6 +23,22 @@ template <class MemorySpace> struct ElementData {
   Kokkos::View<PlaneMatrix *, MemorySpace> stiffness; ///< plane [C] per material, global axes
   double thickness = 1.0;
 };
+
+/// The point law of the linear model for the element driver (kernels/ElementDriver.hpp):
+/// element e's LinearElasticPoint with its material's plane stiffness [C].
+template <class MemorySpace> struct LinearElasticLaw {
+  Kokkos::View<int *, MemorySpace> material;
+  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION LinearElasticPoint<2> at(LocalIndex e) const {
+    return LinearElasticPoint<2>{stiffness(material(e))};
+  }
+};
+
+/// The linear law of the element data's materials.
+template <class MemorySpace>
+LinearElasticLaw<MemorySpace> linearElasticLaw(const ElementData<MemorySpace> &d) {
+  return LinearElasticLaw<MemorySpace>{d.material, d.stiffness};
+}
 
 namespace detail {
 
@@ -48,125 +67,20 @@ KOKKOS_INLINE_FUNCTION void strainFromGradients(const double (&dndx)[Elem::kNumN
 
 } // namespace detail
 
-/// Elements per work item of the K^L kernels: a batch of consecutive elements computed in SIMD
-/// lanes on CPUs (every scalar of linearStiffness becomes an array over the lanes, and the lane
-/// loops are the innermost, unit-stride ones the compiler vectorizes); one element per thread
-/// on GPUs. 4 lanes measured 1.2-1.6x over 1 (2 threads, SSE2 code, bench_linear_stiffness);
-/// 2 and 8 were slower than 4.
-template <class ExecSpace>
-constexpr int kStiffnessLanes =
-    Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? 4 : 1;
-
-/// K^L (Eq. (25)) of the W elements first, first + 1, ... (clamped to last: a short final batch
-/// repeats its last element) into lane l of ke[i][j][l], dofs ordered (u_1, v_1, u_2, ...). Per
-/// quadrature point: the gradients, C B_b for every node, the 2 x 2 blocks B_a^T (C B_b) for
-/// a <= b; the lower blocks mirrored at the end (C is symmetric).
-template <class Elem, int W, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void
-linearStiffnessLanes(const ElementData<MemorySpace> &d, LocalIndex first, LocalIndex last,
-                     double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes][W]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2][W], c[3][3][W];
-  for (int l = 0; l < W; ++l) {
-    const LocalIndex e = first + l < last ? first + l : last;
-    for (int a = 0; a < n; ++a) {
-      const LocalIndex k = d.mesh.connectivity(e, a);
-      xe[a][0][l] = d.mesh.coordinates(k, 0);
-      xe[a][1][l] = d.mesh.coordinates(k, 1);
-    }
-    const PlaneMatrix m = d.stiffness(d.material(e));
-    for (int r = 0; r < 3; ++r)
-      for (int s = 0; s < 3; ++s)
-        c[r][s][l] = m.m[r][s];
-  }
-  for (int i = 0; i < 2 * n; ++i)
-    for (int j = 0; j < 2 * n; ++j)
-      for (int l = 0; l < W; ++l)
-        ke[i][j][l] = 0.0;
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn); // shared by the lanes
-    double g[n][2][W], f[W];
-    double j00[W] = {}, j01[W] = {}, j10[W] = {}, j11[W] = {};
-    for (int a = 0; a < n; ++a)
-      for (int l = 0; l < W; ++l) {
-        j00[l] += xe[a][0][l] * dn[a][0];
-        j01[l] += xe[a][0][l] * dn[a][1];
-        j10[l] += xe[a][1][l] * dn[a][0];
-        j11[l] += xe[a][1][l] * dn[a][1];
-      }
-    double i00[W], i01[W], i10[W], i11[W];
-    for (int l = 0; l < W; ++l) {
-      const double det = j00[l] * j11[l] - j01[l] * j10[l];
-      const double inv = 1.0 / det;
-      i00[l] = j11[l] * inv;
-      i01[l] = -j01[l] * inv;
-      i10[l] = -j10[l] * inv;
-      i11[l] = j00[l] * inv;
-      f[l] = d.thickness * w * det;
-    }
-    for (int a = 0; a < n; ++a)
-      for (int l = 0; l < W; ++l) {
-        g[a][0][l] = dn[a][0] * i00[l] + dn[a][1] * i10[l];
-        g[a][1][l] = dn[a][0] * i01[l] + dn[a][1] * i11[l];
-      }
-    for (int b = 0; b < n; ++b) {
-      double cb[3][2][W];
-      for (int r = 0; r < 3; ++r)
-        for (int l = 0; l < W; ++l) {
-          cb[r][0][l] = (c[r][0][l] * g[b][0][l] + c[r][2][l] * g[b][1][l]) * f[l];
-          cb[r][1][l] = (c[r][1][l] * g[b][1][l] + c[r][2][l] * g[b][0][l]) * f[l];
-        }
-      for (int a = 0; a <= b; ++a)
-        for (int l = 0; l < W; ++l) {
-          ke[2 * a][2 * b][l] += g[a][0][l] * cb[0][0][l] + g[a][1][l] * cb[2][0][l];
-          ke[2 * a][2 * b + 1][l] += g[a][0][l] * cb[0][1][l] + g[a][1][l] * cb[2][1][l];
-          ke[2 * a + 1][2 * b][l] += g[a][1][l] * cb[1][0][l] + g[a][0][l] * cb[2][0][l];
-          ke[2 * a + 1][2 * b + 1][l] += g[a][1][l] * cb[1][1][l] + g[a][0][l] * cb[2][1][l];
-        }
-    }
-  }
-  for (int b = 0; b < n; ++b)
-    for (int a = 0; a < b; ++a)
-      for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j)
-          for (int l = 0; l < W; ++l)
-            ke[2 * b + j][2 * a + i][l] = ke[2 * a + i][2 * b + j][l];
-}
-
-/// Element linear stiffness K^L of element e (Eq. (25)), dofs ordered (u_1, v_1, u_2, v_2, ...):
-/// one lane of linearStiffnessLanes (one arithmetic for both).
+/// Element linear stiffness K^L = t int B^T C B dA of element e (Eq. (25)), dofs ordered (u_1,
+/// v_1, u_2, v_2, ...): the element driver's stiffness with the linear point law.
 template <class Elem, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
 linearStiffness(const ElementData<MemorySpace> &d, LocalIndex e,
                 double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int nd = 2 * Elem::kNumNodes;
-  double k[nd][nd][1];
-  linearStiffnessLanes<Elem, 1>(d, e, e, k);
-  for (int i = 0; i < nd; ++i)
-    for (int j = 0; j < nd; ++j)
-      ke[i][j] = k[i][j][0];
+  elementStiffness<Elem>(d.mesh, d.thickness, linearElasticLaw(d), e, ke);
 }
 
 /// Element stiffness matrices of all elements into ke(e, i, j) (extent E x 2n x 2n).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
 void computeLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                             const Kokkos::View<double ***, P...> &ke) {
-  constexpr int nd = 2 * Elem::kNumNodes;
-  constexpr int W = kStiffnessLanes<ExecSpace>;
-  const LocalIndex ne = static_cast<LocalIndex>(d.material.extent(0));
-  Kokkos::parallel_for(
-      "mixcon::kernels::linearStiffness", Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W),
-      KOKKOS_LAMBDA(LocalIndex batch) {
-        const LocalIndex first = batch * W;
-        double k[nd][nd][W];
-        linearStiffnessLanes<Elem, W>(d, first, ne - 1, k);
-        for (int l = 0; l < W && first + l < ne; ++l)
-          for (int i = 0; i < nd; ++i)
-            for (int j = 0; j < nd; ++j)
-              ke(first + l, i, j) = k[i][j][l];
-      });
+  computeElementStiffness<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), ke);
 }
 
 /// Adds an element matrix (node-interleaved, 2 dofs per node) into CSR through the scatter map.
@@ -191,27 +105,11 @@ scatterElementMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
 /// Computes K^L for all elements and adds it into `a` (pattern from expandGraph(graph, 2)) via the
 /// scatter map from elementScatterMap (of any graph containing the node graph), times `scale`. One
 /// pass, no element-matrix storage; `a.values` must be zeroed by the caller beforehand if a fresh
-/// matrix is wanted.
+/// matrix is wanted. (The element driver's assembleElementStiffness with the linear point law.)
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 void assembleLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                              const Map &map, const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
-  constexpr int nd = 2 * Elem::kNumNodes;
-  constexpr int W = kStiffnessLanes<ExecSpace>;
-  const LocalIndex ne = static_cast<LocalIndex>(d.material.extent(0));
-  Kokkos::parallel_for(
-      "mixcon::kernels::assembleLinearStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
-        const LocalIndex first = batch * W;
-        double kw[nd][nd][W];
-        linearStiffnessLanes<Elem, W>(d, first, ne - 1, kw);
-        for (int l = 0; l < W && first + l < ne; ++l) {
-          double k[nd][nd];
-          for (int i = 0; i < nd; ++i)
-            for (int j = 0; j < nd; ++j)
-              k[i][j] = scale * kw[i][j][l];
-          scatterElementMatrix<Elem>(a, map, d.mesh, first + l, k);
-        }
-      });
+  assembleElementStiffness<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), map, a, scale);
 }
 
 /// Physical coordinates of every quadrature point of the element rule: xq(e, q, 0..1).
@@ -342,32 +240,13 @@ EdgeLoadBatch<MemorySpace> uniformEdgeLoads(const std::vector<BoundaryEdge> &edg
   return b;
 }
 
-/// Internal force f = K^L u assembled element by element (matrix free), added to f.
+/// Internal force f = K^L u = t int B^T C eps(u) dA assembled element by element (matrix free),
+/// added to f: the element driver's residual with the linear point law.
 template <class Elem, class ExecSpace, class MemorySpace>
 void assembleInternalForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                            const Kokkos::View<const double *, MemorySpace> &u,
                            const Kokkos::View<double *, MemorySpace> &f) {
-  Kokkos::parallel_for(
-      "mixcon::kernels::internalForce",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes, nd = 2 * n;
-        double k[nd][nd], ue[nd];
-        linearStiffness<Elem>(d, e, k);
-        for (int a = 0; a < n; ++a) {
-          const LocalIndex node = d.mesh.connectivity(e, a);
-          ue[2 * a] = u(2 * node);
-          ue[2 * a + 1] = u(2 * node + 1);
-        }
-        for (int a = 0; a < n; ++a) {
-          const LocalIndex node = d.mesh.connectivity(e, a);
-          for (int i = 0; i < 2; ++i) {
-            double s = 0.0;
-            for (int j = 0; j < nd; ++j)
-              s += k[2 * a + i][j] * ue[j];
-            Kokkos::atomic_add(&f(2 * node + i), s);
-          }
-        }
-      });
+  assembleElementResidual<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), u, f);
 }
 
 namespace detail {
@@ -387,28 +266,19 @@ KOKKOS_INLINE_FUNCTION void stressAt(const ElementData<MemorySpace> &d,
     ue[a][1] = u(2 * node + 1);
   }
   strainFromGradients<Elem>(g, ue, eps);
-  applyStiffness(d.stiffness(d.material(e)), eps, sig);
+  const auto s = linearElasticLaw(d).at(e).stress(Vector<3>{{eps[0], eps[1], eps[2]}});
+  for (int k = 0; k < 3; ++k)
+    sig[k] = s.v[k];
 }
 } // namespace detail
 
-/// Cauchy stress (xx, yy, xy) of the linear model at every quadrature point of the element rule.
+/// Cauchy stress (xx, yy, xy) of the linear model at every quadrature point of the element rule
+/// (the element driver's quadraturePointStress with the linear point law).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
 void gaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace> &d,
                       const Kokkos::View<const double *, MemorySpace> &u,
                       const Kokkos::View<double **[3], P...> &stress) {
-  Kokkos::parallel_for(
-      "mixcon::kernels::gaussPointStress",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        double xe[Elem::kNumNodes][2];
-        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
-        for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sig[3];
-          Elem::quadraturePoint(q, xi, eta, w);
-          detail::stressAt<Elem>(d, u, e, xe, xi, eta, sig);
-          for (int c = 0; c < 3; ++c)
-            stress(e, q, c) = sig[c];
-        }
-      });
+  quadraturePointStress<Elem>(exec, d.mesh, linearElasticLaw(d), u, stress);
 }
 
 /// Stress C eps(u) of the linear model at natural point (xi, eta) of element e (a functor for

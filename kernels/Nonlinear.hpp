@@ -138,109 +138,53 @@ KOKKOS_INLINE_FUNCTION void zeroElement(double (&fe)[N], double (&ke)[N][N]) {
 
 } // namespace detail
 
+/// The Almansi point law of the displacement model for the element driver: element e's
+/// AlmansiPoint with its material's plane stiffness [C].
+template <class MemorySpace> struct AlmansiLaw {
+  Kokkos::View<int *, MemorySpace> material;
+  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION AlmansiPoint<2> at(LocalIndex e) const {
+    return AlmansiPoint<2>{stiffness(material(e))};
+  }
+};
+
 /// Displacement model, element e: internal force fe = t int B^T sigma da on the current
-/// configuration x = X + u (X: d.mesh) and, when `Tangent`, its exact derivative ke = d fe / du.
-/// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
+/// configuration x = X + u (X: d.mesh) and, when `Tangent`, its exact derivative ke = d fe / du
+/// (the element driver's spatialElement with the Almansi point law). Returns false when the
+/// current element is inverted (det dx/dxi <= 0 at a quadrature point).
 template <class Elem, bool Tangent, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
                                            const Kokkos::View<const double *, MemorySpace> &u,
                                            LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
                                            double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2], ue[n][2];
-  detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
-  const PlaneMatrix c = d.stiffness(d.material(e));
-  bool valid = true;
-  detail::zeroElement<Tangent>(fe, ke);
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
-    const double jw = detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        fe[2 * a + i] += jw * (s[i][0] * g[a][0] + s[i][1] * g[a][1]);
-    if (!Tangent)
-      continue;
-    for (int b = 0; b < n; ++b)
-      for (int m = 0; m < 2; ++m) {
-        // Perturbation delta u_b = unit vector m; dsigma = C : de.
-        double de[2][2], ds[2][2];
-        detail::almansiVariation(g[b], m, es, de);
-        detail::stressFromStrainTensor(c, de, ds);
-        for (int a = 0; a < n; ++a)
-          for (int i = 0; i < 2; ++i) {
-            // d(sigma_ij g_aj da) = dsigma_ij g_aj + sigma_ij g_aj tr(dl) - sigma_ij g_ak dl_kj
-            double v = 0.0;
-            for (int j = 0; j < 2; ++j)
-              v += ds[i][j] * g[a][j] + s[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
-            ke[2 * a + i][2 * b + m] += jw * v;
-          }
-      }
-  }
-  return valid;
+  return spatialElement<Elem, Tangent>(
+      d.mesh, d.thickness, AlmansiLaw<MemorySpace>{d.material, d.stiffness}, u, e, fe, ke);
 }
+
+/// The St. Venant-Kirchhoff point law of the displacement model for the element driver: element
+/// e's SaintVenantKirchhoffPoint with its material's plane stiffness [C].
+template <class MemorySpace> struct SaintVenantKirchhoffLaw {
+  Kokkos::View<int *, MemorySpace> material;
+  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION SaintVenantKirchhoffPoint<2> at(LocalIndex e) const {
+    return SaintVenantKirchhoffPoint<2>{stiffness(material(e))};
+  }
+};
 
 /// Displacement model with the St. Venant-Kirchhoff law, element e, total Lagrangian on the
 /// reference configuration X (d.mesh): fe = t int P grad_X(N) dA, P = F S, S = C : E,
 /// E = (F^T F - I) / 2, F = I + du/dX (the same internal force as t int B^T sigma da with
 /// sigma = F S F^T / J); ke = d fe / du exactly (material part with dE = sym(F^T dF), geometric
-/// part dF S). Returns false for an inverted element.
+/// part dF S): the element driver's materialElement with the St. Venant-Kirchhoff point law.
+/// Returns false for an inverted element.
 template <class Elem, bool Tangent, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool svkElement(const ElementData<MemorySpace> &d,
                                        const Kokkos::View<const double *, MemorySpace> &u,
                                        LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
                                        double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes;
-  double xe[n][2], ue[n][2];
-  detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
-  for (int a = 0; a < n; ++a)
-    for (int i = 0; i < 2; ++i)
-      xe[a][i] -= ue[a][i]; // reference coordinates
-  const PlaneMatrix c = d.stiffness(d.material(e));
-  bool valid = true;
-  detail::zeroElement<Tangent>(fe, ke);
-  for (int q = 0; q < Elem::kNumQp; ++q) {
-    double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
-    Elem::quadraturePoint(q, xi, eta, w);
-    Elem::shape(xi, eta, sh, dn);
-    const double det = physicalGradients<Elem>(xe, dn, g);
-    detail::nodalGradient<n>(ue, g, h);
-    const double f[2][2] = {{1.0 + h[0][0], h[0][1]}, {h[1][0], 1.0 + h[1][1]}};
-    if (!(det > 0.0) || !(f[0][0] * f[1][1] - f[0][1] * f[1][0] > 0.0))
-      valid = false;
-    double green[2][2], s[2][2], p[2][2];
-    detail::greenStrain(f, green);
-    detail::stressFromStrainTensor(c, green, s);
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
-        p[i][j] = f[i][0] * s[0][j] + f[i][1] * s[1][j];
-    const double jw = d.thickness * w * det;
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        fe[2 * a + i] += jw * (p[i][0] * g[a][0] + p[i][1] * g[a][1]);
-    if (!Tangent)
-      continue;
-    for (int b = 0; b < n; ++b)
-      for (int m = 0; m < 2; ++m) {
-        // dF = e_m (x) g_b: dE_kl = (F_mk g_bl + F_ml g_bk) / 2, dS = C : dE.
-        double de[2][2], ds[2][2];
-        for (int k = 0; k < 2; ++k)
-          for (int l = 0; l < 2; ++l)
-            de[k][l] = 0.5 * (f[m][k] * g[b][l] + f[m][l] * g[b][k]);
-        detail::stressFromStrainTensor(c, de, ds);
-        double gs[2]; // (g_b S)_j
-        for (int j = 0; j < 2; ++j)
-          gs[j] = g[b][0] * s[0][j] + g[b][1] * s[1][j];
-        for (int a = 0; a < n; ++a)
-          for (int i = 0; i < 2; ++i) {
-            // dP_ij = delta_im (g_b S)_j + F_ik dS_kj
-            double v = 0.0;
-            for (int j = 0; j < 2; ++j)
-              v += ((i == m ? gs[j] : 0.0) + f[i][0] * ds[0][j] + f[i][1] * ds[1][j]) * g[a][j];
-            ke[2 * a + i][2 * b + m] += jw * v;
-          }
-      }
-  }
-  return valid;
+  return materialElement<Elem, Tangent>(
+      d.mesh, d.thickness, SaintVenantKirchhoffLaw<MemorySpace>{d.material, d.stiffness}, u, e, fe,
+      ke);
 }
 
 /// Cauchy stress of `law` from the spatial displacement gradient h = du/dx.

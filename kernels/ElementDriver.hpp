@@ -1,0 +1,523 @@
+// The generic batched element driver of the small-strain displacement model (issue 16, item 2:
+// the libCEED / MFEM split of element loops and point physics). One loop shape for every element
+// type and every point law: gather the element's nodal coordinates (and unknowns), compute the
+// geometry at each quadrature point (Jacobian, det J, physical gradients from the traits), call
+// the point law, and reduce to the element stiffness t int B^T D B dA or the element residual
+// t int B^T sigma dA, then scatter into CSR through the element-to-CSR map with atomics. The
+// element sizes come from the traits (Elem::kNumNodes, kNumQp, kDim), the point physics from a
+// "law": a small copyable struct with `Point at(LocalIndex e) const` giving element e's point
+// functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps)). Layer: kernels.
+#pragma once
+
+#include <core/ElementTraits.hpp>
+#include <kernels/PointPhysics.hpp>
+#include <kernels/SparseMatrix.hpp>
+
+namespace mixcon {
+
+/// Elements per work item of the stiffness driver: a batch of consecutive elements computed in
+/// SIMD lanes on CPUs (every scalar of the element loop becomes an array over the lanes, and the
+/// lane loops are the innermost, unit-stride ones the compiler vectorizes); one element per
+/// thread on GPUs. 4 lanes measured 1.2-1.6x over 1 (2 threads, SSE2 code,
+/// bench_linear_stiffness); 2 and 8 were slower than 4.
+template <class ExecSpace>
+constexpr int kStiffnessLanes =
+    Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? 4 : 1;
+
+namespace detail {
+
+/// Shape functions and natural derivatives at quadrature point q of the element rule; returns
+/// the quadrature weight.
+template <class Elem>
+KOKKOS_INLINE_FUNCTION double referencePoint(int q, double (&sh)[Elem::kNumNodes],
+                                             double (&dn)[Elem::kNumNodes][Elem::kDim]) {
+  static_assert(Elem::kDim == 2, "the element traits give 2D reference points so far");
+  double xi, eta, w;
+  Elem::quadraturePoint(q, xi, eta, w);
+  Elem::shape(xi, eta, sh, dn);
+  return w;
+}
+
+/// Geometry of W elements (lanes) at one reference point: physical gradients g[a][i][l] =
+/// d N_a / d x_i of lane l from the nodal coordinates xe[a][i][l] and the natural derivatives dn
+/// (shared by the lanes); det[l] = det(d x / d xi).
+template <class Elem, int W>
+KOKKOS_INLINE_FUNCTION void laneGeometry(const double (&xe)[Elem::kNumNodes][Elem::kDim][W],
+                                         const double (&dn)[Elem::kNumNodes][Elem::kDim],
+                                         double (&g)[Elem::kNumNodes][Elem::kDim][W],
+                                         double (&det)[W]) {
+  static_assert(Elem::kDim == 2, "lane geometry is the 2D map (2x2 Jacobian) so far");
+  constexpr int n = Elem::kNumNodes;
+  double j00[W] = {}, j01[W] = {}, j10[W] = {}, j11[W] = {};
+  for (int a = 0; a < n; ++a)
+    for (int l = 0; l < W; ++l) {
+      j00[l] += xe[a][0][l] * dn[a][0];
+      j01[l] += xe[a][0][l] * dn[a][1];
+      j10[l] += xe[a][1][l] * dn[a][0];
+      j11[l] += xe[a][1][l] * dn[a][1];
+    }
+  double i00[W], i01[W], i10[W], i11[W];
+  for (int l = 0; l < W; ++l) {
+    det[l] = j00[l] * j11[l] - j01[l] * j10[l];
+    const double inv = 1.0 / det[l];
+    i00[l] = j11[l] * inv;
+    i01[l] = -j01[l] * inv;
+    i10[l] = -j10[l] * inv;
+    i11[l] = j00[l] * inv;
+  }
+  for (int a = 0; a < n; ++a)
+    for (int l = 0; l < W; ++l) {
+      g[a][0][l] = dn[a][0] * i00[l] + dn[a][1] * i10[l];
+      g[a][1][l] = dn[a][0] * i01[l] + dn[a][1] * i11[l];
+    }
+}
+
+/// Physical gradients g and det J of one element (one lane of laneGeometry).
+template <class Elem>
+KOKKOS_INLINE_FUNCTION double pointGeometry(const double (&xe)[Elem::kNumNodes][Elem::kDim],
+                                            const double (&dn)[Elem::kNumNodes][Elem::kDim],
+                                            double (&g)[Elem::kNumNodes][Elem::kDim]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+  double xl[n][dim][1], gl[n][dim][1], det[1];
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < dim; ++i)
+      xl[a][i][0] = xe[a][i];
+  laneGeometry<Elem, 1>(xl, dn, gl, det);
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < dim; ++i)
+      g[a][i] = gl[a][i][0];
+  return det[0];
+}
+
+/// Nodal coordinates of element e.
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void gatherElementCoordinates(const MeshView<MemorySpace> &m, LocalIndex e,
+                                                     double (&xe)[Elem::kNumNodes][Elem::kDim]) {
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex node = m.connectivity(e, a);
+    for (int i = 0; i < Elem::kDim; ++i)
+      xe[a][i] = m.coordinates(node, i);
+  }
+}
+
+/// Displacements of element e from u (Dim unknowns per node, node-interleaved).
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+gatherElementDisplacements(const MeshView<MemorySpace> &m,
+                           const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+                           double (&ue)[Elem::kNumNodes][Elem::kDim]) {
+  using L = LayoutOf<Elem>;
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex node = m.connectivity(e, a);
+    for (int i = 0; i < Elem::kDim; ++i)
+      ue[a][i] = u(L::displacementDof(node, i));
+  }
+}
+
+/// Displacement gradient grad(i, j) = sum_a ue[a][i] g[a][j].
+template <class Elem>
+KOKKOS_INLINE_FUNCTION Mat<Elem::kDim, Elem::kDim>
+displacementGradient(const double (&ue)[Elem::kNumNodes][Elem::kDim],
+                     const double (&g)[Elem::kNumNodes][Elem::kDim]) {
+  Mat<Elem::kDim, Elem::kDim> h{};
+  for (int a = 0; a < Elem::kNumNodes; ++a)
+    for (int i = 0; i < Elem::kDim; ++i)
+      for (int j = 0; j < Elem::kDim; ++j)
+        h.m[i][j] += ue[a][i] * g[a][j];
+  return h;
+}
+
+} // namespace detail
+
+/// Element stiffness t int B^T D B dA (the report's Eq. (25) for D = C) of the W elements first,
+/// first + 1, ... (clamped to last: a short final batch repeats its last element) into lane l of
+/// ke[i][j][l], dofs node-interleaved (u_1, v_1, u_2, ...). D is the tangent of the element's
+/// point law (law.at(e)) at zero strain, evaluated once per element (the law's parameters are per
+/// element). B_a (Voigt x Dim) has B_a[k][r] = g_a[c] and, for a shear component,
+/// B_a[k][c] = g_a[r], (r, c) = (Voigt::row(k), Voigt::col(k)). Per quadrature point: the
+/// gradients, D B_b for every node, the Dim x Dim blocks B_a^T (D B_b) for a <= b; the lower
+/// blocks mirrored at the end (D is symmetric).
+template <class Elem, int W, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+stiffnessLanes(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+               LocalIndex first, LocalIndex last,
+               double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes][W]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+  using V = Voigt<dim>;
+  constexpr int nv = V::kSize;
+  double xe[n][dim][W], d[nv][nv][W];
+  for (int l = 0; l < W; ++l) {
+    const LocalIndex e = first + l < last ? first + l : last;
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = mesh.connectivity(e, a);
+      for (int i = 0; i < dim; ++i)
+        xe[a][i][l] = mesh.coordinates(k, i);
+    }
+    const auto t = law.at(e).tangent(Vector<nv>{});
+    for (int r = 0; r < nv; ++r)
+      for (int s = 0; s < nv; ++s)
+        d[r][s][l] = t.m[r][s];
+  }
+  for (int i = 0; i < dim * n; ++i)
+    for (int j = 0; j < dim * n; ++j)
+      for (int l = 0; l < W; ++l)
+        ke[i][j][l] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim][W], det[W], f[W];
+    const double w = detail::referencePoint<Elem>(q, sh, dn); // shared by the lanes
+    detail::laneGeometry<Elem, W>(xe, dn, g, det);
+    for (int l = 0; l < W; ++l)
+      f[l] = thickness * w * det[l];
+    for (int b = 0; b < n; ++b) {
+      // f D B_b: column j gathers D's normal column j and the shear columns touching j.
+      double db[nv][dim][W];
+      for (int k = 0; k < nv; ++k)
+        for (int j = 0; j < dim; ++j)
+          for (int l = 0; l < W; ++l) {
+            double s = d[k][j][l] * g[b][j][l];
+            for (int m = dim; m < nv; ++m) {
+              if (V::row(m) == j)
+                s += d[k][m][l] * g[b][V::col(m)][l];
+              if (V::col(m) == j)
+                s += d[k][m][l] * g[b][V::row(m)][l];
+            }
+            db[k][j][l] = s * f[l];
+          }
+      // Blocks B_a^T (f D B_b), a <= b: row i gathers the normal row i and the shear rows
+      // touching i.
+      for (int a = 0; a <= b; ++a)
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            for (int l = 0; l < W; ++l) {
+              double s = g[a][i][l] * db[i][j][l];
+              for (int k = dim; k < nv; ++k) {
+                if (V::row(k) == i)
+                  s += g[a][V::col(k)][l] * db[k][j][l];
+                if (V::col(k) == i)
+                  s += g[a][V::row(k)][l] * db[k][j][l];
+              }
+              ke[dim * a + i][dim * b + j][l] += s;
+            }
+    }
+  }
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < b; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+          for (int l = 0; l < W; ++l)
+            ke[dim * b + j][dim * a + i][l] = ke[dim * a + i][dim * b + j][l];
+}
+
+/// Element stiffness of element e (one lane of stiffnessLanes, the same arithmetic).
+template <class Elem, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+elementStiffness(const MeshView<MemorySpace> &mesh, double thickness, const Law &law, LocalIndex e,
+                 double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  double k[nd][nd][1];
+  stiffnessLanes<Elem, 1>(mesh, thickness, law, e, e, k);
+  for (int i = 0; i < nd; ++i)
+    for (int j = 0; j < nd; ++j)
+      ke[i][j] = k[i][j][0];
+}
+
+/// Adds an element matrix (node-interleaved, Dim dofs per node) times `scale` into CSR through
+/// the scatter map (map(e, p, b): position of node b in the node-graph row of node p).
+template <class Elem, class MemorySpace, class Map>
+KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
+    const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace> &m, LocalIndex e,
+    double scale, const double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int dim = Elem::kDim;
+  for (int p = 0; p < Elem::kNumNodes; ++p) {
+    const LocalIndex row = m.connectivity(e, p);
+    for (int i = 0; i < dim; ++i) {
+      const Offset start = a.rowOffsets(dim * row + i);
+      for (int b = 0; b < Elem::kNumNodes; ++b) {
+        const Offset k = start + dim * map(e, p, b);
+        for (int j = 0; j < dim; ++j)
+          Kokkos::atomic_add(&a.values(k + j), scale * ke[dim * p + i][dim * b + j]);
+      }
+    }
+  }
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j) (extent E x Dim n x Dim n).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                             double thickness, const Law &law,
+                             const Kokkos::View<double ***, P...> &ke) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      "mixcon::kernels::elementStiffness",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double k[nd][nd][W];
+        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, k);
+        for (int l = 0; l < W && first + l < ne; ++l)
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              ke(first + l, i, j) = k[i][j][l];
+      });
+}
+
+/// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
+/// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
+/// element-matrix storage, atomics; `a.values` is not zeroed.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                              double thickness, const Law &law, const Map &map,
+                              const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleElementStiffness",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double kw[nd][nd][W];
+        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, kw);
+        for (int l = 0; l < W && first + l < ne; ++l) {
+          double k[nd][nd];
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              k[i][j] = kw[i][j][l];
+          scatterElementStiffness<Elem>(a, map, mesh, first + l, scale, k);
+        }
+      });
+}
+
+/// Small-strain residual of element e at displacements u: fe = t int B^T sigma dA with sigma =
+/// law.at(e).stress(eps(u)) at every quadrature point, dofs node-interleaved.
+template <class Elem, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+elementResidual(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+                double (&fe)[Elem::kDim * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+  using V = Voigt<dim>;
+  double xe[n][dim], ue[n][dim];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+  const auto point = law.at(e);
+  for (int i = 0; i < dim * n; ++i)
+    fe[i] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double f = thickness * w * detail::pointGeometry<Elem>(xe, dn, g);
+    const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, g)));
+    for (int a = 0; a < n; ++a)
+      for (int k = 0; k < V::kSize; ++k) {
+        const int r = V::row(k), c = V::col(k);
+        fe[dim * a + r] += f * g[a][c] * sig.v[k];
+        if (V::isShear(k))
+          fe[dim * a + c] += f * g[a][r] * sig.v[k];
+      }
+  }
+}
+
+/// Adds the small-strain residual of every element (elementResidual) into f (atomics).
+template <class Elem, class ExecSpace, class Law, class MemorySpace>
+void assembleElementResidual(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                             double thickness, const Law &law,
+                             const Kokkos::View<const double *, MemorySpace> &u,
+                             const Kokkos::View<double *, MemorySpace> &f) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleElementResidual",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int dim = Elem::kDim;
+        double fe[dim * Elem::kNumNodes];
+        elementResidual<Elem>(mesh, thickness, law, u, e, fe);
+        for (int a = 0; a < Elem::kNumNodes; ++a) {
+          const LocalIndex node = mesh.connectivity(e, a);
+          for (int i = 0; i < dim; ++i)
+            Kokkos::atomic_add(&f(LayoutOf<Elem>::displacementDof(node, i)), fe[dim * a + i]);
+        }
+      });
+}
+
+/// Small-strain stress (Voigt) of the point law at every quadrature point of the element rule:
+/// stress(e, q, k) of a rank-3 View (E x kNumQp x Voigt size).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class StressView>
+void quadraturePointStress(const ExecSpace &exec, const MeshView<MemorySpace> &mesh, const Law &law,
+                           const Kokkos::View<const double *, MemorySpace> &u,
+                           const StressView &stress) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::quadraturePointStress",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+        double xe[n][dim], ue[n][dim];
+        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+        detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+        const auto point = law.at(e);
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double sh[n], dn[n][dim], g[n][dim];
+          detail::referencePoint<Elem>(q, sh, dn);
+          detail::pointGeometry<Elem>(xe, dn, g);
+          const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, g)));
+          for (int k = 0; k < Voigt<dim>::kSize; ++k)
+            stress(e, q, k) = sig.v[k];
+        }
+      });
+}
+
+/// Updated-Lagrangian element of a spatial point law (kernels/PointPhysics.hpp: Cauchy stress
+/// stress(h) of the displacement gradient h = du/dx on the current configuration x = X + u, and
+/// tangent(h) = d sigma / d h) at total displacements u (Dim per node): fe = t int B^T sigma da
+/// over the current element and, when `Tangent`, its exact derivative ke = d fe / du. For the
+/// perturbation delta u_b = unit vector m (dl = d delta u / dx = e_m (x) g_b): dh = (I - h) dl,
+/// dsigma = tangent : dh, d(da) = da g_bm, d g_aj = -g_am g_bj, so
+/// d(sigma_ij g_aj da) = (dsigma_ij g_aj + sigma_ij (g_aj g_bm - g_am g_bj)) da.
+/// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+               const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+               double (&fe)[Elem::kDim * Elem::kNumNodes],
+               double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int nv = Voigt<dim>::kSize;
+  double xe[n][dim], ue[n][dim];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+  for (int a = 0; a < n; ++a)
+    for (int i = 0; i < dim; ++i)
+      xe[a][i] += ue[a][i]; // current configuration
+  const auto point = law.at(e);
+  bool valid = true;
+  for (int i = 0; i < nd; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < nd; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double det = detail::pointGeometry<Elem>(xe, dn, g);
+    if (!(det > 0.0))
+      valid = false;
+    const double jw = thickness * w * det;
+    const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+    const Mat<dim, dim> s = voigtToStress<dim>(point.stress(h));
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j)
+          v += s.m[i][j] * g[a][j];
+        fe[dim * a + i] += jw * v;
+      }
+    if (!Tangent)
+      continue;
+    // am(c, m dim + l) = sum_k tangent(c, k dim + l) (delta_km - h_km): dsigma_c for the
+    // perturbation (b, m) is sum_l am(c, m dim + l) g_bl.
+    const auto t = point.tangent(h);
+    Mat<nv, dim * dim> am{};
+    for (int c = 0; c < nv; ++c)
+      for (int m = 0; m < dim; ++m)
+        for (int l = 0; l < dim; ++l) {
+          double v = 0.0;
+          for (int k = 0; k < dim; ++k)
+            v += t.m[c][k * dim + l] * ((k == m ? 1.0 : 0.0) - h.m[k][m]);
+          am.m[c][m * dim + l] = v;
+        }
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < dim; ++m) {
+        Vector<nv> dsv{};
+        for (int c = 0; c < nv; ++c)
+          for (int l = 0; l < dim; ++l)
+            dsv.v[c] += am.m[c][m * dim + l] * g[b][l];
+        const Mat<dim, dim> ds = voigtToStress<dim>(dsv);
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j)
+              v += ds.m[i][j] * g[a][j] + s.m[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
+            ke[dim * a + i][dim * b + m] += jw * v;
+          }
+      }
+  }
+  return valid;
+}
+
+/// Total-Lagrangian element of a material point law (kernels/PointPhysics.hpp: 2nd Piola-Kirchhoff
+/// stress stress(F) of the deformation gradient F = I + du/dX on the reference configuration X,
+/// and tangent(F) = d S / d F) at total displacements u (Dim per node): fe = t int P grad_X(N) dA
+/// with P = F S and, when `Tangent`, its exact derivative ke = d fe / du: for delta u_b = unit
+/// vector m, dF = e_m (x) g_b and dP_ij = delta_im (g_b S)_j + F_ik dS_kj, dS = tangent : dF.
+/// Returns false for an inverted element (det dX/dxi <= 0 or det F <= 0 at a quadrature point).
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+materialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+                double (&fe)[Elem::kDim * Elem::kNumNodes],
+                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int nv = Voigt<dim>::kSize;
+  double xe[n][dim], ue[n][dim];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
+  const auto point = law.at(e);
+  bool valid = true;
+  for (int i = 0; i < nd; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < nd; ++j)
+        ke[i][j] = 0.0;
+  }
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double det = detail::pointGeometry<Elem>(xe, dn, g);
+    Mat<dim, dim> f = detail::displacementGradient<Elem>(ue, g);
+    for (int i = 0; i < dim; ++i)
+      f.m[i][i] += 1.0;
+    if (!(det > 0.0) || !(determinant(f) > 0.0))
+      valid = false;
+    const double jw = thickness * w * det;
+    const Mat<dim, dim> s = voigtToStress<dim>(point.stress(f));
+    const Mat<dim, dim> p = matmul(f, s);
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j)
+          v += p.m[i][j] * g[a][j];
+        fe[dim * a + i] += jw * v;
+      }
+    if (!Tangent)
+      continue;
+    const auto t = point.tangent(f);
+    for (int b = 0; b < n; ++b) {
+      double gs[dim]; // (g_b S)_j
+      for (int j = 0; j < dim; ++j) {
+        gs[j] = 0.0;
+        for (int k = 0; k < dim; ++k)
+          gs[j] += g[b][k] * s.m[k][j];
+      }
+      for (int m = 0; m < dim; ++m) {
+        // dS = tangent(:, m dim + l) g_bl; dP = e_m (x) (g_b S) + F dS.
+        Vector<nv> dsv{};
+        for (int c = 0; c < nv; ++c)
+          for (int l = 0; l < dim; ++l)
+            dsv.v[c] += t.m[c][m * dim + l] * g[b][l];
+        Mat<dim, dim> dp = matmul(f, voigtToStress<dim>(dsv));
+        for (int j = 0; j < dim; ++j)
+          dp.m[m][j] += gs[j];
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j)
+              v += dp.m[i][j] * g[a][j];
+            ke[dim * a + i][dim * b + m] += jw * v;
+          }
+      }
+    }
+  }
+  return valid;
+}
+
+} // namespace mixcon
