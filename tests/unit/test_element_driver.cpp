@@ -2,8 +2,8 @@
 // host reference element matrices (tests/support/Reference.hpp: explicit B, Eigen), for both
 // element types and both plane analyses with a rotated orthotropic material; the updated- and
 // total-Lagrangian drivers with the Almansi and St. Venant-Kirchhoff laws against host reference
-// forces (tests/support/NonlinearReference.hpp through b^-1; explicit B_NL(F) here) and their
-// tangents against central differences of the assembled residual, at finite strain plus
+// forces (tests/support/NonlinearReference.hpp: through b^-1, and with an explicit B_NL(F)) and
+// their tangents against central differences of the assembled residual, at finite strain plus
 // rotation; and the point laws (kernels/PointPhysics.hpp) alone: closed forms for Hooke's law, the
 // nonlinear laws' stresses against the element kernels' own strain functions and their tangents
 // against central differences of their stresses.
@@ -142,40 +142,6 @@ Eigen::VectorXd displacementForce(const Fixture &f, const Eigen::VectorXd &u, co
   });
   EXPECT_EQ(inverted, -1);
   return toEigen(g);
-}
-
-/// Host reference of the St. Venant-Kirchhoff internal force, total Lagrangian: F = I + du/dX,
-/// E = (F^T F - I) / 2, S = C E, f = t int B_NL(F)^T S dA with the explicit 3 x 2n nonlinear
-/// strain-displacement matrix over the reference element.
-Eigen::VectorXd referenceSvkForce(const Fixture &f, const Eigen::VectorXd &u) {
-  const int n = f.mesh.nodesPerElement;
-  Eigen::VectorXd force = Eigen::VectorXd::Zero(2 * f.mesh.numNodes());
-  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
-    Eigen::MatrixXd ue(n, 2);
-    for (int a = 0; a < n; ++a)
-      ue.row(a) = u.segment<2>(2 * f.mesh.node(e, a)).transpose();
-    const Eigen::Matrix3d c = test::toEigen(f.materials[f.elementMaterial[e]]);
-    Eigen::VectorXd fe = Eigen::VectorXd::Zero(2 * n);
-    test::forEachReferencePoint(
-        test::elementCoordinates(f.mesh, e),
-        [&](const Eigen::VectorXd &, const Eigen::MatrixXd &dx, double w) {
-          const Eigen::Matrix2d fg = Eigen::Matrix2d::Identity() + ue.transpose() * dx;
-          const Eigen::Matrix2d green = 0.5 * (fg.transpose() * fg - Eigen::Matrix2d::Identity());
-          Eigen::MatrixXd bnl(3, 2 * n);
-          for (int a = 0; a < n; ++a)
-            for (int m = 0; m < 2; ++m) {
-              bnl(0, 2 * a + m) = fg(m, 0) * dx(a, 0);
-              bnl(1, 2 * a + m) = fg(m, 1) * dx(a, 1);
-              bnl(2, 2 * a + m) = fg(m, 0) * dx(a, 1) + fg(m, 1) * dx(a, 0);
-            }
-          fe += bnl.transpose() * c * Eigen::Vector3d(green(0, 0), green(1, 1), 2 * green(0, 1)) *
-                (w * f.data.thickness);
-        });
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        force(2 * f.mesh.node(e, a) + i) += fe(2 * a + i);
-  }
-  return force;
 }
 
 /// Finite strain (random displacements of size 0.03 on the 3 x 2 body, elements of size 0.5:

@@ -175,38 +175,6 @@ TEST_P(NonlinearModels, DisplacementTangentIsFiniteDifferenceOfResidual) {
   EXPECT_GT(relativeError(k, Eigen::MatrixXd(k.transpose())), 1e-4);
 }
 
-/// Host reference of the St. Venant-Kirchhoff internal force, total Lagrangian: F = I + du/dX,
-/// E = (F^T F - I) / 2, S = C E, f = t int B_NL(F)^T S dA over the reference element.
-Eigen::VectorXd referenceSvkForce(const Fixture &f, const Eigen::VectorXd &u) {
-  const int n = f.mesh.nodesPerElement;
-  Eigen::VectorXd force = Eigen::VectorXd::Zero(2 * f.mesh.numNodes());
-  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e) {
-    const Eigen::MatrixXd xe = elementCoordinates(f.mesh, e);
-    Eigen::MatrixXd ue(n, 2);
-    for (int a = 0; a < n; ++a)
-      ue.row(a) = u.segment<2>(2 * f.mesh.node(e, a)).transpose();
-    const Eigen::Matrix3d c = toEigen(f.materials[f.elementMaterial[e]]);
-    Eigen::VectorXd fe = Eigen::VectorXd::Zero(2 * n);
-    forEachReferencePoint(xe, [&](const Eigen::VectorXd &, const Eigen::MatrixXd &dx, double w) {
-      const Eigen::Matrix2d fg = Eigen::Matrix2d::Identity() + ue.transpose() * dx;
-      const Eigen::Matrix2d green = 0.5 * (fg.transpose() * fg - Eigen::Matrix2d::Identity());
-      Eigen::MatrixXd bnl(3, 2 * n);
-      for (int a = 0; a < n; ++a)
-        for (int m = 0; m < 2; ++m) {
-          bnl(0, 2 * a + m) = fg(m, 0) * dx(a, 0);
-          bnl(1, 2 * a + m) = fg(m, 1) * dx(a, 1);
-          bnl(2, 2 * a + m) = fg(m, 0) * dx(a, 1) + fg(m, 1) * dx(a, 0);
-        }
-      fe += bnl.transpose() * c * Eigen::Vector3d(green(0, 0), green(1, 1), 2 * green(0, 1)) *
-            (w * f.data.thickness);
-    });
-    for (int a = 0; a < n; ++a)
-      for (int i = 0; i < 2; ++i)
-        force(2 * f.mesh.node(e, a) + i) += fe(2 * a + i);
-  }
-  return force;
-}
-
 // The St. Venant-Kirchhoff law: the total-Lagrangian residual against the host reference (1e-10),
 // the Cauchy stress output against F S F^T / J (through a rigid rotation: objectivity), and the
 // exact tangent against central finite differences (1e-6), at finite strain plus rotation.
