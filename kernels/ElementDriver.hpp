@@ -127,6 +127,17 @@ displacementGradient(const double (&ue)[Elem::kNumNodes][Elem::kDim],
   return h;
 }
 
+/// fe = 0 and, when `Tangent`, ke = 0 (the element arrays of the finite-strain loops).
+template <bool Tangent, int N>
+KOKKOS_INLINE_FUNCTION void clearElement(double (&fe)[N], double (&ke)[N][N]) {
+  for (int i = 0; i < N; ++i) {
+    fe[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < N; ++j)
+        ke[i][j] = 0.0;
+  }
+}
+
 } // namespace detail
 
 /// Element stiffness t int B^T D B dA (the report's Eq. (25) for D = C) of the W elements first,
@@ -379,7 +390,7 @@ spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &l
                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                double (&fe)[Elem::kDim * Elem::kNumNodes],
                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
   constexpr int nv = Voigt<dim>::kSize;
   double xe[n][dim], ue[n][dim];
   detail::gatherElementCoordinates<Elem>(mesh, e, xe);
@@ -389,12 +400,7 @@ spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &l
       xe[a][i] += ue[a][i]; // current configuration
   const auto point = law.at(e);
   bool valid = true;
-  for (int i = 0; i < nd; ++i) {
-    fe[i] = 0.0;
-    if (Tangent)
-      for (int j = 0; j < nd; ++j)
-        ke[i][j] = 0.0;
-  }
+  detail::clearElement<Tangent>(fe, ke);
   for (int q = 0; q < Elem::kNumQp; ++q) {
     double sh[n], dn[n][dim], g[n][dim];
     const double w = detail::referencePoint<Elem>(q, sh, dn);
@@ -456,19 +462,14 @@ materialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &
                 const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                 double (&fe)[Elem::kDim * Elem::kNumNodes],
                 double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
-  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
   constexpr int nv = Voigt<dim>::kSize;
   double xe[n][dim], ue[n][dim];
   detail::gatherElementCoordinates<Elem>(mesh, e, xe);
   detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
   const auto point = law.at(e);
   bool valid = true;
-  for (int i = 0; i < nd; ++i) {
-    fe[i] = 0.0;
-    if (Tangent)
-      for (int j = 0; j < nd; ++j)
-        ke[i][j] = 0.0;
-  }
+  detail::clearElement<Tangent>(fe, ke);
   for (int q = 0; q < Elem::kNumQp; ++q) {
     double sh[n], dn[n][dim], g[n][dim];
     const double w = detail::referencePoint<Elem>(q, sh, dn);

@@ -25,6 +25,32 @@ KOKKOS_INLINE_FUNCTION Vector<Voigt<Dim>::kSize> smallStrain(const Mat<Dim, Dim>
   return eps;
 }
 
+/// The tangent of C : sym(A^T X) with respect to X: column i * Dim + j is C times the Voigt
+/// strain (engineering shear: x2) of sym(A^T E_ij), E_ij the unit matrix of entry (i, j). Both
+/// finite-strain laws below vary their strain this way: the Almansi strain with A = I - h, the
+/// Green-Lagrange strain with A = F.
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Mat<Voigt<Dim>::kSize, Dim * Dim>
+symmetricProductTangent(const Mat<Voigt<Dim>::kSize, Voigt<Dim>::kSize> &c,
+                        const Mat<Dim, Dim> &a) {
+  using V = Voigt<Dim>;
+  Mat<V::kSize, Dim * Dim> t{};
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j) {
+      // sym(A^T E_ij)_rs = (A_ir delta_js + A_is delta_jr) / 2.
+      Vector<V::kSize> de{};
+      for (int k = 0; k < V::kSize; ++k) {
+        const int r = V::row(k), s = V::col(k);
+        de.v[k] =
+            (V::isShear(k) ? 1.0 : 0.5) * ((s == j ? a.m[i][r] : 0.0) + (r == j ? a.m[i][s] : 0.0));
+      }
+      const Vector<V::kSize> ds = matvec(c, de);
+      for (int k = 0; k < V::kSize; ++k)
+        t.m[k][i * Dim + j] = ds.v[k];
+    }
+  return t;
+}
+
 /// Linear elasticity at a point (Hooke's law, the report's Eq. (25)): sigma = C eps and
 /// d sigma / d eps = C, with C the Voigt stiffness of the point's material in global axes (in 2D
 /// the plane-strain or plane-stress PlaneMatrix) and eps the Voigt strain with engineering shear.
@@ -77,23 +103,11 @@ template <int Dim> struct AlmansiPoint {
   /// d sigma / d h: column i * Dim + j is C times the Voigt strain of
   /// de = sym((I - h)^T E_ij), E_ij the unit matrix of entry (i, j).
   KOKKOS_INLINE_FUNCTION Mat<kSize, Dim * Dim> tangent(const Mat<Dim, Dim> &h) const {
-    using V = Voigt<Dim>;
-    Mat<kSize, Dim * Dim> t{};
+    Mat<Dim, Dim> a{}; // I - h
     for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) {
-        // de_kl = ((I - h)_ik delta_jl + (I - h)_il delta_jk) / 2 (engineering shear: x2).
-        Vector<kSize> de{};
-        for (int k = 0; k < kSize; ++k) {
-          const int r = V::row(k), s = V::col(k);
-          const double a = (r == i ? 1.0 : 0.0) - h.m[i][r];
-          const double b = (s == i ? 1.0 : 0.0) - h.m[i][s];
-          de.v[k] = (V::isShear(k) ? 1.0 : 0.5) * ((s == j ? a : 0.0) + (r == j ? b : 0.0));
-        }
-        const Vector<kSize> ds = matvec(c, de);
-        for (int k = 0; k < kSize; ++k)
-          t.m[k][i * Dim + j] = ds.v[k];
-      }
-    return t;
+      for (int r = 0; r < Dim; ++r)
+        a.m[i][r] = (r == i ? 1.0 : 0.0) - h.m[i][r];
+    return symmetricProductTangent<Dim>(c, a);
   }
 };
 
@@ -123,22 +137,7 @@ template <int Dim> struct SaintVenantKirchhoffPoint {
   }
   /// d S / d F: column i * Dim + j is C times the Voigt strain of dE = sym(F^T E_ij).
   KOKKOS_INLINE_FUNCTION Mat<kSize, Dim * Dim> tangent(const Mat<Dim, Dim> &f) const {
-    using V = Voigt<Dim>;
-    Mat<kSize, Dim * Dim> t{};
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) {
-        // dE_kl = (F_ik delta_jl + F_il delta_jk) / 2 (engineering shear: x2).
-        Vector<kSize> de{};
-        for (int k = 0; k < kSize; ++k) {
-          const int r = V::row(k), s = V::col(k);
-          de.v[k] = (V::isShear(k) ? 1.0 : 0.5) *
-                    ((s == j ? f.m[i][r] : 0.0) + (r == j ? f.m[i][s] : 0.0));
-        }
-        const Vector<kSize> ds = matvec(c, de);
-        for (int k = 0; k < kSize; ++k)
-          t.m[k][i * Dim + j] = ds.v[k];
-      }
-    return t;
+    return symmetricProductTangent<Dim>(c, f);
   }
 };
 
