@@ -121,9 +121,11 @@ std::vector<LocalIndex> connectedNodes(const Mesh &mesh, const std::vector<Local
 /// the first inverted or degenerate element or the first node used by no element.
 void validateMesh(const Mesh &mesh);
 
-/// Device-resident copy of the geometry and topology the element kernels read.
-template <class MemorySpace> struct MeshView {
-  Kokkos::View<double *[2], MemorySpace> coordinates;
+/// Device-resident copy of the geometry and topology the element kernels read: `Dim` coordinates
+/// per node (the element traits' kDim), nodes per element as the connectivity's second extent.
+template <class MemorySpace, int Dim = 2> struct MeshView {
+  static constexpr int kDim = Dim;
+  Kokkos::View<double *[Dim], MemorySpace> coordinates;
   Kokkos::View<LocalIndex **, Kokkos::LayoutRight, MemorySpace> connectivity;
 };
 
