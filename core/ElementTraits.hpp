@@ -1,5 +1,8 @@
 // Element types as compile-time traits: shape functions, natural-coordinate derivatives,
-// quadrature rules and edge topology for the 2D isoparametric quadrilaterals of the report.
+// quadrature rules and edge topology for the 2D isoparametric quadrilaterals of the report, and
+// the trilinear hexahedron (Hex8) of the 3D kernels. Every element gives the dimension-generic
+// reference API the element driver uses (quadraturePoint(q, xi[kDim], w), shape(xi[kDim], n,
+// dn)); the quadrilaterals keep their (xi, eta) forms, which the 2D kernels call.
 // Everything here is device-callable and allocation free, except dispatchElement (host). Layer:
 // core, the bottom one (mesh, kernels and everything above include it).
 #pragma once
@@ -69,6 +72,14 @@ struct Quad4 {
     detail::gauss1d(kGaussOrder, q / kGaussOrder, eta, we);
     w = wx * we;
   }
+  /// The dimension-generic forms of quadraturePoint and shape (natural coordinates as an array).
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    quadraturePoint(q, xi[0], xi[1], w);
+  }
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    shape(xi[0], xi[1], n, dn);
+  }
 };
 
 /// 8-node serendipity quadrilateral, 3x3 Gauss quadrature, 3-node edges. Node order as Gmsh:
@@ -130,6 +141,55 @@ struct Quad8 {
     detail::gauss1d(kGaussOrder, q % kGaussOrder, xi, wx);
     detail::gauss1d(kGaussOrder, q / kGaussOrder, eta, we);
     w = wx * we;
+  }
+  /// The dimension-generic forms of quadraturePoint and shape (natural coordinates as an array).
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    quadraturePoint(q, xi[0], xi[1], w);
+  }
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    shape(xi[0], xi[1], n, dn);
+  }
+};
+
+/// 8-node trilinear hexahedron, 2x2x2 Gauss quadrature. Node order as Gmsh and VTK: the bottom
+/// face (zeta = -1) counter-clockwise from (-1,-1,-1), nodes 0..3, then the top face (zeta = +1)
+/// in the same order, nodes 4..7. A 3D element of the kernels and their tests; not an
+/// ElementType of the program yet (dispatchElement knows only the 2D elements).
+struct Hex8 {
+  static constexpr int kDim = 3;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
+  static constexpr int kNumNodes = 8;
+  static constexpr int kGaussOrder = 2;
+  static constexpr int kNumQp = 8;
+  static constexpr const char *kName = "hex8";
+
+  /// Natural coordinates of node a.
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    xi[0] = detail::cornerXi(a % 4);
+    xi[1] = detail::cornerEta(a % 4);
+    xi[2] = a < 4 ? -1.0 : 1.0;
+  }
+  /// Shape functions N_a = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a) / 8 and dN_a/dxi_j.
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    for (int a = 0; a < kNumNodes; ++a) {
+      double xa[kDim];
+      nodeNatural(a, xa);
+      const double p0 = 1.0 + xi[0] * xa[0], p1 = 1.0 + xi[1] * xa[1], p2 = 1.0 + xi[2] * xa[2];
+      n[a] = 0.125 * p0 * p1 * p2;
+      dn[a][0] = 0.125 * xa[0] * p1 * p2;
+      dn[a][1] = 0.125 * xa[1] * p0 * p2;
+      dn[a][2] = 0.125 * xa[2] * p0 * p1;
+    }
+  }
+  /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    double w0, w1, w2;
+    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi[0], w0);
+    detail::gauss1d(kGaussOrder, (q / kGaussOrder) % kGaussOrder, xi[1], w1);
+    detail::gauss1d(kGaussOrder, q / (kGaussOrder * kGaussOrder), xi[2], w2);
+    w = w0 * w1 * w2;
   }
 };
 

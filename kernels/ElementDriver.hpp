@@ -1,12 +1,13 @@
-// The generic batched element driver of the small-strain displacement model (issue 16, item 2:
-// the libCEED / MFEM split of element loops and point physics). One loop shape for every element
-// type and every point law: gather the element's nodal coordinates (and unknowns), compute the
-// geometry at each quadrature point (Jacobian, det J, physical gradients from the traits), call
-// the point law, and reduce to the element stiffness t int B^T D B dA or the element residual
+// The generic batched element driver of the displacement model (issue 16, item 2: the libCEED /
+// MFEM split of element loops and point physics). One loop shape for every element type and
+// every point law: gather the element's nodal coordinates (and unknowns), compute the geometry at
+// each quadrature point (Jacobian, det J, physical gradients from the traits), call the point
+// law, and reduce to the element stiffness t int B^T D B dA or the element residual
 // t int B^T sigma dA, then scatter into CSR through the element-to-CSR map with atomics. The
-// element sizes come from the traits (Elem::kNumNodes, kNumQp, kDim), the point physics from a
-// "law": a small copyable struct with `Point at(LocalIndex e) const` giving element e's point
-// functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps)). Layer: kernels.
+// element sizes come from the traits (Elem::kNumNodes, kNumQp, kDim: 2D quadrilaterals and the 3D
+// Hex8; meshes are MeshView<MemorySpace, Elem::kDim>, and in 3D the thickness t is 1), the point
+// physics from a "law": a small copyable struct with `Point at(LocalIndex e) const` giving element
+// e's point functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps)). Layer: kernels.
 #pragma once
 
 #include <core/ElementTraits.hpp>
@@ -31,45 +32,64 @@ namespace detail {
 template <class Elem>
 KOKKOS_INLINE_FUNCTION double referencePoint(int q, double (&sh)[Elem::kNumNodes],
                                              double (&dn)[Elem::kNumNodes][Elem::kDim]) {
-  static_assert(Elem::kDim == 2, "the element traits give 2D reference points so far");
-  double xi, eta, w;
-  Elem::quadraturePoint(q, xi, eta, w);
-  Elem::shape(xi, eta, sh, dn);
+  double xi[Elem::kDim], w;
+  Elem::quadraturePoint(q, xi, w);
+  Elem::shape(xi, sh, dn);
   return w;
 }
 
 /// Geometry of W elements (lanes) at one reference point: physical gradients g[a][i][l] =
 /// d N_a / d x_i of lane l from the nodal coordinates xe[a][i][l] and the natural derivatives dn
-/// (shared by the lanes); det[l] = det(d x / d xi).
+/// (shared by the lanes); det[l] = det(d x / d xi). In 2D the 2x2 inverse is written out (the
+/// arithmetic of the 2D kernels); in 3D J^-1 comes from core/Tensor.hpp's adjugate inverse.
 template <class Elem, int W>
 KOKKOS_INLINE_FUNCTION void laneGeometry(const double (&xe)[Elem::kNumNodes][Elem::kDim][W],
                                          const double (&dn)[Elem::kNumNodes][Elem::kDim],
                                          double (&g)[Elem::kNumNodes][Elem::kDim][W],
                                          double (&det)[W]) {
-  static_assert(Elem::kDim == 2, "lane geometry is the 2D map (2x2 Jacobian) so far");
-  constexpr int n = Elem::kNumNodes;
-  double j00[W] = {}, j01[W] = {}, j10[W] = {}, j11[W] = {};
-  for (int a = 0; a < n; ++a)
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+  static_assert(dim == 2 || dim == 3, "the element driver's geometry is 2D or 3D");
+  if constexpr (dim == 2) {
+    double j00[W] = {}, j01[W] = {}, j10[W] = {}, j11[W] = {};
+    for (int a = 0; a < n; ++a)
+      for (int l = 0; l < W; ++l) {
+        j00[l] += xe[a][0][l] * dn[a][0];
+        j01[l] += xe[a][0][l] * dn[a][1];
+        j10[l] += xe[a][1][l] * dn[a][0];
+        j11[l] += xe[a][1][l] * dn[a][1];
+      }
+    double i00[W], i01[W], i10[W], i11[W];
     for (int l = 0; l < W; ++l) {
-      j00[l] += xe[a][0][l] * dn[a][0];
-      j01[l] += xe[a][0][l] * dn[a][1];
-      j10[l] += xe[a][1][l] * dn[a][0];
-      j11[l] += xe[a][1][l] * dn[a][1];
+      det[l] = j00[l] * j11[l] - j01[l] * j10[l];
+      const double inv = 1.0 / det[l];
+      i00[l] = j11[l] * inv;
+      i01[l] = -j01[l] * inv;
+      i10[l] = -j10[l] * inv;
+      i11[l] = j00[l] * inv;
     }
-  double i00[W], i01[W], i10[W], i11[W];
-  for (int l = 0; l < W; ++l) {
-    det[l] = j00[l] * j11[l] - j01[l] * j10[l];
-    const double inv = 1.0 / det[l];
-    i00[l] = j11[l] * inv;
-    i01[l] = -j01[l] * inv;
-    i10[l] = -j10[l] * inv;
-    i11[l] = j00[l] * inv;
+    for (int a = 0; a < n; ++a)
+      for (int l = 0; l < W; ++l) {
+        g[a][0][l] = dn[a][0] * i00[l] + dn[a][1] * i10[l];
+        g[a][1][l] = dn[a][0] * i01[l] + dn[a][1] * i11[l];
+      }
+  } else {
+    for (int l = 0; l < W; ++l) {
+      // J[i][j] = d x_i / d xi_j; d N_a / d x_i = sum_j dn[a][j] (J^-1)[j][i].
+      Mat<dim, dim> jac{}, inv{};
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            jac.m[i][j] += xe[a][i][l] * dn[a][j];
+      det[l] = inverse(jac, inv);
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i) {
+          double v = 0.0;
+          for (int j = 0; j < dim; ++j)
+            v += dn[a][j] * inv.m[j][i];
+          g[a][i][l] = v;
+        }
+    }
   }
-  for (int a = 0; a < n; ++a)
-    for (int l = 0; l < W; ++l) {
-      g[a][0][l] = dn[a][0] * i00[l] + dn[a][1] * i10[l];
-      g[a][1][l] = dn[a][0] * i01[l] + dn[a][1] * i11[l];
-    }
 }
 
 /// Physical gradients g and det J of one element (one lane of laneGeometry).
@@ -91,7 +111,8 @@ KOKKOS_INLINE_FUNCTION double pointGeometry(const double (&xe)[Elem::kNumNodes][
 
 /// Nodal coordinates of element e.
 template <class Elem, class MemorySpace>
-KOKKOS_INLINE_FUNCTION void gatherElementCoordinates(const MeshView<MemorySpace> &m, LocalIndex e,
+KOKKOS_INLINE_FUNCTION void gatherElementCoordinates(const MeshView<MemorySpace, Elem::kDim> &m,
+                                                     LocalIndex e,
                                                      double (&xe)[Elem::kNumNodes][Elem::kDim]) {
   for (int a = 0; a < Elem::kNumNodes; ++a) {
     const LocalIndex node = m.connectivity(e, a);
@@ -103,7 +124,7 @@ KOKKOS_INLINE_FUNCTION void gatherElementCoordinates(const MeshView<MemorySpace>
 /// Displacements of element e from u (Dim unknowns per node, node-interleaved).
 template <class Elem, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
-gatherElementDisplacements(const MeshView<MemorySpace> &m,
+gatherElementDisplacements(const MeshView<MemorySpace, Elem::kDim> &m,
                            const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                            double (&ue)[Elem::kNumNodes][Elem::kDim]) {
   using L = LayoutOf<Elem>;
@@ -150,7 +171,7 @@ KOKKOS_INLINE_FUNCTION void clearElement(double (&fe)[N], double (&ke)[N][N]) {
 /// blocks mirrored at the end (D is symmetric).
 template <class Elem, int W, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
-stiffnessLanes(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+stiffnessLanes(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
                LocalIndex first, LocalIndex last,
                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes][W]) {
   constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
@@ -222,7 +243,8 @@ stiffnessLanes(const MeshView<MemorySpace> &mesh, double thickness, const Law &l
 /// Element stiffness of element e (one lane of stiffnessLanes, the same arithmetic).
 template <class Elem, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
-elementStiffness(const MeshView<MemorySpace> &mesh, double thickness, const Law &law, LocalIndex e,
+elementStiffness(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+                 LocalIndex e,
                  double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
   constexpr int nd = Elem::kDim * Elem::kNumNodes;
   double k[nd][nd][1];
@@ -236,8 +258,9 @@ elementStiffness(const MeshView<MemorySpace> &mesh, double thickness, const Law 
 /// the scatter map (map(e, p, b): position of node b in the node-graph row of node p).
 template <class Elem, class MemorySpace, class Map>
 KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
-    const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace> &m, LocalIndex e,
-    double scale, const double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+    const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace, Elem::kDim> &m,
+    LocalIndex e, double scale,
+    const double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
   constexpr int dim = Elem::kDim;
   for (int p = 0; p < Elem::kNumNodes; ++p) {
     const LocalIndex row = m.connectivity(e, p);
@@ -254,7 +277,7 @@ KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
 
 /// Element stiffness matrices of all elements into ke(e, i, j) (extent E x Dim n x Dim n).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
-void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
                              double thickness, const Law &law,
                              const Kokkos::View<double ***, P...> &ke) {
   constexpr int nd = Elem::kDim * Elem::kNumNodes;
@@ -277,7 +300,7 @@ void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace> 
 /// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
 /// element-matrix storage, atomics; `a.values` is not zeroed.
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
-void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
                               double thickness, const Law &law, const Map &map,
                               const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
   constexpr int nd = Elem::kDim * Elem::kNumNodes;
@@ -303,7 +326,7 @@ void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace>
 /// law.at(e).stress(eps(u)) at every quadrature point, dofs node-interleaved.
 template <class Elem, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
-elementResidual(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+elementResidual(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
                 const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                 double (&fe)[Elem::kDim * Elem::kNumNodes]) {
   constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
@@ -331,7 +354,7 @@ elementResidual(const MeshView<MemorySpace> &mesh, double thickness, const Law &
 
 /// Adds the small-strain residual of every element (elementResidual) into f (atomics).
 template <class Elem, class ExecSpace, class Law, class MemorySpace>
-void assembleElementResidual(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+void assembleElementResidual(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
                              double thickness, const Law &law,
                              const Kokkos::View<const double *, MemorySpace> &u,
                              const Kokkos::View<double *, MemorySpace> &f) {
@@ -353,8 +376,8 @@ void assembleElementResidual(const ExecSpace &exec, const MeshView<MemorySpace> 
 /// Small-strain stress (Voigt) of the point law at every quadrature point of the element rule:
 /// stress(e, q, k) of a rank-3 View (E x kNumQp x Voigt size).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class StressView>
-void quadraturePointStress(const ExecSpace &exec, const MeshView<MemorySpace> &mesh, const Law &law,
-                           const Kokkos::View<const double *, MemorySpace> &u,
+void quadraturePointStress(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                           const Law &law, const Kokkos::View<const double *, MemorySpace> &u,
                            const StressView &stress) {
   Kokkos::parallel_for(
       "mixcon::kernels::quadraturePointStress",
@@ -386,7 +409,7 @@ void quadraturePointStress(const ExecSpace &exec, const MeshView<MemorySpace> &m
 /// Returns false when the current element is inverted (det dx/dxi <= 0 at a quadrature point).
 template <class Elem, bool Tangent, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool
-spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+spatialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                double (&fe)[Elem::kDim * Elem::kNumNodes],
                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
@@ -458,7 +481,7 @@ spatialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &l
 /// Returns false for an inverted element (det dX/dxi <= 0 or det F <= 0 at a quadrature point).
 template <class Elem, bool Tangent, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool
-materialElement(const MeshView<MemorySpace> &mesh, double thickness, const Law &law,
+materialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
                 const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                 double (&fe)[Elem::kDim * Elem::kNumNodes],
                 double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
