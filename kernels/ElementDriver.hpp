@@ -1,16 +1,19 @@
-// The generic batched element driver of the displacement model (issue 16, item 2: the libCEED /
-// MFEM split of element loops and point physics). One loop shape for every element type and
-// every point law: gather the element's nodal coordinates (and unknowns), compute the geometry at
-// each quadrature point (Jacobian, det J, physical gradients from the traits), call the point
-// law, and reduce to the element stiffness t int B^T D B dA or the element residual
-// t int B^T sigma dA, then scatter into CSR through the element-to-CSR map with atomics. The
-// element sizes come from the traits (Elem::kNumNodes, kNumQp, kDim: 2D quadrilaterals and the 3D
-// Hex8; meshes are MeshView<MemorySpace, Elem::kDim>, and in 3D the thickness t is 1), the point
-// physics from a "law": a small copyable struct with `Point at(LocalIndex e) const` giving element
-// e's point functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps)). Layer: kernels.
+// The generic batched element driver of both models (issue 16, item 2: the libCEED / MFEM split
+// of element loops and point physics). One loop shape for every element type and every point law:
+// gather the element's nodal coordinates (and unknowns), compute the geometry at each quadrature
+// point (Jacobian, det J, physical gradients from the traits), call the point law, and reduce to
+// the element stiffness t int B^T D B dA, the element residual t int B^T sigma dA or, for the
+// mixed (Hellinger-Reissner) model, its residual and Jacobian (mixedElement), then scatter into
+// CSR through the element-to-CSR map with atomics. The element sizes come from the traits
+// (Elem::kNumNodes, kNumQp, kDim: 2D quadrilaterals and the 3D Hex8; meshes are
+// MeshView<MemorySpace, Elem::kDim>, and in 3D the thickness t is 1), the point physics from a
+// "law": a small copyable struct with `Point at(LocalIndex e) const` giving element e's point
+// functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps); kernels/MixedPointPhysics.hpp:
+// evaluate<Tangent>(h, s, tau)). Layer: kernels.
 #pragma once
 
 #include <core/ElementTraits.hpp>
+#include <kernels/MixedPointPhysics.hpp>
 #include <kernels/PointPhysics.hpp>
 #include <kernels/SparseMatrix.hpp>
 
@@ -538,6 +541,151 @@ materialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
               v += dp.m[i][j] * g[a][j];
             ke[dim * a + i][dim * b + m] += jw * v;
           }
+      }
+    }
+  }
+  return valid;
+}
+
+/// Mixed (Hellinger-Reissner) element of a mixed point law (kernels/MixedPointPhysics.hpp) at
+/// the unknowns x (FieldLayout<Dim>::kMixedUnknowns per node, interleaved: Dim displacements,
+/// then the Voigt stress components) and, when Point::kPrestress, the nodal prestress tau (Voigt
+/// size per node): ge(a, i) = t int P_ij g_aj da, ge(a, Dim + c) = t int psi_a r_c da, with the
+/// point law's P and r of the displacement gradient h, the interpolated stress unknowns s and
+/// prestress; and, when `Tangent`, the exact Jacobian ke = d ge / d x. The kinematics come from
+/// Point::kCurrentConfiguration:
+///  - false (total Lagrangian on X = mesh): h = du/dX; for delta u_b = unit vector m,
+///    dh = e_m (x) g_b;
+///  - true (updated Lagrangian on x = X + u): h = du/dx; dh = (I - h) dl with dl = e_m (x) g_b,
+///    d(da) = da g_bm and d g_aj = -g_am g_bj, so the stress rows get P_ij (g_aj g_bm - g_am g_bj)
+///    and the compatibility rows r_c g_bm.
+/// The stress unknowns enter through psi_b: d/ds_(b,c) = psi_b d/ds_c. Returns false for an
+/// inverted element (det of the integration map <= 0, or det(I + h) <= 0 in total Lagrangian).
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+             const Kokkos::View<const double *, MemorySpace> &x,
+             const Kokkos::View<const double *, MemorySpace> &tau, LocalIndex e,
+             double (&ge)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes],
+             double (&ke)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]
+                         [LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]) {
+  using L = LayoutOf<Elem>;
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nv = L::kNumStresses;
+  constexpr int nu = L::kMixedUnknowns, so = L::kStressOffset;
+  const auto point = law.at(e);
+  using Point = decltype(point);
+  constexpr bool current = Point::kCurrentConfiguration;
+  double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  for (int a = 0; a < n; ++a) {
+    const LocalIndex k = mesh.connectivity(e, a);
+    for (int i = 0; i < dim; ++i) {
+      ue[a][i] = x(L::mixedDisplacementDof(k, i));
+      if (current)
+        xe[a][i] += ue[a][i];
+    }
+    for (int c = 0; c < nv; ++c) {
+      se[a][c] = x(L::mixedStressDof(k, c));
+      te[a][c] = Point::kPrestress ? tau(nv * k + c) : 0.0;
+    }
+  }
+  bool valid = true;
+  detail::clearElement<Tangent>(ge, ke);
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double det = detail::pointGeometry<Elem>(xe, dn, g);
+    const double jw = thickness * w * det;
+    const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+    if (!(det > 0.0))
+      valid = false;
+    if (!current) {
+      Mat<dim, dim> f = h;
+      for (int i = 0; i < dim; ++i)
+        f.m[i][i] += 1.0;
+      if (!(determinant(f) > 0.0))
+        valid = false;
+    }
+    Vector<nv> sv{}, tv{};
+    for (int a = 0; a < n; ++a)
+      for (int c = 0; c < nv; ++c) {
+        sv.v[c] += sh[a] * se[a][c];
+        tv.v[c] += sh[a] * te[a][c];
+      }
+    const MixedPointResponse<dim> r = point.template evaluate<Tangent>(h, sv, tv);
+    for (int a = 0; a < n; ++a) {
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j)
+          v += r.stress.m[i][j] * g[a][j];
+        ge[nu * a + i] += jw * v;
+      }
+      for (int c = 0; c < nv; ++c)
+        ge[nu * a + so + c] += jw * sh[a] * r.compatibility.v[c];
+    }
+    if (!Tangent)
+      continue;
+    // Derivatives along dl = d(delta u)/d(x or X): dh = A dl with A = I - h (current) or I.
+    Mat<dim * dim, dim * dim> dp{}; // d P_ij / d dl_ml
+    Mat<nv, dim * dim> dr{};        // d r_c / d dl_ml
+    for (int m = 0; m < dim; ++m)
+      for (int l = 0; l < dim; ++l)
+        for (int k = 0; k < dim; ++k) {
+          const double akm = current ? (k == m ? 1.0 : 0.0) - h.m[k][m] : (k == m ? 1.0 : 0.0);
+          if (akm == 0.0)
+            continue;
+          for (int ij = 0; ij < dim * dim; ++ij)
+            dp.m[ij][m * dim + l] += r.dStressDGrad.m[ij][k * dim + l] * akm;
+          for (int c = 0; c < nv; ++c)
+            dr.m[c][m * dim + l] += r.dCompatibilityDGrad.m[c][k * dim + l] * akm;
+        }
+    for (int b = 0; b < n; ++b)
+      for (int m = 0; m < dim; ++m) {
+        double dpb[dim][dim], drb[nv];
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) {
+            double v = 0.0;
+            for (int l = 0; l < dim; ++l)
+              v += dp.m[i * dim + j][m * dim + l] * g[b][l];
+            dpb[i][j] = v;
+          }
+        for (int c = 0; c < nv; ++c) {
+          double v = current ? r.compatibility.v[c] * g[b][m] : 0.0;
+          for (int l = 0; l < dim; ++l)
+            v += dr.m[c][m * dim + l] * g[b][l];
+          drb[c] = v;
+        }
+        for (int a = 0; a < n; ++a) {
+          for (int i = 0; i < dim; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j) {
+              v += dpb[i][j] * g[a][j];
+              if (current)
+                v += r.stress.m[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
+            }
+            ke[nu * a + i][nu * b + m] += jw * v;
+          }
+          for (int c = 0; c < nv; ++c)
+            ke[nu * a + so + c][nu * b + m] += jw * sh[a] * drb[c];
+        }
+      }
+    for (int a = 0; a < n; ++a) {
+      double gps[dim][nv]; // sum_j d P_ij / d s_c g_aj
+      for (int i = 0; i < dim; ++i)
+        for (int c = 0; c < nv; ++c) {
+          double v = 0.0;
+          for (int j = 0; j < dim; ++j)
+            v += r.dStressDStress.m[i * dim + j][c] * g[a][j];
+          gps[i][c] = jw * v;
+        }
+      for (int b = 0; b < n; ++b) {
+        for (int i = 0; i < dim; ++i)
+          for (int c = 0; c < nv; ++c)
+            ke[nu * a + i][nu * b + so + c] += sh[b] * gps[i][c];
+        const double v = jw * sh[a] * sh[b];
+        for (int c = 0; c < nv; ++c)
+          for (int k = 0; k < nv; ++k)
+            ke[nu * a + so + c][nu * b + so + k] += v * r.dCompatibilityDStress.m[c][k];
       }
     }
   }
