@@ -561,14 +561,18 @@ materialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
 ///    and the compatibility rows r_c g_bm.
 /// The stress unknowns enter through psi_b: d/ds_(b,c) = psi_b d/ds_c. Returns false for an
 /// inverted element (det of the integration map <= 0, or det(I + h) <= 0 in total Lagrangian).
-template <class Elem, bool Tangent, class Law, class MemorySpace>
+/// mixedElementRows gives the rows of the test nodes first .. first + Rows - 1 only (ge and ke row
+/// blocks, ke against every unknown of the element): the whole element for Rows = kNumNodes,
+/// first = 0 (mixedElement), or one node's row block (Rows = 1) with per-thread memory
+/// O(nd) instead of O(nd^2), at the price of the geometry and the point law once per block.
+template <class Elem, bool Tangent, int Rows, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION bool
-mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
-             const Kokkos::View<const double *, MemorySpace> &x,
-             const Kokkos::View<const double *, MemorySpace> &tau, LocalIndex e,
-             double (&ge)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes],
-             double (&ke)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]
-                         [LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]) {
+mixedElementRows(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+                 const Kokkos::View<const double *, MemorySpace> &x,
+                 const Kokkos::View<const double *, MemorySpace> &tau, LocalIndex e, int first,
+                 double (&ge)[LayoutOf<Elem>::kMixedUnknowns * Rows],
+                 double (&ke)[LayoutOf<Elem>::kMixedUnknowns * Rows]
+                             [LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]) {
   using L = LayoutOf<Elem>;
   constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nv = L::kNumStresses;
   constexpr int nu = L::kMixedUnknowns, so = L::kStressOffset;
@@ -590,7 +594,12 @@ mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, co
     }
   }
   bool valid = true;
-  detail::clearElement<Tangent>(ge, ke);
+  for (int i = 0; i < nu * Rows; ++i) {
+    ge[i] = 0.0;
+    if (Tangent)
+      for (int j = 0; j < nu * n; ++j)
+        ke[i][j] = 0.0;
+  }
   for (int q = 0; q < Elem::kNumQp; ++q) {
     double sh[n], dn[n][dim], g[n][dim];
     const double w = detail::referencePoint<Elem>(q, sh, dn);
@@ -613,15 +622,16 @@ mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, co
         tv.v[c] += sh[a] * te[a][c];
       }
     const MixedPointResponse<dim> r = point.template evaluate<Tangent>(h, sv, tv);
-    for (int a = 0; a < n; ++a) {
+    for (int ar = 0; ar < Rows; ++ar) {
+      const int a = first + ar;
       for (int i = 0; i < dim; ++i) {
         double v = 0.0;
         for (int j = 0; j < dim; ++j)
           v += r.stress.m[i][j] * g[a][j];
-        ge[nu * a + i] += jw * v;
+        ge[nu * ar + i] += jw * v;
       }
       for (int c = 0; c < nv; ++c)
-        ge[nu * a + so + c] += jw * sh[a] * r.compatibility.v[c];
+        ge[nu * ar + so + c] += jw * sh[a] * r.compatibility.v[c];
     }
     if (!Tangent)
       continue;
@@ -655,7 +665,8 @@ mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, co
             v += dr.m[c][m * dim + l] * g[b][l];
           drb[c] = v;
         }
-        for (int a = 0; a < n; ++a) {
+        for (int ar = 0; ar < Rows; ++ar) {
+          const int a = first + ar;
           for (int i = 0; i < dim; ++i) {
             double v = 0.0;
             for (int j = 0; j < dim; ++j) {
@@ -663,13 +674,14 @@ mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, co
               if (current)
                 v += r.stress.m[i][j] * (g[a][j] * g[b][m] - g[a][m] * g[b][j]);
             }
-            ke[nu * a + i][nu * b + m] += jw * v;
+            ke[nu * ar + i][nu * b + m] += jw * v;
           }
           for (int c = 0; c < nv; ++c)
-            ke[nu * a + so + c][nu * b + m] += jw * sh[a] * drb[c];
+            ke[nu * ar + so + c][nu * b + m] += jw * sh[a] * drb[c];
         }
       }
-    for (int a = 0; a < n; ++a) {
+    for (int ar = 0; ar < Rows; ++ar) {
+      const int a = first + ar;
       double gps[dim][nv]; // sum_j d P_ij / d s_c g_aj
       for (int i = 0; i < dim; ++i)
         for (int c = 0; c < nv; ++c) {
@@ -681,15 +693,28 @@ mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, co
       for (int b = 0; b < n; ++b) {
         for (int i = 0; i < dim; ++i)
           for (int c = 0; c < nv; ++c)
-            ke[nu * a + i][nu * b + so + c] += sh[b] * gps[i][c];
+            ke[nu * ar + i][nu * b + so + c] += sh[b] * gps[i][c];
         const double v = jw * sh[a] * sh[b];
         for (int c = 0; c < nv; ++c)
           for (int k = 0; k < nv; ++k)
-            ke[nu * a + so + c][nu * b + so + k] += v * r.dCompatibilityDStress.m[c][k];
+            ke[nu * ar + so + c][nu * b + so + k] += v * r.dCompatibilityDStress.m[c][k];
       }
     }
   }
   return valid;
+}
+
+/// The whole mixed element: mixedElementRows with every test node.
+template <class Elem, bool Tangent, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION bool
+mixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+             const Kokkos::View<const double *, MemorySpace> &x,
+             const Kokkos::View<const double *, MemorySpace> &tau, LocalIndex e,
+             double (&ge)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes],
+             double (&ke)[LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]
+                         [LayoutOf<Elem>::kMixedUnknowns * Elem::kNumNodes]) {
+  return mixedElementRows<Elem, Tangent, Elem::kNumNodes>(mesh, thickness, law, x, tau, e, 0, ge,
+                                                          ke);
 }
 
 } // namespace mixcon

@@ -297,6 +297,11 @@ scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshVi
 /// compute<Tangent>(e, ge, ke)` gives element e's residual and (when Tangent) matrix with `Ndof`
 /// interleaved unknowns per node; g += residuals (atomics), a += matrices when a.numRows > 0
 /// (scatter map `map`). Returns the first element the kernel reports inverted, or -1.
+/// Per-thread memory: ke[nd][nd] with nd = Ndof kNumNodes, 8 nd^2 bytes: mixed model (Ndof =
+/// 5 in 2D, 9 in 3D) 3.2 KB for Quad4, 12.8 KB for Quad8, 41.5 KB for Hex8 and 259 KB for
+/// Hex20; the displacement model 0.5 KB (Quad4), 2 KB (Quad8), 4.6 KB (Hex8), 29 KB (Hex20).
+/// assembleNonlinearRows needs one node's row block only (8 Ndof nd bytes: mixed Quad8 1.6 KB,
+/// Hex8 5.2 KB, Hex20 13 KB).
 template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
 LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
                              const Kernel &kernel, const Map &map, const CsrMatrix<MemorySpace> &a,
@@ -320,6 +325,56 @@ LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace> 
         }
         if (tangent)
           scatterBlockMatrix<Ndof, Elem>(a, map, mesh, e, ke);
+      },
+      Kokkos::Min<LocalIndex>(inverted));
+  return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
+}
+
+/// assembleNonlinear with the Jacobian produced and scattered one test node (row block) at a
+/// time: `kernel.template computeRows<Tangent, Rows>(e, first, ge, ke)` gives the rows of the
+/// test nodes first .. first + Rows - 1 (ge[Ndof Rows], ke[Ndof Rows][Ndof kNumNodes]). With a
+/// tangent, each thread computes its element's kNumNodes row blocks one after another (the
+/// geometry and the point law once per block), so that it holds Ndof x nd doubles instead of
+/// nd x nd; the residual alone is one pass. Same results as assembleNonlinear up to rounding of
+/// the atomics' order.
+template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
+LocalIndex assembleNonlinearRows(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+                                 const Kernel &kernel, const Map &map,
+                                 const CsrMatrix<MemorySpace> &a,
+                                 const Kokkos::View<double *, MemorySpace> &g) {
+  LocalIndex inverted = -1;
+  const bool tangent = a.numRows > 0;
+  Kokkos::parallel_reduce(
+      "mixcon::kernels::assembleNonlinearRows",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e, LocalIndex & first) {
+        constexpr int n = Elem::kNumNodes, nd = Ndof * n;
+        if (!tangent) {
+          double ge[nd], ke[nd][nd]; // ke is not touched without a tangent
+          if (!kernel.template computeRows<false, n>(e, 0, ge, ke) && e < first)
+            first = e;
+          for (int p = 0; p < n; ++p) {
+            const LocalIndex node = mesh.connectivity(e, p);
+            for (int i = 0; i < Ndof; ++i)
+              Kokkos::atomic_add(&g(Ndof * node + i), ge[Ndof * p + i]);
+          }
+          return;
+        }
+        for (int p = 0; p < n; ++p) {
+          double ge[Ndof], ke[Ndof][nd];
+          if (!kernel.template computeRows<true, 1>(e, p, ge, ke) && e < first)
+            first = e;
+          const LocalIndex row = mesh.connectivity(e, p);
+          for (int i = 0; i < Ndof; ++i) {
+            Kokkos::atomic_add(&g(Ndof * row + i), ge[i]);
+            const Offset start = a.rowOffsets(Ndof * row + i);
+            for (int b = 0; b < n; ++b) {
+              const Offset k = start + Ndof * map(e, p, b);
+              for (int j = 0; j < Ndof; ++j)
+                Kokkos::atomic_add(&a.values(k + j), ke[i][Ndof * b + j]);
+            }
+          }
+        }
       },
       Kokkos::Min<LocalIndex>(inverted));
   return inverted == Kokkos::reduction_identity<LocalIndex>::min() ? -1 : inverted;
@@ -360,6 +415,12 @@ LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace>
   return assembleNonlinear<2, Elem>(exec, d.mesh, AlmansiKernel<Elem, MemorySpace>{d, u}, map, a,
                                     f);
 }
+
+/// How the mixed assemblies produce the Jacobian: the whole element matrix per thread
+/// (assembleNonlinear, the default: measured faster in 2D), or one test node's row block at a
+/// time (assembleNonlinearRows: per-thread memory O(Ndof nd) instead of O(nd^2), for elements
+/// whose nd^2 does not fit a GPU thread).
+enum class MixedJacobianBlocks { Element, NodeRows };
 
 /// The incremental Hellinger-Reissner point law of the mixed model for the element driver:
 /// element e's MixedIncrementPoint with its material's plane stiffness [C] and compliance [D]
@@ -435,18 +496,30 @@ template <class Elem, class MemorySpace> struct MixedCurrentKernel {
           double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) const {
     return mixedCurrentElement<Elem, Tangent>(d, x, stabilization, e, ge, ke);
   }
+  template <bool Tangent, int Rows>
+  KOKKOS_INLINE_FUNCTION bool computeRows(LocalIndex e, int first, double (&ge)[5 * Rows],
+                                          double (&ke)[5 * Rows][5 * Elem::kNumNodes]) const {
+    return mixedElementRows<Elem, Tangent, Rows>(
+        d.mesh, d.thickness,
+        MixedCurrentLaw<MemorySpace>{d.material, d.stiffness, d.compliance, stabilization}, x,
+        Kokkos::View<const double *, MemorySpace>(), e, first, ge, ke);
+  }
 };
 
 /// Mixed model in the current configuration: g += residual of every element, a += Jacobian when
-/// a.numRows > 0 (5 unknowns per node). Returns the first inverted element, or -1.
+/// a.numRows > 0 (5 unknowns per node; `blocks`: see MixedJacobianBlocks). Returns the first
+/// inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedCurrent(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                 const Kokkos::View<const double *, MemorySpace> &x,
                                 double stabilization, const Map &map,
                                 const CsrMatrix<MemorySpace> &a,
-                                const Kokkos::View<double *, MemorySpace> &g) {
-  return assembleNonlinear<5, Elem>(
-      exec, d.mesh, MixedCurrentKernel<Elem, MemorySpace>{d, x, stabilization}, map, a, g);
+                                const Kokkos::View<double *, MemorySpace> &g,
+                                MixedJacobianBlocks blocks = MixedJacobianBlocks::Element) {
+  const MixedCurrentKernel<Elem, MemorySpace> kernel{d, x, stabilization};
+  return blocks == MixedJacobianBlocks::NodeRows
+             ? assembleNonlinearRows<5, Elem>(exec, d.mesh, kernel, map, a, g)
+             : assembleNonlinear<5, Elem>(exec, d.mesh, kernel, map, a, g);
 }
 
 /// Element kernel of the mixed model's incremental form for assembleNonlinear.
@@ -460,20 +533,32 @@ template <class Elem, class MemorySpace> struct MixedIncrementKernel {
           double (&ke)[5 * Elem::kNumNodes][5 * Elem::kNumNodes]) const {
     return mixedIncrementElement<Elem, Tangent>(d, tau, x, stabilization, e, ge, ke);
   }
+  template <bool Tangent, int Rows>
+  KOKKOS_INLINE_FUNCTION bool computeRows(LocalIndex e, int first, double (&ge)[5 * Rows],
+                                          double (&ke)[5 * Rows][5 * Elem::kNumNodes]) const {
+    return mixedElementRows<Elem, Tangent, Rows>(
+        d.mesh, d.thickness,
+        MixedIncrementLaw<MemorySpace>{d.material, d.stiffness, d.compliance, stabilization}, x,
+        tau, e, first, ge, ke);
+  }
 };
 
 /// Mixed model: g += the incremental residual of every element (5 unknowns per node, interleaved
 /// u, v, Sxx, Syy, Sxy; stabilization a as in mixedIncrementElement) and, when `a.numRows > 0`, a
-/// += its Jacobian. Returns the first inverted element, or -1.
+/// += its Jacobian (`blocks`: see MixedJacobianBlocks). Returns the first inverted element, or
+/// -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
 LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
                                   const Kokkos::View<const double *, MemorySpace> &tau,
                                   const Kokkos::View<const double *, MemorySpace> &x,
                                   double stabilization, const Map &map,
                                   const CsrMatrix<MemorySpace> &a,
-                                  const Kokkos::View<double *, MemorySpace> &g) {
-  return assembleNonlinear<5, Elem>(
-      exec, d.mesh, MixedIncrementKernel<Elem, MemorySpace>{d, tau, x, stabilization}, map, a, g);
+                                  const Kokkos::View<double *, MemorySpace> &g,
+                                  MixedJacobianBlocks blocks = MixedJacobianBlocks::Element) {
+  const MixedIncrementKernel<Elem, MemorySpace> kernel{d, tau, x, stabilization};
+  return blocks == MixedJacobianBlocks::NodeRows
+             ? assembleNonlinearRows<5, Elem>(exec, d.mesh, kernel, map, a, g)
+             : assembleNonlinear<5, Elem>(exec, d.mesh, kernel, map, a, g);
 }
 
 /// Follower pressure p (positive into the body) on element edges, on the current configuration:

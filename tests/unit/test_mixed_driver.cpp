@@ -4,6 +4,8 @@
 //    element loops they replaced (tests/support/MixedReference.hpp), residual and Jacobian, on
 //    distorted Quad4 and Quad8 meshes with random u, S, tau, a = 0 and 0.3, to 1e-12 of the
 //    largest entry;
+//  - the row-block assembly (assembleMixed* with MixedJacobianBlocks::NodeRows: one test node's
+//    rows at a time) against the whole-element assembly, residual and assembled Jacobian;
 //  - the driver's 3D (Hex8) mixed Jacobian, both forms, against central differences of its
 //    residual.
 #include <kernels/Nonlinear.hpp>
@@ -14,6 +16,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 using namespace mixcon;
 using namespace mixcon::test;
@@ -147,6 +150,61 @@ TEST(MixedElementDriver, Quad8MatchesTheHandWrittenElementLoops) {
   compareCase<Quad8>(ElementType::Quad8);
 }
 
+/// g and the dense Jacobian of assembleMixedIncrement / assembleMixedCurrent with `blocks`.
+template <class Elem>
+std::pair<Eigen::VectorXd, Eigen::MatrixXd>
+assembleMixed(const MixedSetup &s, bool incremental, double a, bool tangent,
+              MixedJacobianBlocks blocks, const Eigen::VectorXd &x, const Eigen::VectorXd &tau) {
+  const NodeGraph graph = buildNodeGraph(s.f.mesh);
+  const auto map = elementScatterMap<Memory>(s.f.mesh, graph);
+  CsrMatrix<Memory> mat;
+  if (tangent)
+    mat = expandGraph<Memory>(graph, 5);
+  Kokkos::View<double *, Memory> g("g", x.size());
+  const auto dx = Kokkos::View<const double *, Memory>(toView(x));
+  const auto dtau = Kokkos::View<const double *, Memory>(toView(tau));
+  const LocalIndex inverted =
+      incremental ? assembleMixedIncrement<Elem>(Exec(), s.d, dtau, dx, a, map, mat, g, blocks)
+                  : assembleMixedCurrent<Elem>(Exec(), s.d, dx, a, map, mat, g, blocks);
+  EXPECT_EQ(inverted, -1);
+  return {toEigen(g), tangent ? toDense(mat) : Eigen::MatrixXd()};
+}
+
+template <class Elem> void rowBlocksCase(ElementType type) {
+  const MixedSetup s = makeSetup(type);
+  const int nn = s.f.mesh.numNodes();
+  Eigen::VectorXd x = randomVector(5 * nn, 61);
+  for (int k = 0; k < nn; ++k) {
+    x.segment<2>(5 * k) *= 0.03;
+    x.segment<3>(5 * k + 2) *= 1e4;
+  }
+  const Eigen::VectorXd tau = 1e4 * randomVector(3 * nn, 63);
+  for (bool incremental : {true, false})
+    for (double a : {0.0, 0.3})
+      for (bool tangent : {true, false}) {
+        SCOPED_TRACE(::testing::Message()
+                     << Elem::kName << (incremental ? " incremental" : " current") << " a = " << a
+                     << (tangent ? " tangent" : " residual"));
+        const auto whole =
+            assembleMixed<Elem>(s, incremental, a, tangent, MixedJacobianBlocks::Element, x, tau);
+        const auto rows =
+            assembleMixed<Elem>(s, incremental, a, tangent, MixedJacobianBlocks::NodeRows, x, tau);
+        EXPECT_GT(whole.first.cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_LT(relativeError(rows.first, whole.first), 1e-12);
+        if (tangent) {
+          EXPECT_GT(whole.second.cwiseAbs().maxCoeff(), 0.0);
+          EXPECT_LT(relativeError(rows.second, whole.second), 1e-12);
+        }
+      }
+}
+
+TEST(MixedElementDriver, Quad4RowBlockAssemblyEqualsElementAssembly) {
+  rowBlocksCase<Quad4>(ElementType::Quad4);
+}
+TEST(MixedElementDriver, Quad8RowBlockAssemblyEqualsElementAssembly) {
+  rowBlocksCase<Quad8>(ElementType::Quad8);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 3D: the Hex8 mixed Jacobian against central differences of the residual.
 
@@ -211,6 +269,40 @@ Eigen::MatrixXd hexElement(const MeshView<Memory, 3> &mesh, const Law &law,
   return k;
 }
 
+/// Residuals of the element at every column of xs (one kernel launch, one column per work item).
+template <class Law>
+Eigen::MatrixXd hexResiduals(const MeshView<Memory, 3> &mesh, const Law &law,
+                             const Eigen::MatrixXd &xs, const Eigen::VectorXd &tau) {
+  constexpr int nd = 9 * 8;
+  const int cols = static_cast<int>(xs.cols());
+  Kokkos::View<double **, Kokkos::LayoutRight, Memory> dxs("xs", cols, nd);
+  auto hx = Kokkos::create_mirror_view(dxs);
+  for (int c = 0; c < cols; ++c)
+    for (int i = 0; i < nd; ++i)
+      hx(c, i) = xs(i, c);
+  Kokkos::deep_copy(dxs, hx);
+  const auto dtau = Kokkos::View<const double *, Memory>(toView(tau));
+  Kokkos::View<double **, Kokkos::LayoutRight, Memory> ge("ge", cols, nd);
+  Kokkos::View<int *, Memory> ok("ok", cols);
+  Kokkos::parallel_for(
+      "mixcon::test::hexResiduals", Kokkos::RangePolicy<Exec>(0, cols), KOKKOS_LAMBDA(int c) {
+        const Kokkos::View<const double *, Memory> x(&dxs(c, 0), nd);
+        double gl[nd], kl[nd][nd];
+        ok(c) = mixedElement<Hex8, false>(mesh, 1.0, law, x, dtau, 0, gl, kl) ? 1 : 0;
+        for (int i = 0; i < nd; ++i)
+          ge(c, i) = gl[i];
+      });
+  auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ge);
+  auto hok = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ok);
+  Eigen::MatrixXd g(nd, cols);
+  for (int c = 0; c < cols; ++c) {
+    EXPECT_EQ(hok(c), 1);
+    for (int i = 0; i < nd; ++i)
+      g(i, c) = hg(c, i);
+  }
+  return g;
+}
+
 template <class Point> void hexJacobianCase(double a) {
   using L = FieldLayout<3>;
   const MeshView<Memory, 3> mesh = distortedHex();
@@ -220,22 +312,25 @@ template <class Point> void hexJacobianCase(double a) {
     x.segment<3>(L::mixedDisplacementDof(k, 0)) *= 0.03;
     x.segment<6>(L::mixedStressDof(k, 0)) *= 1e4;
   }
-  Eigen::VectorXd g, gp, gm;
+  Eigen::VectorXd g;
   const Eigen::MatrixXd k = hexElement<true>(mesh, law, x, tau, g);
-  Eigen::VectorXd g0;
-  hexElement<false>(mesh, law, x, tau, g0);
-  EXPECT_LT((g - g0).cwiseAbs().maxCoeff(), 1e-14 * g.cwiseAbs().maxCoeff());
-  Eigen::MatrixXd fd(k.rows(), k.cols());
-  for (int j = 0; j < x.size(); ++j) {
-    const bool stress = j % 9 >= 3;
-    const double step = stress ? 1e-2 : 1e-7;
-    Eigen::VectorXd xp = x, xm = x;
-    xp(j) += step;
-    xm(j) -= step;
-    hexElement<false>(mesh, law, xp, tau, gp);
-    hexElement<false>(mesh, law, xm, tau, gm);
-    fd.col(j) = (gp - gm) / (2 * step);
+  // Columns: x, then x + step e_j and x - step e_j for every unknown j.
+  const int nd = static_cast<int>(x.size());
+  Eigen::MatrixXd xs(nd, 1 + 2 * nd);
+  Eigen::VectorXd steps(nd);
+  xs.col(0) = x;
+  for (int j = 0; j < nd; ++j) {
+    steps(j) = j % 9 >= 3 ? 1e-2 : 1e-7; // stresses of order 1e4, coordinates of order 1
+    xs.col(1 + 2 * j) = x;
+    xs.col(2 + 2 * j) = x;
+    xs(j, 1 + 2 * j) += steps(j);
+    xs(j, 2 + 2 * j) -= steps(j);
   }
+  const Eigen::MatrixXd gs = hexResiduals(mesh, law, xs, tau);
+  EXPECT_LT((g - gs.col(0)).cwiseAbs().maxCoeff(), 1e-14 * g.cwiseAbs().maxCoeff());
+  Eigen::MatrixXd fd(nd, nd);
+  for (int j = 0; j < nd; ++j)
+    fd.col(j) = (gs.col(1 + 2 * j) - gs.col(2 + 2 * j)) / (2 * steps(j));
   // Column blocks of very different scales: compare each (row block, column block) against its
   // own largest entry.
   for (int rb = 0; rb < 2; ++rb)
