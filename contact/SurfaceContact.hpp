@@ -132,8 +132,9 @@ private:
   /// The closed pairs as multipoint constraints on `stride` unknowns per node (`flags`: the
   /// Dirichlet flags per unknown).
   void constraints(int stride, const std::vector<int> &flags, MultiPointConstraints &c) const;
-  CsrMatrix<DeviceSpace> work_; ///< the eliminated system of the last correction
-  std::vector<long> nodeIds_;   ///< external node ids for messages (Mesh::externalId)
+  CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
+  ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
+  std::vector<long> nodeIds_;         ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;

@@ -43,15 +43,7 @@ double SurfaceContact::freeResidualNorm(const Kokkos::View<const double *, Memor
   std::vector<int> fl(hf.data(), hf.data() + hf.extent(0));
   MultiPointConstraints c;
   constraints(stride, fl, c);
-  std::vector<double> gh = ModelBase::toHost(g);
-  condenseVector(c, gh);
-  for (LocalIndex sl : c.slaves)
-    fl[sl] = 1;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < gh.size(); ++i)
-    if (static_cast<int>(i % stride) < 2 && !fl[i])
-      sum += gh[i] * gh[i];
-  return std::sqrt(sum);
+  return condensedFreeNorm(toDevice(c, static_cast<LocalIndex>(g.extent(0))), g, flags, stride);
 }
 
 void SurfaceContact::constraints(int stride, const std::vector<int> &flags,
@@ -125,21 +117,21 @@ LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
   std::vector<int> flags(hf.data(), hf.data() + hf.extent(0));
   MultiPointConstraints c;
   constraints(stride, flags, c);
+  const auto t = toDevice(c, static_cast<LocalIndex>(rhs.extent(0)));
   axpby(-1.0, sys.g, 0.0, rhs);
-  work_ = eliminateConstraints(*sys.tangent, c, std::max(sys.stiffnessScale, 1e-300), rhs);
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", flags.size());
-  for (LocalIndex sl : c.slaves)
-    flags[sl] = 1;
-  auto hdf = hostMirror(df);
-  for (std::size_t i = 0; i < flags.size(); ++i)
-    hdf(i) = flags[i];
-  copyToDevice(df, hdf);
+  work_ = elimination_.eliminate(*sys.tangent, t, std::max(sys.stiffnessScale, 1e-300), rhs);
+  // The Dirichlet flags and the slaves (y_s = 0) as prescribed unknowns.
+  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", fv.extent(0));
+  const auto slave = t.slave;
+  Kokkos::parallel_for(
+      "mixcon::surface::constrainedFlags", Kokkos::RangePolicy<Exec>(0, fv.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { df(i) = fv(i) || slave(i) ? 1 : 0; });
   applyDirichlet(Exec(), work_, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
   Exec().fence();
   sys.solver->setup(work_);
   *sys.setupSeconds += seconds(start);
   LinearSolveStats s = sys.solver->solve(rhs, dx);
-  expandConstrained(c, dx);
+  expandConstrained(t, dx);
   return s;
 }
 
