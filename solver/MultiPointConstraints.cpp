@@ -177,16 +177,22 @@ void ConstraintElimination::symbolic(const CsrMatrix<Memory> &a,
         Offset c = first;
         cand(c++) = j;
         rr.visit(j, [&](LocalIndex col, double) { cand(c++) = col; });
-        // Insertion sort (rows are short), then unique.
-        for (Offset i = first + 1; i < c; ++i) {
-          const LocalIndex v = cand(i);
-          Offset k = i;
-          while (k > first && cand(k - 1) > v) {
-            cand(k) = cand(k - 1);
-            --k;
+        // Shell sort (gaps 1, 4, 13, 40, ...: rows that receive constrained rows hold many
+        // repeated candidates), then unique.
+        const Offset len = c - first;
+        Offset gap = 1;
+        while (gap < len / 3)
+          gap = 3 * gap + 1;
+        for (; gap > 0; gap /= 3)
+          for (Offset i = first + gap; i < c; ++i) {
+            const LocalIndex v = cand(i);
+            Offset k = i;
+            while (k >= first + gap && cand(k - gap) > v) {
+              cand(k) = cand(k - gap);
+              k -= gap;
+            }
+            cand(k) = v;
           }
-          cand(k) = v;
-        }
         Offset u = first;
         for (Offset i = first + 1; i < c; ++i)
           if (cand(i) != cand(u))
