@@ -123,6 +123,13 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
   tangentForce_.assign(m, 0.0);
   friction_.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
   prescribed_.assign(2 * static_cast<std::size_t>(numNodes_), 0);
+  surfaceNodes_.assign(contactors.begin(), contactors.end());
+  surfaceNodes_.insert(surfaceNodes_.end(), targets.begin(), targets.end());
+  std::sort(surfaceNodes_.begin(), surfaceNodes_.end());
+  surfaceNodes_.erase(std::unique(surfaceNodes_.begin(), surfaceNodes_.end()), surfaceNodes_.end());
+  deviceSurfaceNodes_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::surfaceNodes",
+                                                                surfaceNodes_.size());
+  copyToDevice(deviceSurfaceNodes_, surfaceNodes_);
 }
 
 void SurfaceContact::targetPoint(int s, int segment, double xi, double (&x)[2],
@@ -147,11 +154,16 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
   Kokkos::parallel_for("mixcon::surface::positions", Kokkos::RangePolicy<Exec>(0, nn),
                        CurrentPositions{coordinates, u, x, stride});
   {
-    const auto h = copyToHost(x);
-    position_.assign(2 * static_cast<std::size_t>(nn), 0.0);
-    for (LocalIndex p = 0; p < nn; ++p) {
-      position_[2 * p] = h(p, 0);
-      position_[2 * p + 1] = h(p, 1);
+    // Only the contactor and target nodes' positions come to the host.
+    const LocalIndex ns = static_cast<LocalIndex>(surfaceNodes_.size());
+    Kokkos::View<double *[2], DeviceSpace> xs("mixcon::surface::surfacePositions", ns);
+    Kokkos::parallel_for("mixcon::surface::gatherSurface", Kokkos::RangePolicy<Exec>(0, ns),
+                         GatherPoints{x, deviceSurfaceNodes_, xs});
+    const auto h = copyToHost(xs);
+    position_.resize(2 * static_cast<std::size_t>(nn), 0.0);
+    for (LocalIndex k = 0; k < ns; ++k) {
+      position_[2 * static_cast<std::size_t>(surfaceNodes_[k])] = h(k, 0);
+      position_[2 * static_cast<std::size_t>(surfaceNodes_[k]) + 1] = h(k, 1);
     }
   }
   if (meanLength_.empty()) { // reference lengths, from the first detection
@@ -210,7 +222,7 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
         nodal[2 * static_cast<std::size_t>(sg[e])] += pr.normal[0];
         nodal[2 * static_cast<std::size_t>(sg[e]) + 1] += pr.normal[1];
       }
-    for (std::size_t p = 0; p < nodal.size() / 2; ++p) {
+    for (const std::size_t p : surfaceNodes_) { // the target nodes among them
       // A target node held in one direction only lies on a symmetry line: the surface meets
       // the line at right angles, so the normal has no component along the held direction
       // (the mirrored segment's normal would cancel it).
@@ -256,9 +268,12 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
 
 void SurfaceContact::buildPairs() {
   pairs_.clear();
+  deviceConstraintsFresh_ = false;
   std::fill(friction_.begin(), friction_.end(), 0.0);
-  if (position_.empty())
+  if (position_.empty()) {
+    uploadFriction();
     return;
+  }
   for (std::size_t k = 0; k < node_.size(); ++k) {
     if (status_[k] == ContactStatus::Open || segment_[k] < 0)
       continue;
@@ -293,6 +308,35 @@ void SurfaceContact::buildPairs() {
     }
     pairs_.push_back(p);
   }
+  uploadFriction();
+}
+
+void SurfaceContact::uploadFriction() {
+  std::vector<LocalIndex> nodes;
+  std::vector<double> values;
+  for (LocalIndex p : surfaceNodes_) {
+    const double fx = friction_[2 * static_cast<std::size_t>(p)],
+                 fy = friction_[2 * static_cast<std::size_t>(p) + 1];
+    if (fx != 0.0 || fy != 0.0) {
+      nodes.push_back(p);
+      values.push_back(fx);
+      values.push_back(fy);
+    }
+  }
+  frictionNodes_ = {};
+  frictionValues_ = {};
+  if (nodes.empty())
+    return;
+  frictionNodes_ =
+      Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::frictionNodes", nodes.size());
+  frictionValues_ =
+      Kokkos::View<double *[2], DeviceSpace>("mixcon::surface::frictionValues", nodes.size());
+  copyToDevice(frictionNodes_, nodes);
+  const auto h = hostMirror(frictionValues_);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int i = 0; i < 2; ++i)
+      h(k, i) = values[2 * k + i];
+  copyToDevice(frictionValues_, h);
 }
 
 int SurfaceContact::closeTouching(double tolerance) {

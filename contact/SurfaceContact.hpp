@@ -95,6 +95,8 @@ public:
   int closeTouching(double tolerance) override;
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
                    const std::vector<double> *stress, bool frozen) override;
+  /// The contactor nodes: the status update reads the residual only there.
+  const std::vector<LocalIndex> *statusNodes() const override { return &node_; }
   bool penetrationWithin(double relative, std::string &where) const override;
   void commit() override;
   void rollback() override;
@@ -129,12 +131,27 @@ public:
 
 private:
   void buildPairs();
-  /// The closed pairs as multipoint constraints on `stride` unknowns per node (`flags`: the
-  /// Dirichlet flags per unknown).
-  void constraints(int stride, const std::vector<int> &flags, MultiPointConstraints &c) const;
+  /// The closed pairs as multipoint constraints on `stride` unknowns per node (the Dirichlet
+  /// flags of the contactors from prescribed()).
+  void constraints(int stride, MultiPointConstraints &c) const;
+  /// Their device form on `numUnknowns` unknowns, built once per set of closed pairs (O(pairs)
+  /// uploaded) and kept until the pairs change.
+  const DeviceMultiPointConstraints &deviceConstraints(int stride, LocalIndex numUnknowns) const;
+  /// The friction forces of the slip pairs on the device (nodes and 2 components each, only the
+  /// nodes that carry one), uploaded by buildPairs.
+  void uploadFriction();
   CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
   ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
-  std::vector<long> nodeIds_;         ///< external node ids for messages (Mesh::externalId)
+  mutable DeviceMultiPointConstraints deviceConstraints_;
+  mutable bool deviceConstraintsFresh_ = false;
+  mutable int deviceConstraintsStride_ = 0;
+  Kokkos::View<LocalIndex *, DeviceSpace> frictionNodes_;
+  Kokkos::View<double *[2], DeviceSpace> frictionValues_;
+  /// Contactor and target nodes (sorted, unique), on the host and the device: the only nodes
+  /// whose positions and Dirichlet flags are copied to the host in an iteration.
+  std::vector<LocalIndex> surfaceNodes_;
+  Kokkos::View<LocalIndex *, DeviceSpace> deviceSurfaceNodes_;
+  std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;
@@ -155,7 +172,8 @@ private:
   std::vector<double> xi_, anchorXi_, committedXi_, gap_, normal_, normalForce_, tangentForce_;
   std::vector<double> meanLength_, extent_;
   std::vector<std::vector<double>> arcStart_; ///< per spec: reference arc at each segment start
-  std::vector<double> position_;              ///< current node positions (host, 2 per node)
+  /// Current node positions (host, 2 per node; only the surface nodes' are kept current).
+  std::vector<double> position_;
   std::vector<int> prescribed_;
   std::vector<SurfacePair> pairs_;
   std::vector<double> friction_;
