@@ -2,6 +2,7 @@
 #include <contact/SegmentSearch.hpp>
 #include <contact/SurfaceContact.hpp>
 #include <core/Transfer.hpp>
+#include <solver/LocalFrames.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -282,8 +283,10 @@ void SurfaceContact::buildPairs() {
     p.node = node_[k];
     p.normal[0] = normal_[2 * k];
     p.normal[1] = normal_[2 * k + 1];
-    p.tangent[0] = -p.normal[1];
-    p.tangent[1] = p.normal[0];
+    double t[1][2];
+    tangentBasis<2>(p.normal, t);
+    p.tangent[0] = t[0][0];
+    p.tangent[1] = t[0][1];
     double xt[2];
     targetPoint(s, segment_[k], xi_[k], xt, p.normalNodes, p.normalWeights, p.normalCount);
     p.normalStep = -gap_[k];
@@ -359,14 +362,17 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
   int changes = 0;
   for (std::size_t k = 0; k < node_.size(); ++k) {
     const LocalIndex p = node_[k];
-    const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+    const double n[2] = {normal_[2 * k], normal_[2 * k + 1]};
+    double t[1][2];
+    tangentBasis<2>(n, t);
+    const double n0 = n[0], n1 = n[1];
     // The multipliers: the contactor's contact force, its residual without the friction force
     // already applied. With one component held by a Dirichlet condition the other carries the
     // normal force alone (a symmetry line); there is then no tangential multiplier.
     const double gx = g[stride * p] + friction_[2 * p];
     const double gy = g[stride * p + 1] + friction_[2 * p + 1];
     const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
-    double nForce = gx * n0 + gy * n1, tForce = -gx * n1 + gy * n0;
+    double nForce = gx * n0 + gy * n1, tForce = gx * t[0][0] + gy * t[0][1];
     if (hx != hy) {
       const int other = hx ? 1 : 0;
       nForce = (other == 0 ? gx : gy) / (other == 0 ? n0 : n1);
@@ -384,7 +390,7 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
       targetPoint(spec_[k], committedSegment_[k] >= 0 ? committedSegment_[k] : segment_[k],
                   committedXi_[k], xc, nodes, w, count);
       const double *x = &position_[2 * static_cast<std::size_t>(p)];
-      const double moved = -n1 * (x[0] - xc[0]) + n0 * (x[1] - xc[1]);
+      const double moved = t[0][0] * (x[0] - xc[0]) + t[0][1] * (x[1] - xc[1]);
       reversed =
           moved * tangentForce_[k] > 1e-12 * meanLength_[spec_[k]] * std::abs(tangentForce_[k]);
     }

@@ -40,7 +40,7 @@ struct SurfaceContactSpec {
 struct SurfacePair {
   LocalIndex node = -1;
   double normal[2] = {0.0, 0.0};  ///< target's outward normal at the projection
-  double tangent[2] = {0.0, 0.0}; ///< (-n_y, n_x)
+  double tangent[2] = {0.0, 0.0}; ///< tangentBasis<2>(normal): (-n_y, n_x)
   int normalCount = 0;
   LocalIndex normalNodes[3] = {-1, -1, -1};
   double normalWeights[3] = {0.0, 0.0, 0.0};
