@@ -88,6 +88,8 @@ public:
                           const Kokkos::View<const int *, DeviceSpace> &flags,
                           int stride) const override;
   bool constrains() const override { return !pairs_.empty(); }
+  /// The model's Dirichlet conditions and the closed pairs' multipoint rows (no frames).
+  const ConstraintSet *constraintSet(const ContactCorrection &system) override;
   LinearSolveStats correct(const ContactCorrection &system,
                            const Kokkos::View<double *, DeviceSpace> &dx) override;
 
@@ -142,6 +144,7 @@ private:
   void uploadFriction();
   CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
   ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
+  ConstraintSet set_;                 ///< of the last correction
   mutable DeviceMultiPointConstraints deviceConstraints_;
   mutable bool deviceConstraintsFresh_ = false;
   mutable int deviceConstraintsStride_ = 0;

@@ -4,7 +4,6 @@
 // Layer: contact (uses solver/).
 #include <contact/SurfaceContact.hpp>
 #include <core/Transfer.hpp>
-#include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/ModelBase.hpp>
@@ -56,8 +55,11 @@ double SurfaceContact::freeResidualNorm(const Kokkos::View<const double *, Memor
                                         int stride) const {
   // The residual the constrained system balances, T^T G, over the unknowns held neither by
   // Dirichlet conditions nor as contact slaves: a device reduction.
-  return condensedFreeNorm(deviceConstraints(stride, static_cast<LocalIndex>(g.extent(0))), g,
-                           flags, stride);
+  ConstraintSet set;
+  set.stride = stride;
+  set.flags = flags;
+  set.multipoint = &deviceConstraints(stride, static_cast<LocalIndex>(g.extent(0)));
+  return constrainedFreeNorm(set, g);
 }
 
 const DeviceMultiPointConstraints &SurfaceContact::deviceConstraints(int stride,
@@ -130,32 +132,27 @@ void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
   }
 }
 
+const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys) {
+  prescribedStep(sys.flags, sys.prescribed, sys.displacement, sys.lambda, sys.stride, sys.target);
+  set_ = ConstraintSet{};
+  set_.stride = sys.stride;
+  set_.flags = sys.flags;
+  set_.values = sys.target;
+  set_.multipoint = &deviceConstraints(sys.stride, static_cast<LocalIndex>(sys.target.extent(0)));
+  set_.slaveDiagonal = std::max(sys.stiffnessScale, 1e-300);
+  return &set_;
+}
+
 LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
                                          const Kokkos::View<double *, Memory> &dx) {
   // The contact constraints eliminated (solver/MultiPointConstraints.hpp): (T^T K T + D) y =
   // T^T (-G - K s), the Dirichlet conditions applied to that system as usual, x = T y + s.
-  const int stride = sys.stride;
-  const auto &fv = sys.flags;
-  const auto &rhs = sys.rhs;
-  const auto &target = sys.target;
   const auto start = std::chrono::steady_clock::now();
-  prescribedStep(fv, sys.prescribed, sys.displacement, sys.lambda, stride, target);
-  const auto &t = deviceConstraints(stride, static_cast<LocalIndex>(rhs.extent(0)));
-  axpby(-1.0, sys.g, 0.0, rhs);
-  work_ = elimination_.eliminate(*sys.tangent, t, std::max(sys.stiffnessScale, 1e-300), rhs);
-  // The Dirichlet flags and the slaves (y_s = 0) as prescribed unknowns.
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", fv.extent(0));
-  const auto slave = t.slave;
-  Kokkos::parallel_for(
-      "mixcon::surface::constrainedFlags", Kokkos::RangePolicy<Exec>(0, fv.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { df(i) = fv(i) || slave(i) ? 1 : 0; });
-  applyDirichlet(Exec(), work_, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
-  Exec().fence();
-  sys.solver->setup(work_);
+  const ConstraintSet &set = *constraintSet(sys);
+  axpby(-1.0, sys.g, 0.0, sys.rhs);
   *sys.setupSeconds += seconds(start);
-  LinearSolveStats s = sys.solver->solve(rhs, dx);
-  expandConstrained(t, dx);
-  return s;
+  return solveConstrained(set, *sys.tangent, work_, elimination_, sys.rhs, *sys.solver, dx,
+                          sys.setupSeconds);
 }
 
 } // namespace mixcon
