@@ -36,6 +36,96 @@ struct GatherPoints {
   }
 };
 
+/// Unit normals of every target segment at its two ends (the segment's own normal there).
+struct EndNormals {
+  Kokkos::View<const double *[2], DeviceSpace> x;
+  Kokkos::View<const int *[3], DeviceSpace> segments;
+  Kokkos::View<double *[2][2], DeviceSpace> ends;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex j) const {
+    double a[2], b[2], mid[2] = {0.0, 0.0};
+    const bool quadratic = segments(j, 2) >= 0;
+    for (int i = 0; i < 2; ++i) {
+      a[i] = x(segments(j, 0), i);
+      b[i] = x(segments(j, 1), i);
+      if (quadratic)
+        mid[i] = x(segments(j, 2), i);
+    }
+    for (int e = 0; e < 2; ++e) {
+      const SegmentProjection pr = projectionAt(a, a, b, mid, quadratic, e == 0 ? -1.0 : 1.0);
+      ends(j, e, 0) = pr.normal[0];
+      ends(j, e, 1) = pr.normal[1];
+    }
+  }
+};
+
+/// The continuous normal field at each target end node: the average of its segments' end
+/// normals (summed in segment order), without its component along a direction held alone (a
+/// symmetry line: the surface meets it at right angles, the mirrored segment's normal would
+/// cancel that component), normalized.
+struct NodalNormals {
+  Kokkos::View<const double *[2][2], DeviceSpace> ends;
+  Kokkos::View<const Offset *, DeviceSpace> start;
+  Kokkos::View<const int *, DeviceSpace> entries;
+  Kokkos::View<const int *, DeviceSpace> surface;
+  Kokkos::View<const int *[2], DeviceSpace> held;
+  Kokkos::View<double *[2], DeviceSpace> nodal;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex t) const {
+    double n[2] = {0.0, 0.0};
+    for (Offset k = start(t); k < start(t + 1); ++k)
+      for (int i = 0; i < 2; ++i)
+        n[i] += ends(entries(k) / 2, entries(k) % 2, i);
+    const bool hx = held(surface(t), 0) != 0, hy = held(surface(t), 1) != 0;
+    if (hx != hy)
+      n[hx ? 0 : 1] = 0.0;
+    const double l = search_detail::hypot(n[0], n[1]);
+    for (int i = 0; i < 2; ++i)
+      nodal(t, i) = l > 0.0 ? n[i] / l : n[i];
+  }
+};
+
+/// Per contactor: its segment and parameter, the normal of the continuous field at the
+/// projection (the segment's normal plus the linear blend of the nodal differences at its
+/// ends) and the gap along it: (segment, xi, n_x, n_y, gap), the only numbers per contactor
+/// that come to the host. No segment within the radius: far away (gap `far`).
+struct ContactorNormals {
+  Kokkos::View<const double *[2], DeviceSpace> x;
+  Kokkos::View<const LocalIndex *, DeviceSpace> contactors;
+  Kokkos::View<const int *, DeviceSpace> segment;
+  Kokkos::View<const double *, DeviceSpace> xi;
+  Kokkos::View<const double *[2], DeviceSpace> normal, closest;
+  Kokkos::View<const double *[2][2], DeviceSpace> ends;
+  Kokkos::View<const int *[2], DeviceSpace> segmentEnds;
+  Kokkos::View<const double *[2], DeviceSpace> nodal;
+  Kokkos::View<double *[5], DeviceSpace> out;
+  double far;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex q) const {
+    const int j = segment(q);
+    out(q, 0) = j;
+    out(q, 1) = xi(q);
+    if (j < 0) {
+      out(q, 2) = normal(q, 0);
+      out(q, 3) = normal(q, 1);
+      out(q, 4) = far;
+      return;
+    }
+    const double wa = 0.5 * (1 - xi(q)), wb = 0.5 * (1 + xi(q));
+    const int ta = segmentEnds(j, 0), tb = segmentEnds(j, 1);
+    double n[2];
+    for (int i = 0; i < 2; ++i)
+      n[i] =
+          normal(q, i) + wa * (nodal(ta, i) - ends(j, 0, i)) + wb * (nodal(tb, i) - ends(j, 1, i));
+    const double l = search_detail::hypot(n[0], n[1]);
+    n[0] /= l;
+    n[1] /= l;
+    out(q, 2) = n[0];
+    out(q, 3) = n[1];
+    // The gap along that normal (beyond a segment's end too, where the search's signed
+    // distance would include the tangential offset).
+    const LocalIndex p = contactors(q);
+    out(q, 4) = (x(p, 0) - closest(q, 0)) * n[0] + (x(p, 1) - closest(q, 1)) * n[1];
+  }
+};
+
 /// Shape functions of a linear (count 2) or quadratic (count 3: ends, then middle) segment.
 void segmentWeights(double xi, bool quadratic, double (&w)[3]) {
   if (quadratic) {
@@ -103,6 +193,44 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
     for (std::size_t k = d.first; k < first; ++k)
       hq(k - d.first) = node_[k];
     copyToDevice(d.contactors, hq);
+    // The target end nodes and the (segment, end) pairs at each, in segment order.
+    std::vector<LocalIndex> ends;
+    for (const auto &seg : sp.target)
+      for (int e = 0; e < 2; ++e)
+        ends.push_back(seg[e]);
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    const auto local = [&](LocalIndex n) {
+      return static_cast<int>(std::lower_bound(ends.begin(), ends.end(), n) - ends.begin());
+    };
+    std::vector<std::vector<int>> at(ends.size());
+    std::vector<int> segmentEnds;
+    for (std::size_t j = 0; j < sp.target.size(); ++j)
+      for (int e = 0; e < 2; ++e) {
+        at[local(sp.target[j][e])].push_back(static_cast<int>(2 * j + e));
+        segmentEnds.push_back(local(sp.target[j][e]));
+      }
+    std::vector<Offset> start{0};
+    std::vector<int> entries;
+    for (const auto &a : at) {
+      entries.insert(entries.end(), a.begin(), a.end());
+      start.push_back(static_cast<Offset>(entries.size()));
+    }
+    d.targetNodes =
+        Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::targetNodes", ends.size());
+    copyToDevice(d.targetNodes, ends);
+    d.targetStart =
+        Kokkos::View<Offset *, DeviceSpace>("mixcon::surface::targetStart", start.size());
+    copyToDevice(d.targetStart, start);
+    d.targetEnds = Kokkos::View<int *, DeviceSpace>("mixcon::surface::targetEnds", entries.size());
+    copyToDevice(d.targetEnds, entries);
+    d.segmentEnds =
+        Kokkos::View<int *[2], DeviceSpace>("mixcon::surface::segmentEnds", sp.target.size());
+    auto he = hostMirror(d.segmentEnds);
+    for (std::size_t j = 0; j < sp.target.size(); ++j)
+      for (int e = 0; e < 2; ++e)
+        he(j, e) = segmentEnds[2 * j + e];
+    copyToDevice(d.segmentEnds, he);
     device_.push_back(d);
   }
   for (LocalIndex n : contactors)
@@ -131,6 +259,19 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
   deviceSurfaceNodes_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::surfaceNodes",
                                                                 surfaceNodes_.size());
   copyToDevice(deviceSurfaceNodes_, surfaceNodes_);
+  surfaceHeld_ =
+      Kokkos::View<int *[2], DeviceSpace>("mixcon::surface::surfaceHeld", surfaceNodes_.size());
+  for (DeviceSurface &d : device_) { // the surface index of each target node
+    const auto ends = toHostVector(d.targetNodes);
+    std::vector<int> index(ends.size());
+    for (std::size_t t = 0; t < ends.size(); ++t)
+      index[t] =
+          static_cast<int>(std::lower_bound(surfaceNodes_.begin(), surfaceNodes_.end(), ends[t]) -
+                           surfaceNodes_.begin());
+    d.targetSurface =
+        Kokkos::View<int *, DeviceSpace>("mixcon::surface::targetSurface", index.size());
+    copyToDevice(d.targetSurface, index);
+  }
 }
 
 void SurfaceContact::targetPoint(int s, int segment, double xi, double (&x)[2],
@@ -197,70 +338,33 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
     grid.build(Exec(), set, 2.0 * meanLength_[s] + 1e-300);
     SearchResults<DeviceSpace> found(nq);
     grid.query(Exec(), queries, found);
-    const auto seg = copyToHost(found.segment);
-    const auto xi = copyToHost(found.xi);
-    const auto nrm = copyToHost(found.normal);
-    const auto cp = copyToHost(found.closest);
     // A continuous normal field: at each target node the average of its segments' unit
     // normals there; along a segment its own normal plus the linear blend of the differences
     // at its ends. Without it a contactor on a vertex where two segments meet at an angle has
     // no equilibrium direction (the force would jump between the two segment normals) and the
-    // iterations drift.
-    std::vector<double> nodal(2 * static_cast<std::size_t>(numNodes_), 0.0), ends(4 * ns, 0.0);
-    for (LocalIndex j = 0; j < ns; ++j)
-      for (int e = 0; e < 2; ++e) {
-        double a[2], b[2], mid[2] = {0.0, 0.0};
-        const auto &sg = sp.target[j];
-        for (int i = 0; i < 2; ++i) {
-          a[i] = position_[2 * static_cast<std::size_t>(sg[0]) + i];
-          b[i] = position_[2 * static_cast<std::size_t>(sg[1]) + i];
-          if (sg[2] >= 0)
-            mid[i] = position_[2 * static_cast<std::size_t>(sg[2]) + i];
-        }
-        const SegmentProjection pr = projectionAt(a, a, b, mid, sg[2] >= 0, e == 0 ? -1.0 : 1.0);
-        ends[4 * j + 2 * e] = pr.normal[0];
-        ends[4 * j + 2 * e + 1] = pr.normal[1];
-        nodal[2 * static_cast<std::size_t>(sg[e])] += pr.normal[0];
-        nodal[2 * static_cast<std::size_t>(sg[e]) + 1] += pr.normal[1];
-      }
-    for (const std::size_t p : surfaceNodes_) { // the target nodes among them
-      // A target node held in one direction only lies on a symmetry line: the surface meets
-      // the line at right angles, so the normal has no component along the held direction
-      // (the mirrored segment's normal would cancel it).
-      const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
-      if (hx != hy)
-        nodal[2 * p + (hx ? 0 : 1)] = 0.0;
-      const double l = std::hypot(nodal[2 * p], nodal[2 * p + 1]);
-      if (l > 0.0) {
-        nodal[2 * p] /= l;
-        nodal[2 * p + 1] /= l;
-      }
-    }
+    // iterations drift. Built on the device; 5 numbers per contactor come to the host.
+    Kokkos::View<double *[2][2], DeviceSpace> ends("mixcon::surface::endNormals", ns);
+    Kokkos::parallel_for("mixcon::surface::endNormals", Kokkos::RangePolicy<Exec>(0, ns),
+                         EndNormals{x, dev.segments, ends});
+    const LocalIndex nt = static_cast<LocalIndex>(dev.targetNodes.extent(0));
+    Kokkos::View<double *[2], DeviceSpace> nodal("mixcon::surface::nodalNormals", nt);
+    Kokkos::parallel_for("mixcon::surface::nodalNormals", Kokkos::RangePolicy<Exec>(0, nt),
+                         NodalNormals{ends, dev.targetStart, dev.targetEnds, dev.targetSurface,
+                                      surfaceHeld_, nodal});
+    Kokkos::View<double *[5], DeviceSpace> out("mixcon::surface::contactors", nq);
+    Kokkos::parallel_for("mixcon::surface::contactorNormals", Kokkos::RangePolicy<Exec>(0, nq),
+                         ContactorNormals{x, dev.contactors, found.segment, found.xi, found.normal,
+                                          found.closest, ends, dev.segmentEnds, nodal, out,
+                                          2.0 * meanLength_[s]});
+    const auto h = copyToHost(out);
     for (LocalIndex q = 0; q < nq; ++q) {
       const std::size_t k = dev.first + q;
-      segment_[k] = seg(q);
-      xi_[k] = xi(q);
-      const double *xq = &position_[2 * static_cast<std::size_t>(node_[k])];
-      if (seg(q) < 0) { // no segment within the radius: far away (open)
-        gap_[k] = 2.0 * meanLength_[s];
-        normal_[2 * k] = nrm(q, 0);
-        normal_[2 * k + 1] = nrm(q, 1);
-        continue;
-      }
-      const auto &sg = sp.target[seg(q)];
-      const double wa = 0.5 * (1 - xi(q)), wb = 0.5 * (1 + xi(q));
-      double n[2];
-      for (int i = 0; i < 2; ++i)
-        n[i] = nrm(q, i) +
-               wa * (nodal[2 * static_cast<std::size_t>(sg[0]) + i] - ends[4 * seg(q) + i]) +
-               wb * (nodal[2 * static_cast<std::size_t>(sg[1]) + i] - ends[4 * seg(q) + 2 + i]);
-      const double l = std::hypot(n[0], n[1]);
-      normal_[2 * k] = n[0] / l;
-      normal_[2 * k + 1] = n[1] / l;
-      // The gap along that normal (beyond a segment's end too, where the search's signed
-      // distance would include the tangential offset).
-      gap_[k] = (xq[0] - cp(q, 0)) * normal_[2 * k] + (xq[1] - cp(q, 1)) * normal_[2 * k + 1];
-      penetrating += gap_[k] < 0.0;
+      segment_[k] = static_cast<int>(h(q, 0));
+      xi_[k] = h(q, 1);
+      normal_[2 * k] = h(q, 2);
+      normal_[2 * k + 1] = h(q, 3);
+      gap_[k] = h(q, 4);
+      penetrating += segment_[k] >= 0 && gap_[k] < 0.0;
     }
   }
   buildPairs();

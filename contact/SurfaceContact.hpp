@@ -154,6 +154,8 @@ private:
   /// whose positions and Dirichlet flags are copied to the host in an iteration.
   std::vector<LocalIndex> surfaceNodes_;
   Kokkos::View<LocalIndex *, DeviceSpace> deviceSurfaceNodes_;
+  /// The Dirichlet flags of the surface nodes (2 each) on the device, from the last locate().
+  Kokkos::View<int *[2], DeviceSpace> surfaceHeld_;
   std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
@@ -165,6 +167,14 @@ private:
     Kokkos::View<int *[3], DeviceSpace> segments;
     Kokkos::View<LocalIndex *, DeviceSpace> contactors;
     std::size_t first = 0;
+    /// The target end nodes (unique), their surface-node index, the (segment, end) pairs at
+    /// each (as 2 segment + end, increasing: CSR by targetStart), and each segment's ends as
+    /// indices into targetNodes: what the continuous normal field is built from.
+    Kokkos::View<LocalIndex *, DeviceSpace> targetNodes;
+    Kokkos::View<int *, DeviceSpace> targetSurface;
+    Kokkos::View<Offset *, DeviceSpace> targetStart;
+    Kokkos::View<int *, DeviceSpace> targetEnds;
+    Kokkos::View<int *[2], DeviceSpace> segmentEnds;
   };
   std::vector<DeviceSurface> device_;
   LocalIndex numNodes_;

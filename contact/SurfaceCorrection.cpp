@@ -22,7 +22,7 @@ void SurfaceContact::locate(const Kokkos::View<const double *[2], Memory> &coord
   // (contactors held there take the normal condition on their free component; a target node
   // held in one direction lies on a symmetry line): O(surface nodes) copied.
   const LocalIndex ns = static_cast<LocalIndex>(surfaceNodes_.size());
-  Kokkos::View<int *[2], Memory> held("mixcon::surface::heldFlags", ns);
+  const auto held = surfaceHeld_;
   const auto nodes = deviceSurfaceNodes_;
   Kokkos::parallel_for(
       "mixcon::surface::gatherFlags", Kokkos::RangePolicy<Exec>(0, ns),
