@@ -13,8 +13,6 @@
 
 #include <kernels/SparseMatrix.hpp>
 
-#include <cmath>
-
 namespace mixcon {
 
 /// The unit tangents t[0..Dim-2] completing the unit normal n to an orthonormal right-handed
@@ -34,7 +32,7 @@ KOKKOS_INLINE_FUNCTION void tangentBasis(const double (&n)[Dim], double (&t)[Dim
     double a[3] = {0.0, 0.0, 0.0};
     a[k] = 1.0;
     double u[3] = {a[1] * n[2] - a[2] * n[1], a[2] * n[0] - a[0] * n[2], a[0] * n[1] - a[1] * n[0]};
-    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    const double l = detail::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     for (int i = 0; i < 3; ++i)
       t[0][i] = u[i] / l;
     t[1][0] = n[1] * t[0][2] - n[2] * t[0][1];

@@ -147,10 +147,13 @@ DeviceMultiPointConstraints toDevice(const MultiPointConstraints &c, LocalIndex 
   return t;
 }
 
-void ConstraintElimination::symbolic(const CsrMatrix<Memory> &a,
-                                     const DeviceMultiPointConstraints &t) {
+namespace {
+
+/// The symbolic phase: the pattern of T^T A T with every diagonal entry (a free function: CUDA
+/// refuses device lambdas in private member functions).
+CsrMatrix<Memory> reducedPattern(const CsrMatrix<Memory> &a, const MultiPointView<Memory> &t) {
   const LocalIndex n = a.numRows;
-  const ReducedRows rr{a.rowOffsets, a.columns, a.values, t.view()};
+  const ReducedRows rr{a.rowOffsets, a.columns, a.values, t};
   // Upper bound of each reduced row (every contribution and the diagonal), then the candidate
   // columns, sorted and made unique per row, then compacted.
   Kokkos::View<Offset *, Memory> bound("mixcon::mpc::bound", n + 1);
@@ -215,10 +218,14 @@ void ConstraintElimination::symbolic(const CsrMatrix<Memory> &a,
         for (Offset k = 0; k < rowOffsets(j + 1) - to; ++k)
           columns(to + k) = cand(from + k);
       });
-  pattern_.numRows = pattern_.numColumns = n;
-  pattern_.rowOffsets = rowOffsets;
-  pattern_.columns = columns;
+  CsrMatrix<Memory> pattern;
+  pattern.numRows = pattern.numColumns = n;
+  pattern.rowOffsets = rowOffsets;
+  pattern.columns = columns;
+  return pattern;
 }
+
+} // namespace
 
 CsrMatrix<Memory> ConstraintElimination::eliminate(const CsrMatrix<Memory> &a,
                                                    const DeviceMultiPointConstraints &t,
@@ -228,7 +235,7 @@ CsrMatrix<Memory> ConstraintElimination::eliminate(const CsrMatrix<Memory> &a,
   reused_ = n == n_ && a.rowOffsets.data() == aRows_ && a.columns.data() == aColumns_ &&
             t.pattern == key_ && pattern_.numRows == n;
   if (!reused_) {
-    symbolic(a, t);
+    pattern_ = reducedPattern(a, t.view());
     key_ = t.pattern;
     aRows_ = a.rowOffsets.data();
     aColumns_ = a.columns.data();

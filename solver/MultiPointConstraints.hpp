@@ -93,7 +93,6 @@ public:
   bool reusedPattern() const { return reused_; }
 
 private:
-  void symbolic(const CsrMatrix<Memory> &a, const DeviceMultiPointConstraints &t);
   CsrMatrix<Memory> pattern_; ///< the reduced pattern (values unused)
   std::vector<LocalIndex> key_;
   const Offset *aRows_ = nullptr;
