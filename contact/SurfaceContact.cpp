@@ -374,7 +374,9 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
 void SurfaceContact::buildPairs() {
   pairs_.clear();
   deviceConstraintsFresh_ = false;
-  std::fill(friction_.begin(), friction_.end(), 0.0);
+  for (LocalIndex p : surfaceNodes_) // friction acts on contactor and target nodes only
+    friction_[2 * static_cast<std::size_t>(p)] = friction_[2 * static_cast<std::size_t>(p) + 1] =
+        0.0;
   if (position_.empty()) {
     uploadFriction();
     return;
