@@ -16,13 +16,33 @@ using Exec = Kokkos::DefaultExecutionSpace;
 using Memory = Exec::memory_space;
 using Policy = Kokkos::RangePolicy<Exec>;
 
-template <class T>
-Kokkos::View<T *, Memory> upload(const std::string &label, const std::vector<T> &h) {
-  Kokkos::View<T *, Memory> d(label, h.size());
-  if (!h.empty())
-    copyToDevice(d, h);
-  return d;
-}
+/// Host arrays of one type uploaded in one copy, then split into their views on the device.
+template <class T> class Upload {
+public:
+  void add(Kokkos::View<T *, Memory> &view, const char *label, const std::vector<T> &h) {
+    parts_.push_back({&view, label, data_.size(), h.size()});
+    data_.insert(data_.end(), h.begin(), h.end());
+  }
+  void run() {
+    Kokkos::View<T *, Memory> all("mixcon::mpc::upload", data_.size());
+    if (!data_.empty())
+      copyToDevice(all, data_);
+    for (const Part &p : parts_) {
+      *p.view = Kokkos::View<T *, Memory>(std::string(p.label), p.size);
+      if (p.size > 0)
+        Kokkos::deep_copy(*p.view, Kokkos::subview(all, std::make_pair(p.first, p.first + p.size)));
+    }
+  }
+
+private:
+  struct Part {
+    Kokkos::View<T *, Memory> *view;
+    const char *label;
+    std::size_t first, size;
+  };
+  std::vector<Part> parts_;
+  std::vector<T> data_;
+};
 
 /// The contributions to row j of T^T A T: calls f(column, value) for every product term (the
 /// same column may come several times). Row j of T^T A T = sum_i T_ij (A T)_i, (A T)_i = sum_l
@@ -117,16 +137,24 @@ DeviceMultiPointConstraints toDevice(const MultiPointConstraints &c, LocalIndex 
   }
   if (!byColumn.empty())
     targetStart.push_back(static_cast<Offset>(byColumn.size()));
-  t.rows = upload("mixcon::mpc::rows", c.rows);
-  t.rowStart = upload("mixcon::mpc::rowStart", rowStart);
-  t.columns = upload("mixcon::mpc::columns", columns);
-  t.values = upload("mixcon::mpc::values", values);
-  t.offset = upload("mixcon::mpc::offset", c.offset);
-  t.targets = upload("mixcon::mpc::targets", targets);
-  t.targetStart = upload("mixcon::mpc::targetStart", targetStart);
-  t.sourceRow = upload("mixcon::mpc::sourceRow", sourceRow);
-  t.sourceValue = upload("mixcon::mpc::sourceValue", sourceValue);
-  const auto slaves = upload("mixcon::mpc::slaves", c.slaves);
+  // Three copies: the indices, the offsets, the values.
+  Upload<LocalIndex> indices;
+  Upload<Offset> starts;
+  Upload<double> reals;
+  Kokkos::View<LocalIndex *, Memory> slaves;
+  indices.add(t.rows, "mixcon::mpc::rows", c.rows);
+  indices.add(t.columns, "mixcon::mpc::columns", columns);
+  indices.add(t.targets, "mixcon::mpc::targets", targets);
+  indices.add(t.sourceRow, "mixcon::mpc::sourceRow", sourceRow);
+  indices.add(slaves, "mixcon::mpc::slaves", c.slaves);
+  starts.add(t.rowStart, "mixcon::mpc::rowStart", rowStart);
+  starts.add(t.targetStart, "mixcon::mpc::targetStart", targetStart);
+  reals.add(t.values, "mixcon::mpc::values", values);
+  reals.add(t.offset, "mixcon::mpc::offset", c.offset);
+  reals.add(t.sourceValue, "mixcon::mpc::sourceValue", sourceValue);
+  indices.run();
+  starts.run();
+  reals.run();
   // Per-unknown lookups, filled on the device.
   t.rowOf = Kokkos::View<int *, Memory>("mixcon::mpc::rowOf", n);
   t.targetOf = Kokkos::View<int *, Memory>("mixcon::mpc::targetOf", n);
