@@ -23,6 +23,7 @@
 #pragma once
 
 #include <core/Compat.hpp>
+#include <solver/LocalFrames.hpp>
 
 #include <Kokkos_Core.hpp>
 
@@ -61,6 +62,11 @@ template <class MemorySpace> struct SearchResults {
 };
 
 namespace search_detail {
+#if KOKKOS_VERSION >= 30700
+using Kokkos::hypot;
+#else
+using Kokkos::Experimental::hypot;
+#endif
 
 /// x(xi) and x'(xi) of a linear (m == nullptr) or quadratic segment.
 KOKKOS_INLINE_FUNCTION void segmentPoint(const double (&a)[2], const double (&b)[2],
@@ -162,8 +168,10 @@ KOKKOS_INLINE_FUNCTION SegmentProjection projectionAt(const double (&p)[2], cons
   } else { // degenerate: no direction of its own
     r.normal[0] = dist > 0.0 ? v[0] / dist : 1.0;
     r.normal[1] = dist > 0.0 ? v[1] / dist : 0.0;
-    r.tangent[0] = -r.normal[1];
-    r.tangent[1] = r.normal[0];
+    double t[1][2];
+    tangentBasis<2>(r.normal, t);
+    r.tangent[0] = t[0][0];
+    r.tangent[1] = t[0][1];
     r.gap = dist;
   }
   return r;

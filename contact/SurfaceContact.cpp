@@ -2,6 +2,7 @@
 #include <contact/SegmentSearch.hpp>
 #include <contact/SurfaceContact.hpp>
 #include <core/Transfer.hpp>
+#include <solver/LocalFrames.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +33,96 @@ struct GatherPoints {
   KOKKOS_INLINE_FUNCTION void operator()(LocalIndex k) const {
     q(k, 0) = x(nodes(k), 0);
     q(k, 1) = x(nodes(k), 1);
+  }
+};
+
+/// Unit normals of every target segment at its two ends (the segment's own normal there).
+struct EndNormals {
+  Kokkos::View<const double *[2], DeviceSpace> x;
+  Kokkos::View<const int *[3], DeviceSpace> segments;
+  Kokkos::View<double *[2][2], DeviceSpace> ends;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex j) const {
+    double a[2], b[2], mid[2] = {0.0, 0.0};
+    const bool quadratic = segments(j, 2) >= 0;
+    for (int i = 0; i < 2; ++i) {
+      a[i] = x(segments(j, 0), i);
+      b[i] = x(segments(j, 1), i);
+      if (quadratic)
+        mid[i] = x(segments(j, 2), i);
+    }
+    for (int e = 0; e < 2; ++e) {
+      const SegmentProjection pr = projectionAt(a, a, b, mid, quadratic, e == 0 ? -1.0 : 1.0);
+      ends(j, e, 0) = pr.normal[0];
+      ends(j, e, 1) = pr.normal[1];
+    }
+  }
+};
+
+/// The continuous normal field at each target end node: the average of its segments' end
+/// normals (summed in segment order), without its component along a direction held alone (a
+/// symmetry line: the surface meets it at right angles, the mirrored segment's normal would
+/// cancel that component), normalized.
+struct NodalNormals {
+  Kokkos::View<const double *[2][2], DeviceSpace> ends;
+  Kokkos::View<const Offset *, DeviceSpace> start;
+  Kokkos::View<const int *, DeviceSpace> entries;
+  Kokkos::View<const int *, DeviceSpace> surface;
+  Kokkos::View<const int *[2], DeviceSpace> held;
+  Kokkos::View<double *[2], DeviceSpace> nodal;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex t) const {
+    double n[2] = {0.0, 0.0};
+    for (Offset k = start(t); k < start(t + 1); ++k)
+      for (int i = 0; i < 2; ++i)
+        n[i] += ends(entries(k) / 2, entries(k) % 2, i);
+    const bool hx = held(surface(t), 0) != 0, hy = held(surface(t), 1) != 0;
+    if (hx != hy)
+      n[hx ? 0 : 1] = 0.0;
+    const double l = search_detail::hypot(n[0], n[1]);
+    for (int i = 0; i < 2; ++i)
+      nodal(t, i) = l > 0.0 ? n[i] / l : n[i];
+  }
+};
+
+/// Per contactor: its segment and parameter, the normal of the continuous field at the
+/// projection (the segment's normal plus the linear blend of the nodal differences at its
+/// ends) and the gap along it: (segment, xi, n_x, n_y, gap), the only numbers per contactor
+/// that come to the host. No segment within the radius: far away (gap `far`).
+struct ContactorNormals {
+  Kokkos::View<const double *[2], DeviceSpace> x;
+  Kokkos::View<const LocalIndex *, DeviceSpace> contactors;
+  Kokkos::View<const int *, DeviceSpace> segment;
+  Kokkos::View<const double *, DeviceSpace> xi;
+  Kokkos::View<const double *[2], DeviceSpace> normal, closest;
+  Kokkos::View<const double *[2][2], DeviceSpace> ends;
+  Kokkos::View<const int *[2], DeviceSpace> segmentEnds;
+  Kokkos::View<const double *[2], DeviceSpace> nodal;
+  Kokkos::View<double *[5], DeviceSpace> out;
+  double far;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex q) const {
+    const int j = segment(q);
+    out(q, 0) = j;
+    out(q, 1) = xi(q);
+    if (j < 0) {
+      out(q, 2) = normal(q, 0);
+      out(q, 3) = normal(q, 1);
+      out(q, 4) = far;
+      return;
+    }
+    const double wa = 0.5 * (1 - xi(q)), wb = 0.5 * (1 + xi(q));
+    const int ta = segmentEnds(j, 0), tb = segmentEnds(j, 1);
+    double n[2];
+    for (int i = 0; i < 2; ++i)
+      n[i] =
+          normal(q, i) + wa * (nodal(ta, i) - ends(j, 0, i)) + wb * (nodal(tb, i) - ends(j, 1, i));
+    const double l = search_detail::hypot(n[0], n[1]);
+    n[0] /= l;
+    n[1] /= l;
+    out(q, 2) = n[0];
+    out(q, 3) = n[1];
+    // The gap along that normal (beyond a segment's end too, where the search's signed
+    // distance would include the tangential offset).
+    const LocalIndex p = contactors(q);
+    out(q, 4) = (x(p, 0) - closest(q, 0)) * n[0] + (x(p, 1) - closest(q, 1)) * n[1];
   }
 };
 
@@ -102,6 +193,44 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
     for (std::size_t k = d.first; k < first; ++k)
       hq(k - d.first) = node_[k];
     copyToDevice(d.contactors, hq);
+    // The target end nodes and the (segment, end) pairs at each, in segment order.
+    std::vector<LocalIndex> ends;
+    for (const auto &seg : sp.target)
+      for (int e = 0; e < 2; ++e)
+        ends.push_back(seg[e]);
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    const auto local = [&](LocalIndex n) {
+      return static_cast<int>(std::lower_bound(ends.begin(), ends.end(), n) - ends.begin());
+    };
+    std::vector<std::vector<int>> at(ends.size());
+    std::vector<int> segmentEnds;
+    for (std::size_t j = 0; j < sp.target.size(); ++j)
+      for (int e = 0; e < 2; ++e) {
+        at[local(sp.target[j][e])].push_back(static_cast<int>(2 * j + e));
+        segmentEnds.push_back(local(sp.target[j][e]));
+      }
+    std::vector<Offset> start{0};
+    std::vector<int> entries;
+    for (const auto &a : at) {
+      entries.insert(entries.end(), a.begin(), a.end());
+      start.push_back(static_cast<Offset>(entries.size()));
+    }
+    d.targetNodes =
+        Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::targetNodes", ends.size());
+    copyToDevice(d.targetNodes, ends);
+    d.targetStart =
+        Kokkos::View<Offset *, DeviceSpace>("mixcon::surface::targetStart", start.size());
+    copyToDevice(d.targetStart, start);
+    d.targetEnds = Kokkos::View<int *, DeviceSpace>("mixcon::surface::targetEnds", entries.size());
+    copyToDevice(d.targetEnds, entries);
+    d.segmentEnds =
+        Kokkos::View<int *[2], DeviceSpace>("mixcon::surface::segmentEnds", sp.target.size());
+    auto he = hostMirror(d.segmentEnds);
+    for (std::size_t j = 0; j < sp.target.size(); ++j)
+      for (int e = 0; e < 2; ++e)
+        he(j, e) = segmentEnds[2 * j + e];
+    copyToDevice(d.segmentEnds, he);
     device_.push_back(d);
   }
   for (LocalIndex n : contactors)
@@ -123,6 +252,26 @@ SurfaceContact::SurfaceContact(LocalIndex numNodes, std::vector<SurfaceContactSp
   tangentForce_.assign(m, 0.0);
   friction_.assign(2 * static_cast<std::size_t>(numNodes_), 0.0);
   prescribed_.assign(2 * static_cast<std::size_t>(numNodes_), 0);
+  surfaceNodes_.assign(contactors.begin(), contactors.end());
+  surfaceNodes_.insert(surfaceNodes_.end(), targets.begin(), targets.end());
+  std::sort(surfaceNodes_.begin(), surfaceNodes_.end());
+  surfaceNodes_.erase(std::unique(surfaceNodes_.begin(), surfaceNodes_.end()), surfaceNodes_.end());
+  deviceSurfaceNodes_ = Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::surfaceNodes",
+                                                                surfaceNodes_.size());
+  copyToDevice(deviceSurfaceNodes_, surfaceNodes_);
+  surfaceHeld_ =
+      Kokkos::View<int *[2], DeviceSpace>("mixcon::surface::surfaceHeld", surfaceNodes_.size());
+  for (DeviceSurface &d : device_) { // the surface index of each target node
+    const auto ends = toHostVector(d.targetNodes);
+    std::vector<int> index(ends.size());
+    for (std::size_t t = 0; t < ends.size(); ++t)
+      index[t] =
+          static_cast<int>(std::lower_bound(surfaceNodes_.begin(), surfaceNodes_.end(), ends[t]) -
+                           surfaceNodes_.begin());
+    d.targetSurface =
+        Kokkos::View<int *, DeviceSpace>("mixcon::surface::targetSurface", index.size());
+    copyToDevice(d.targetSurface, index);
+  }
 }
 
 void SurfaceContact::targetPoint(int s, int segment, double xi, double (&x)[2],
@@ -147,11 +296,16 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
   Kokkos::parallel_for("mixcon::surface::positions", Kokkos::RangePolicy<Exec>(0, nn),
                        CurrentPositions{coordinates, u, x, stride});
   {
-    const auto h = copyToHost(x);
-    position_.assign(2 * static_cast<std::size_t>(nn), 0.0);
-    for (LocalIndex p = 0; p < nn; ++p) {
-      position_[2 * p] = h(p, 0);
-      position_[2 * p + 1] = h(p, 1);
+    // Only the contactor and target nodes' positions come to the host.
+    const LocalIndex ns = static_cast<LocalIndex>(surfaceNodes_.size());
+    Kokkos::View<double *[2], DeviceSpace> xs("mixcon::surface::surfacePositions", ns);
+    Kokkos::parallel_for("mixcon::surface::gatherSurface", Kokkos::RangePolicy<Exec>(0, ns),
+                         GatherPoints{x, deviceSurfaceNodes_, xs});
+    const auto h = copyToHost(xs);
+    position_.resize(2 * static_cast<std::size_t>(nn), 0.0);
+    for (LocalIndex k = 0; k < ns; ++k) {
+      position_[2 * static_cast<std::size_t>(surfaceNodes_[k])] = h(k, 0);
+      position_[2 * static_cast<std::size_t>(surfaceNodes_[k]) + 1] = h(k, 1);
     }
   }
   if (meanLength_.empty()) { // reference lengths, from the first detection
@@ -184,70 +338,33 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
     grid.build(Exec(), set, 2.0 * meanLength_[s] + 1e-300);
     SearchResults<DeviceSpace> found(nq);
     grid.query(Exec(), queries, found);
-    const auto seg = copyToHost(found.segment);
-    const auto xi = copyToHost(found.xi);
-    const auto nrm = copyToHost(found.normal);
-    const auto cp = copyToHost(found.closest);
     // A continuous normal field: at each target node the average of its segments' unit
     // normals there; along a segment its own normal plus the linear blend of the differences
     // at its ends. Without it a contactor on a vertex where two segments meet at an angle has
     // no equilibrium direction (the force would jump between the two segment normals) and the
-    // iterations drift.
-    std::vector<double> nodal(2 * static_cast<std::size_t>(numNodes_), 0.0), ends(4 * ns, 0.0);
-    for (LocalIndex j = 0; j < ns; ++j)
-      for (int e = 0; e < 2; ++e) {
-        double a[2], b[2], mid[2] = {0.0, 0.0};
-        const auto &sg = sp.target[j];
-        for (int i = 0; i < 2; ++i) {
-          a[i] = position_[2 * static_cast<std::size_t>(sg[0]) + i];
-          b[i] = position_[2 * static_cast<std::size_t>(sg[1]) + i];
-          if (sg[2] >= 0)
-            mid[i] = position_[2 * static_cast<std::size_t>(sg[2]) + i];
-        }
-        const SegmentProjection pr = projectionAt(a, a, b, mid, sg[2] >= 0, e == 0 ? -1.0 : 1.0);
-        ends[4 * j + 2 * e] = pr.normal[0];
-        ends[4 * j + 2 * e + 1] = pr.normal[1];
-        nodal[2 * static_cast<std::size_t>(sg[e])] += pr.normal[0];
-        nodal[2 * static_cast<std::size_t>(sg[e]) + 1] += pr.normal[1];
-      }
-    for (std::size_t p = 0; p < nodal.size() / 2; ++p) {
-      // A target node held in one direction only lies on a symmetry line: the surface meets
-      // the line at right angles, so the normal has no component along the held direction
-      // (the mirrored segment's normal would cancel it).
-      const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
-      if (hx != hy)
-        nodal[2 * p + (hx ? 0 : 1)] = 0.0;
-      const double l = std::hypot(nodal[2 * p], nodal[2 * p + 1]);
-      if (l > 0.0) {
-        nodal[2 * p] /= l;
-        nodal[2 * p + 1] /= l;
-      }
-    }
+    // iterations drift. Built on the device; 5 numbers per contactor come to the host.
+    Kokkos::View<double *[2][2], DeviceSpace> ends("mixcon::surface::endNormals", ns);
+    Kokkos::parallel_for("mixcon::surface::endNormals", Kokkos::RangePolicy<Exec>(0, ns),
+                         EndNormals{x, dev.segments, ends});
+    const LocalIndex nt = static_cast<LocalIndex>(dev.targetNodes.extent(0));
+    Kokkos::View<double *[2], DeviceSpace> nodal("mixcon::surface::nodalNormals", nt);
+    Kokkos::parallel_for("mixcon::surface::nodalNormals", Kokkos::RangePolicy<Exec>(0, nt),
+                         NodalNormals{ends, dev.targetStart, dev.targetEnds, dev.targetSurface,
+                                      surfaceHeld_, nodal});
+    Kokkos::View<double *[5], DeviceSpace> out("mixcon::surface::contactors", nq);
+    Kokkos::parallel_for("mixcon::surface::contactorNormals", Kokkos::RangePolicy<Exec>(0, nq),
+                         ContactorNormals{x, dev.contactors, found.segment, found.xi, found.normal,
+                                          found.closest, ends, dev.segmentEnds, nodal, out,
+                                          2.0 * meanLength_[s]});
+    const auto h = copyToHost(out);
     for (LocalIndex q = 0; q < nq; ++q) {
       const std::size_t k = dev.first + q;
-      segment_[k] = seg(q);
-      xi_[k] = xi(q);
-      const double *xq = &position_[2 * static_cast<std::size_t>(node_[k])];
-      if (seg(q) < 0) { // no segment within the radius: far away (open)
-        gap_[k] = 2.0 * meanLength_[s];
-        normal_[2 * k] = nrm(q, 0);
-        normal_[2 * k + 1] = nrm(q, 1);
-        continue;
-      }
-      const auto &sg = sp.target[seg(q)];
-      const double wa = 0.5 * (1 - xi(q)), wb = 0.5 * (1 + xi(q));
-      double n[2];
-      for (int i = 0; i < 2; ++i)
-        n[i] = nrm(q, i) +
-               wa * (nodal[2 * static_cast<std::size_t>(sg[0]) + i] - ends[4 * seg(q) + i]) +
-               wb * (nodal[2 * static_cast<std::size_t>(sg[1]) + i] - ends[4 * seg(q) + 2 + i]);
-      const double l = std::hypot(n[0], n[1]);
-      normal_[2 * k] = n[0] / l;
-      normal_[2 * k + 1] = n[1] / l;
-      // The gap along that normal (beyond a segment's end too, where the search's signed
-      // distance would include the tangential offset).
-      gap_[k] = (xq[0] - cp(q, 0)) * normal_[2 * k] + (xq[1] - cp(q, 1)) * normal_[2 * k + 1];
-      penetrating += gap_[k] < 0.0;
+      segment_[k] = static_cast<int>(h(q, 0));
+      xi_[k] = h(q, 1);
+      normal_[2 * k] = h(q, 2);
+      normal_[2 * k + 1] = h(q, 3);
+      gap_[k] = h(q, 4);
+      penetrating += segment_[k] >= 0 && gap_[k] < 0.0;
     }
   }
   buildPairs();
@@ -256,9 +373,14 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
 
 void SurfaceContact::buildPairs() {
   pairs_.clear();
-  std::fill(friction_.begin(), friction_.end(), 0.0);
-  if (position_.empty())
+  deviceConstraintsFresh_ = false;
+  for (LocalIndex p : surfaceNodes_) // friction acts on contactor and target nodes only
+    friction_[2 * static_cast<std::size_t>(p)] = friction_[2 * static_cast<std::size_t>(p) + 1] =
+        0.0;
+  if (position_.empty()) {
+    uploadFriction();
     return;
+  }
   for (std::size_t k = 0; k < node_.size(); ++k) {
     if (status_[k] == ContactStatus::Open || segment_[k] < 0)
       continue;
@@ -267,8 +389,10 @@ void SurfaceContact::buildPairs() {
     p.node = node_[k];
     p.normal[0] = normal_[2 * k];
     p.normal[1] = normal_[2 * k + 1];
-    p.tangent[0] = -p.normal[1];
-    p.tangent[1] = p.normal[0];
+    double t[1][2];
+    tangentBasis<2>(p.normal, t);
+    p.tangent[0] = t[0][0];
+    p.tangent[1] = t[0][1];
     double xt[2];
     targetPoint(s, segment_[k], xi_[k], xt, p.normalNodes, p.normalWeights, p.normalCount);
     p.normalStep = -gap_[k];
@@ -293,6 +417,35 @@ void SurfaceContact::buildPairs() {
     }
     pairs_.push_back(p);
   }
+  uploadFriction();
+}
+
+void SurfaceContact::uploadFriction() {
+  std::vector<LocalIndex> nodes;
+  std::vector<double> values;
+  for (LocalIndex p : surfaceNodes_) {
+    const double fx = friction_[2 * static_cast<std::size_t>(p)],
+                 fy = friction_[2 * static_cast<std::size_t>(p) + 1];
+    if (fx != 0.0 || fy != 0.0) {
+      nodes.push_back(p);
+      values.push_back(fx);
+      values.push_back(fy);
+    }
+  }
+  frictionNodes_ = {};
+  frictionValues_ = {};
+  if (nodes.empty())
+    return;
+  frictionNodes_ =
+      Kokkos::View<LocalIndex *, DeviceSpace>("mixcon::surface::frictionNodes", nodes.size());
+  frictionValues_ =
+      Kokkos::View<double *[2], DeviceSpace>("mixcon::surface::frictionValues", nodes.size());
+  copyToDevice(frictionNodes_, nodes);
+  const auto h = hostMirror(frictionValues_);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    for (int i = 0; i < 2; ++i)
+      h(k, i) = values[2 * k + i];
+  copyToDevice(frictionValues_, h);
 }
 
 int SurfaceContact::closeTouching(double tolerance) {
@@ -315,14 +468,17 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
   int changes = 0;
   for (std::size_t k = 0; k < node_.size(); ++k) {
     const LocalIndex p = node_[k];
-    const double n0 = normal_[2 * k], n1 = normal_[2 * k + 1];
+    const double n[2] = {normal_[2 * k], normal_[2 * k + 1]};
+    double t[1][2];
+    tangentBasis<2>(n, t);
+    const double n0 = n[0], n1 = n[1];
     // The multipliers: the contactor's contact force, its residual without the friction force
     // already applied. With one component held by a Dirichlet condition the other carries the
     // normal force alone (a symmetry line); there is then no tangential multiplier.
     const double gx = g[stride * p] + friction_[2 * p];
     const double gy = g[stride * p + 1] + friction_[2 * p + 1];
     const bool hx = prescribed_[2 * p] != 0, hy = prescribed_[2 * p + 1] != 0;
-    double nForce = gx * n0 + gy * n1, tForce = -gx * n1 + gy * n0;
+    double nForce = gx * n0 + gy * n1, tForce = gx * t[0][0] + gy * t[0][1];
     if (hx != hy) {
       const int other = hx ? 1 : 0;
       nForce = (other == 0 ? gx : gy) / (other == 0 ? n0 : n1);
@@ -340,7 +496,7 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
       targetPoint(spec_[k], committedSegment_[k] >= 0 ? committedSegment_[k] : segment_[k],
                   committedXi_[k], xc, nodes, w, count);
       const double *x = &position_[2 * static_cast<std::size_t>(p)];
-      const double moved = -n1 * (x[0] - xc[0]) + n0 * (x[1] - xc[1]);
+      const double moved = t[0][0] * (x[0] - xc[0]) + t[0][1] * (x[1] - xc[1]);
       reversed =
           moved * tangentForce_[k] > 1e-12 * meanLength_[spec_[k]] * std::abs(tangentForce_[k]);
     }

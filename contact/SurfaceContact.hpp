@@ -40,7 +40,7 @@ struct SurfaceContactSpec {
 struct SurfacePair {
   LocalIndex node = -1;
   double normal[2] = {0.0, 0.0};  ///< target's outward normal at the projection
-  double tangent[2] = {0.0, 0.0}; ///< (-n_y, n_x)
+  double tangent[2] = {0.0, 0.0}; ///< tangentBasis<2>(normal): (-n_y, n_x)
   int normalCount = 0;
   LocalIndex normalNodes[3] = {-1, -1, -1};
   double normalWeights[3] = {0.0, 0.0, 0.0};
@@ -88,6 +88,8 @@ public:
                           const Kokkos::View<const int *, DeviceSpace> &flags,
                           int stride) const override;
   bool constrains() const override { return !pairs_.empty(); }
+  /// The model's Dirichlet conditions and the closed pairs' multipoint rows (no frames).
+  const ConstraintSet *constraintSet(const ContactCorrection &system) override;
   LinearSolveStats correct(const ContactCorrection &system,
                            const Kokkos::View<double *, DeviceSpace> &dx) override;
 
@@ -95,6 +97,8 @@ public:
   int closeTouching(double tolerance) override;
   int updateStatus(const std::vector<double> &g, int stride, std::string &log,
                    const std::vector<double> *stress, bool frozen) override;
+  /// The contactor nodes: the status update reads the residual only there.
+  const std::vector<LocalIndex> *statusNodes() const override { return &node_; }
   bool penetrationWithin(double relative, std::string &where) const override;
   void commit() override;
   void rollback() override;
@@ -129,11 +133,30 @@ public:
 
 private:
   void buildPairs();
-  /// The closed pairs as multipoint constraints on `stride` unknowns per node (`flags`: the
-  /// Dirichlet flags per unknown).
-  void constraints(int stride, const std::vector<int> &flags, MultiPointConstraints &c) const;
-  CsrMatrix<DeviceSpace> work_; ///< the eliminated system of the last correction
-  std::vector<long> nodeIds_;   ///< external node ids for messages (Mesh::externalId)
+  /// The closed pairs as multipoint constraints on `stride` unknowns per node (the Dirichlet
+  /// flags of the contactors from prescribed()).
+  void constraints(int stride, MultiPointConstraints &c) const;
+  /// Their device form on `numUnknowns` unknowns, built once per set of closed pairs (O(pairs)
+  /// uploaded) and kept until the pairs change.
+  const DeviceMultiPointConstraints &deviceConstraints(int stride, LocalIndex numUnknowns) const;
+  /// The friction forces of the slip pairs on the device (nodes and 2 components each, only the
+  /// nodes that carry one), uploaded by buildPairs.
+  void uploadFriction();
+  CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
+  ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
+  ConstraintSet set_;                 ///< of the last correction
+  mutable DeviceMultiPointConstraints deviceConstraints_;
+  mutable bool deviceConstraintsFresh_ = false;
+  mutable int deviceConstraintsStride_ = 0;
+  Kokkos::View<LocalIndex *, DeviceSpace> frictionNodes_;
+  Kokkos::View<double *[2], DeviceSpace> frictionValues_;
+  /// Contactor and target nodes (sorted, unique), on the host and the device: the only nodes
+  /// whose positions and Dirichlet flags are copied to the host in an iteration.
+  std::vector<LocalIndex> surfaceNodes_;
+  Kokkos::View<LocalIndex *, DeviceSpace> deviceSurfaceNodes_;
+  /// The Dirichlet flags of the surface nodes (2 each) on the device, from the last locate().
+  Kokkos::View<int *[2], DeviceSpace> surfaceHeld_;
+  std::vector<long> nodeIds_; ///< external node ids for messages (Mesh::externalId)
   /// Current position of the target point (spec s, segment, xi) and its node weights.
   void targetPoint(int s, int segment, double xi, double (&x)[2], LocalIndex (&nodes)[3],
                    double (&w)[3], int &count) const;
@@ -144,6 +167,14 @@ private:
     Kokkos::View<int *[3], DeviceSpace> segments;
     Kokkos::View<LocalIndex *, DeviceSpace> contactors;
     std::size_t first = 0;
+    /// The target end nodes (unique), their surface-node index, the (segment, end) pairs at
+    /// each (as 2 segment + end, increasing: CSR by targetStart), and each segment's ends as
+    /// indices into targetNodes: what the continuous normal field is built from.
+    Kokkos::View<LocalIndex *, DeviceSpace> targetNodes;
+    Kokkos::View<int *, DeviceSpace> targetSurface;
+    Kokkos::View<Offset *, DeviceSpace> targetStart;
+    Kokkos::View<int *, DeviceSpace> targetEnds;
+    Kokkos::View<int *[2], DeviceSpace> segmentEnds;
   };
   std::vector<DeviceSurface> device_;
   LocalIndex numNodes_;
@@ -154,7 +185,8 @@ private:
   std::vector<double> xi_, anchorXi_, committedXi_, gap_, normal_, normalForce_, tangentForce_;
   std::vector<double> meanLength_, extent_;
   std::vector<std::vector<double>> arcStart_; ///< per spec: reference arc at each segment start
-  std::vector<double> position_;              ///< current node positions (host, 2 per node)
+  /// Current node positions (host, 2 per node; only the surface nodes' are kept current).
+  std::vector<double> position_;
   std::vector<int> prescribed_;
   std::vector<SurfacePair> pairs_;
   std::vector<double> friction_;

@@ -4,7 +4,6 @@
 // Layer: contact (uses solver/).
 #include <contact/SurfaceContact.hpp>
 #include <core/Transfer.hpp>
-#include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/ModelBase.hpp>
@@ -19,43 +18,64 @@ using namespace fieldops;
 void SurfaceContact::locate(const Kokkos::View<const double *[2], Memory> &coordinates,
                             const Kokkos::View<const double *, Memory> &x, int stride,
                             const Kokkos::View<const int *, Memory> &flags) {
-  // The displacement unknowns held by Dirichlet conditions (contactors held there take the
-  // normal condition on their free component).
-  const auto hf = copyToHost(flags);
-  std::vector<int> held(2 * static_cast<std::size_t>(numNodes_), 0);
-  for (LocalIndex p = 0; p < numNodes_; ++p)
+  // The displacement unknowns held by Dirichlet conditions at the contactor and target nodes
+  // (contactors held there take the normal condition on their free component; a target node
+  // held in one direction lies on a symmetry line): O(surface nodes) copied.
+  const LocalIndex ns = static_cast<LocalIndex>(surfaceNodes_.size());
+  const auto held = surfaceHeld_;
+  const auto nodes = deviceSurfaceNodes_;
+  Kokkos::parallel_for(
+      "mixcon::surface::gatherFlags", Kokkos::RangePolicy<Exec>(0, ns),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          held(k, i) = flags(stride * nodes(k) + i);
+      });
+  const auto h = copyToHost(held);
+  for (LocalIndex k = 0; k < ns; ++k)
     for (int i = 0; i < 2; ++i)
-      held[2 * p + i] = hf(stride * p + i);
-  setPrescribed(held);
+      prescribed_[2 * static_cast<std::size_t>(surfaceNodes_[k]) + i] = h(k, i);
+  deviceConstraintsFresh_ = false;
   detect(coordinates, x, stride);
 }
 
 void SurfaceContact::subtractForces(const Kokkos::View<double *, Memory> &g, int stride) const {
-  subtractNodalForces(g, stride, friction_);
+  // The friction forces of slip pairs (only the nodes that carry one) as loads.
+  const auto nodes = frictionNodes_;
+  const auto f = frictionValues_;
+  Kokkos::parallel_for(
+      "mixcon::surface::subtractFriction", Kokkos::RangePolicy<Exec>(0, nodes.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        for (int i = 0; i < 2; ++i)
+          g(stride * nodes(k) + i) -= f(k, i);
+      });
 }
 
 double SurfaceContact::freeResidualNorm(const Kokkos::View<const double *, Memory> &g,
                                         const Kokkos::View<const int *, Memory> &flags,
                                         int stride) const {
   // The residual the constrained system balances, T^T G, over the unknowns held neither by
-  // Dirichlet conditions nor as contact slaves.
-  const auto hf = copyToHost(flags);
-  std::vector<int> fl(hf.data(), hf.data() + hf.extent(0));
-  MultiPointConstraints c;
-  constraints(stride, fl, c);
-  std::vector<double> gh = ModelBase::toHost(g);
-  condenseVector(c, gh);
-  for (LocalIndex sl : c.slaves)
-    fl[sl] = 1;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < gh.size(); ++i)
-    if (static_cast<int>(i % stride) < 2 && !fl[i])
-      sum += gh[i] * gh[i];
-  return std::sqrt(sum);
+  // Dirichlet conditions nor as contact slaves: a device reduction.
+  ConstraintSet set;
+  set.stride = stride;
+  set.flags = flags;
+  set.multipoint = &deviceConstraints(stride, static_cast<LocalIndex>(g.extent(0)));
+  return constrainedFreeNorm(set, g);
 }
 
-void SurfaceContact::constraints(int stride, const std::vector<int> &flags,
-                                 MultiPointConstraints &c) const {
+const DeviceMultiPointConstraints &SurfaceContact::deviceConstraints(int stride,
+                                                                     LocalIndex n) const {
+  if (!deviceConstraintsFresh_ || deviceConstraintsStride_ != stride ||
+      deviceConstraints_.numUnknowns != n) {
+    MultiPointConstraints c;
+    constraints(stride, c);
+    deviceConstraints_ = toDevice(c, n);
+    deviceConstraintsFresh_ = true;
+    deviceConstraintsStride_ = stride;
+  }
+  return deviceConstraints_;
+}
+
+void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
   // Per closed contactor p on target nodes i with weights w_i: in its local frame (n, t) the
   // normal displacement is sum_i w_i n . u_i - gap (slave), in stick the tangential one
   // sum_j w_j t . u_j + tangentStep at the anchor (slave), in slip the tangential one free:
@@ -64,7 +84,8 @@ void SurfaceContact::constraints(int stride, const std::vector<int> &flags,
   c.clear();
   for (const SurfacePair &q : pairs_) {
     const LocalIndex i0 = stride * q.node;
-    const bool fx = flags[i0] != 0, fy = flags[i0 + 1] != 0;
+    const bool fx = prescribed_[2 * static_cast<std::size_t>(q.node)] != 0,
+               fy = prescribed_[2 * static_cast<std::size_t>(q.node) + 1] != 0;
     if (fx && fy)
       continue;
     std::vector<std::pair<LocalIndex, double>> normalRow, tangentRow;
@@ -111,36 +132,27 @@ void SurfaceContact::constraints(int stride, const std::vector<int> &flags,
   }
 }
 
+const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys) {
+  prescribedStep(sys.flags, sys.prescribed, sys.displacement, sys.lambda, sys.stride, sys.target);
+  set_ = ConstraintSet{};
+  set_.stride = sys.stride;
+  set_.flags = sys.flags;
+  set_.values = sys.target;
+  set_.multipoint = &deviceConstraints(sys.stride, static_cast<LocalIndex>(sys.target.extent(0)));
+  set_.slaveDiagonal = std::max(sys.stiffnessScale, 1e-300);
+  return &set_;
+}
+
 LinearSolveStats SurfaceContact::correct(const ContactCorrection &sys,
                                          const Kokkos::View<double *, Memory> &dx) {
   // The contact constraints eliminated (solver/MultiPointConstraints.hpp): (T^T K T + D) y =
   // T^T (-G - K s), the Dirichlet conditions applied to that system as usual, x = T y + s.
-  const int stride = sys.stride;
-  const auto &fv = sys.flags;
-  const auto &rhs = sys.rhs;
-  const auto &target = sys.target;
   const auto start = std::chrono::steady_clock::now();
-  prescribedStep(fv, sys.prescribed, sys.displacement, sys.lambda, stride, target);
-  const auto hf = copyToHost(fv);
-  std::vector<int> flags(hf.data(), hf.data() + hf.extent(0));
-  MultiPointConstraints c;
-  constraints(stride, flags, c);
-  axpby(-1.0, sys.g, 0.0, rhs);
-  work_ = eliminateConstraints(*sys.tangent, c, std::max(sys.stiffnessScale, 1e-300), rhs);
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::surfaceFlags", flags.size());
-  for (LocalIndex sl : c.slaves)
-    flags[sl] = 1;
-  auto hdf = hostMirror(df);
-  for (std::size_t i = 0; i < flags.size(); ++i)
-    hdf(i) = flags[i];
-  copyToDevice(df, hdf);
-  applyDirichlet(Exec(), work_, Kokkos::View<const int *, Memory>(df), ConstVec(target), rhs);
-  Exec().fence();
-  sys.solver->setup(work_);
+  const ConstraintSet &set = *constraintSet(sys);
+  axpby(-1.0, sys.g, 0.0, sys.rhs);
   *sys.setupSeconds += seconds(start);
-  LinearSolveStats s = sys.solver->solve(rhs, dx);
-  expandConstrained(c, dx);
-  return s;
+  return solveConstrained(set, *sys.tangent, work_, elimination_, sys.rhs, *sys.solver, dx,
+                          sys.setupSeconds);
 }
 
 } // namespace mixcon

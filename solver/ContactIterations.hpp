@@ -6,10 +6,13 @@
 // updated from positions and contact forces, commit / rollback with the load increment, cycle
 // detection by a status signature. Implemented in contact/ by RigidContact (rigid obstacles) and
 // SurfaceContact (elastic-elastic node-to-segment), so that solver/ never includes contact/.
-// Host-side interface (virtual, never on the device). Layer: solver.
+// What constrains a correction is one device object, a ConstraintSet (solver/ConstraintSet.hpp:
+// Dirichlet flags and values, local frames, multipoint rows). Host-side interface (virtual,
+// never on the device). Layer: solver.
 #pragma once
 
 #include <solver/Checkpoint.hpp>
+#include <solver/ConstraintSet.hpp>
 #include <solver/LinearSolver.hpp>
 
 #include <kernels/SparseMatrix.hpp>
@@ -59,6 +62,11 @@ public:
   /// True when a contact constraint holds (a closed node or pair): corrections then go through
   /// correct().
   virtual bool constrains() const = 0;
+  /// The constraints of the correction `system` as one device object: the model's Dirichlet
+  /// flags with their remaining step (written to system.target) and the contact's frames and
+  /// multipoint rows; valid until the next call or status change. nullptr where the correction
+  /// has unknowns of its own (force-driven obstacles) and only correct() solves it.
+  virtual const ConstraintSet *constraintSet(const ContactCorrection &) { return nullptr; }
   /// The correction dx with the contact constraints enforced.
   virtual LinearSolveStats correct(const ContactCorrection &system,
                                    const Kokkos::View<double *, DeviceSpace> &dx) = 0;
