@@ -180,22 +180,29 @@ void writeStringListAttribute(hid_t loc, const char *name, const std::vector<std
   H5Tclose(type);
 }
 
-/// Writes a (points x 3) stress dataset and names its columns in the attribute `components`.
+/// The per-node (and per-point) field layout of the results: the models' (solver/DofMap.hpp).
+using Layout = ModelLayout;
+
+/// Writes a (points x Voigt size) stress dataset and names its columns in the attribute
+/// `components`.
 void writeStressDataset(hid_t loc, const std::string &name, const std::vector<double> &stress) {
-  writeDataset(loc, name, stress.data(), H5T_NATIVE_DOUBLE, stress.size() / 3, 3);
+  constexpr int kStress = Layout::kNumStresses;
+  writeDataset(loc, name, stress.data(), H5T_NATIVE_DOUBLE, stress.size() / kStress, kStress);
   const hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
   writeStringListAttribute(set, "components", {"xx", "yy", "xy"});
   H5Dclose(set);
 }
 
-/// N x 2 vectors as N x 3 with z = 0: the rows ParaView's filters (Warp By Vector, Glyph) take.
+/// Vectors of Layout::kDim components per row as N x 3 (z = 0 in 2D): the rows ParaView's
+/// filters (Warp By Vector, Glyph) take.
+constexpr int kVectorColumns = 3;
 std::vector<double> withZeroZ(const std::vector<double> &v) {
-  const std::size_t n = v.size() / 2;
-  std::vector<double> out(3 * n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    out[3 * i] = v[2 * i];
-    out[3 * i + 1] = v[2 * i + 1];
-  }
+  constexpr int kDim = Layout::kDim;
+  const std::size_t n = v.size() / kDim;
+  std::vector<double> out(kVectorColumns * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < kDim; ++c)
+      out[kVectorColumns * i + c] = v[kDim * i + c];
   return out;
 }
 
@@ -360,7 +367,8 @@ void ResultsWriter::writeMesh() const {
   writeHdf5File(directory_ + "/results.d/mesh.h5", [&](hid_t file) {
     const Mesh &mesh = mesh_;
     const hid_t m = H5Gcreate2(file, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
+    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(),
+                 mesh.dim());
     writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
                  mesh.nodesPerElement);
     writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
@@ -406,20 +414,24 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
       if (g < 0)
         throw std::runtime_error("HDF5: cannot create group " + name);
       const hsize_t nn = mesh_.numNodes();
-      writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn, 3);
+      writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn,
+                   kVectorColumns);
       writeStressDataset(g, "stress", f.stress);
       if (!f.reaction.empty())
-        writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn, 3);
-      const hsize_t nq = f.gaussStress.size() / 3;
+        writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn,
+                     kVectorColumns);
+      constexpr int kDim = Layout::kDim;
+      const hsize_t nq = f.gaussStress.size() / Layout::kNumStresses;
       const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
+      writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, kDim);
       writeStressDataset(gp, "stress", f.gaussStress);
       writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
       writeStringAttribute(gp, "stress_source", f.gaussStressSource);
       if (!f.gaussGradient.empty()) {
-        writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
+        writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq,
+                     kDim * kDim);
         writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
-                     nq, 2);
+                     nq, kDim);
       }
       if (!f.gaussInterpolatedStress.empty())
         writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress);
@@ -536,7 +548,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     writeDataset(cg, "tau_nt", c.tauNT.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "angle", c.angle.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "arc", c.arc.data(), H5T_NATIVE_DOUBLE, n, 0);
-    if (!r.obstacleMotion.empty())
+    if (!r.obstacleMotion.empty()) // 2D-only: rigid obstacles move in the plane (x, y)
       writeDataset(cg, "obstacle_motion", r.obstacleMotion.data(), H5T_NATIVE_DOUBLE,
                    r.obstacleMotion.size() / 2, 2);
     writeStringAttribute(cg, "status_codes", "0 open, 1 stick, 2 slip");
