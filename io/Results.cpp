@@ -244,7 +244,7 @@ std::string stepSummary(const StepRecord &s) {
       << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
       << ", \"arc_min\": " << number(s.contactArcMin)
       << ", \"arc_max\": " << number(s.contactArcMax) << ", \"obstacle_motion\": [";
-    for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o)
+    for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o) // 2D-only: (x, y)
       j << (o ? ", " : "") << "[" << number(s.obstacleMotion[2 * o]) << ", "
         << number(s.obstacleMotion[2 * o + 1]) << "]";
     j << "]}";
