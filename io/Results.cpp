@@ -1,4 +1,5 @@
 // HDF5 (C API), XDMF 3 and JSON writers.
+#include <io/OutputLayout.hpp>
 #include <io/Restart.hpp>
 #include <io/Results.hpp>
 #include <solver/Nonlinear.hpp>
@@ -180,22 +181,28 @@ void writeStringListAttribute(hid_t loc, const char *name, const std::vector<std
   H5Tclose(type);
 }
 
-/// Writes a (points x 3) stress dataset and names its columns in the attribute `components`.
-void writeStressDataset(hid_t loc, const std::string &name, const std::vector<double> &stress) {
-  writeDataset(loc, name, stress.data(), H5T_NATIVE_DOUBLE, stress.size() / 3, 3);
+/// Writes a (points x components) stress dataset and names its columns in the attribute
+/// `components` (the Voigt names of the output table's row, io/OutputLayout.hpp).
+void writeStressDataset(hid_t loc, const std::string &name, const std::vector<double> &stress,
+                        const std::vector<std::string> &components) {
+  const std::size_t width = components.size();
+  writeDataset(loc, name, stress.data(), H5T_NATIVE_DOUBLE, stress.size() / width, width);
   const hid_t set = H5Dopen2(loc, name.c_str(), H5P_DEFAULT);
-  writeStringListAttribute(set, "components", {"xx", "yy", "xy"});
+  writeStringListAttribute(set, "components", components);
   H5Dclose(set);
 }
 
-/// N x 2 vectors as N x 3 with z = 0: the rows ParaView's filters (Warp By Vector, Glyph) take.
-std::vector<double> withZeroZ(const std::vector<double> &v) {
-  const std::size_t n = v.size() / 2;
-  std::vector<double> out(3 * n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    out[3 * i] = v[2 * i];
-    out[3 * i + 1] = v[2 * i + 1];
-  }
+/// Columns of a nodal vector dataset in either dimension: ParaView's vector filters (Warp By
+/// Vector, Glyph) take 3 components.
+constexpr int kVectorColumns = 3;
+
+/// Vectors of `dim` components per row as N x 3 (z = 0 in 2D).
+std::vector<double> withZeroZ(const std::vector<double> &v, std::size_t dim) {
+  const std::size_t n = v.size() / dim;
+  std::vector<double> out(kVectorColumns * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t c = 0; c < dim; ++c)
+      out[kVectorColumns * i + c] = v[dim * i + c];
   return out;
 }
 
@@ -237,7 +244,7 @@ std::string stepSummary(const StepRecord &s) {
       << ", \"cycled\": " << (s.contactCycled ? "true" : "false")
       << ", \"arc_min\": " << number(s.contactArcMin)
       << ", \"arc_max\": " << number(s.contactArcMax) << ", \"obstacle_motion\": [";
-    for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o)
+    for (std::size_t o = 0; 2 * o + 1 < s.obstacleMotion.size(); ++o) // 2D-only: (x, y)
       j << (o ? ", " : "") << "[" << number(s.obstacleMotion[2 * o]) << ", "
         << number(s.obstacleMotion[2 * o + 1]) << "]";
     j << "]}";
@@ -360,7 +367,8 @@ void ResultsWriter::writeMesh() const {
   writeHdf5File(directory_ + "/results.d/mesh.h5", [&](hid_t file) {
     const Mesh &mesh = mesh_;
     const hid_t m = H5Gcreate2(file, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(), 2);
+    writeDataset(m, "nodes", mesh.coordinates.data(), H5T_NATIVE_DOUBLE, mesh.numNodes(),
+                 mesh.dim());
     writeDataset(m, "elements", mesh.connectivity.data(), H5T_NATIVE_INT, mesh.numElements(),
                  mesh.nodesPerElement);
     writeDataset(m, "element_region", mesh.elementRegion.data(), H5T_NATIVE_INT, mesh.numElements(),
@@ -405,24 +413,30 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
       H5Pclose(lcpl);
       if (g < 0)
         throw std::runtime_error("HDF5: cannot create group " + name);
+      const OutputNames &names = outputNames(mesh_);
+      const std::size_t dim = names.vectorComponents.size();
       const hsize_t nn = mesh_.numNodes();
-      writeDataset(g, "displacement", withZeroZ(f.displacement).data(), H5T_NATIVE_DOUBLE, nn, 3);
-      writeStressDataset(g, "stress", f.stress);
+      writeDataset(g, "displacement", withZeroZ(f.displacement, dim).data(), H5T_NATIVE_DOUBLE, nn,
+                   kVectorColumns);
+      writeStressDataset(g, "stress", f.stress, names.stressComponents);
       if (!f.reaction.empty())
-        writeDataset(g, "reaction", withZeroZ(f.reaction).data(), H5T_NATIVE_DOUBLE, nn, 3);
-      const hsize_t nq = f.gaussStress.size() / 3;
+        writeDataset(g, "reaction", withZeroZ(f.reaction, dim).data(), H5T_NATIVE_DOUBLE, nn,
+                     kVectorColumns);
+      const hsize_t nq = f.gaussStress.size() / names.stressComponents.size();
       const hid_t gp = H5Gcreate2(g, "gauss_points", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-      writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, 2);
-      writeStressDataset(gp, "stress", f.gaussStress);
+      writeDataset(gp, "coordinates", f.gaussCoordinates.data(), H5T_NATIVE_DOUBLE, nq, dim);
+      writeStressDataset(gp, "stress", f.gaussStress, names.stressComponents);
       writeAttribute(gp, "points_per_element", f.pointsPerElement, H5T_NATIVE_INT);
       writeStringAttribute(gp, "stress_source", f.gaussStressSource);
       if (!f.gaussGradient.empty()) {
-        writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq, 4);
+        writeDataset(gp, "displacement_gradient", f.gaussGradient.data(), H5T_NATIVE_DOUBLE, nq,
+                     dim * dim);
         writeDataset(gp, "current_coordinates", f.gaussCurrentCoordinates.data(), H5T_NATIVE_DOUBLE,
-                     nq, 2);
+                     nq, dim);
       }
       if (!f.gaussInterpolatedStress.empty())
-        writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress);
+        writeStressDataset(gp, "interpolated_stress", f.gaussInterpolatedStress,
+                           names.stressComponents);
       H5Gclose(gp);
       writeStringAttribute(g, "stress_source", f.stressSource);
       if (!f.contact.node.empty())
@@ -536,7 +550,7 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
     writeDataset(cg, "tau_nt", c.tauNT.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "angle", c.angle.data(), H5T_NATIVE_DOUBLE, n, 0);
     writeDataset(cg, "arc", c.arc.data(), H5T_NATIVE_DOUBLE, n, 0);
-    if (!r.obstacleMotion.empty())
+    if (!r.obstacleMotion.empty()) // 2D-only: rigid obstacles move in the plane (x, y)
       writeDataset(cg, "obstacle_motion", r.obstacleMotion.data(), H5T_NATIVE_DOUBLE,
                    r.obstacleMotion.size() / 2, 2);
     writeStringAttribute(cg, "status_codes", "0 open, 1 stick, 2 slip");
@@ -598,11 +612,12 @@ void ResultsWriter::finish(bool success, const std::string &message) {
 }
 
 void ResultsWriter::writeXdmf() const {
-  // Vectors are N x 3 in results.h5 (z = 0), as Warp By Vector needs. The stress is the N x 3
-  // dataset itself: ParaView 5.11's Xdmf3 reader labels its components X, Y, Z (= xx, yy, xy)
-  // whatever the AttributeType, and skips HyperSlab and Function data items ("unrecognized
-  // array type"), so named per-component scalars would need copies of the data.
-  const bool q8 = mesh_.elementType == ElementType::Quad8;
+  // Vectors are N x 3 in results.h5 (z = 0 in 2D), as Warp By Vector needs. The stress is the
+  // N x (Voigt size) dataset itself: ParaView 5.11's Xdmf3 reader labels a 2D one's components
+  // X, Y, Z (= xx, yy, xy) whatever the AttributeType, and skips HyperSlab and Function data items
+  // ("unrecognized array type"), so named per-component scalars would need copies of the data.
+  // Topology, geometry and widths are the mesh's row of the output table (io/OutputLayout.hpp).
+  const OutputNames &names = outputNames(mesh_);
   const auto ne = mesh_.numElements(), nn = mesh_.numNodes();
   std::ostringstream x;
   auto item = [&](const std::string &path, std::size_t rows, int cols, bool isInt) {
@@ -626,17 +641,18 @@ void ResultsWriter::writeXdmf() const {
     const std::string base = "/steps/" + std::to_string(s.step);
     x << "     <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
       << "      <Time Value=\"" << number(s.loadFactor) << "\"/>\n"
-      << "      <Topology TopologyType=\"" << (q8 ? "Quadrilateral_8" : "Quadrilateral")
-      << "\" NumberOfElements=\"" << ne << "\">\n";
+      << "      <Topology TopologyType=\"" << names.topology << "\" NumberOfElements=\"" << ne
+      << "\">\n";
     item("/mesh/elements", ne, mesh_.nodesPerElement, true);
-    x << "      </Topology>\n      <Geometry GeometryType=\"XY\">\n";
-    item("/mesh/nodes", nn, 2, false);
+    x << "      </Topology>\n      <Geometry GeometryType=\"" << names.geometry << "\">\n";
+    item("/mesh/nodes", nn, static_cast<int>(names.vectorComponents.size()), false);
     x << "      </Geometry>\n";
-    nodeArray("displacement", base + "/displacement", 3, false);
+    nodeArray("displacement", base + "/displacement", kVectorColumns, false);
     if (has.reaction)
-      nodeArray("reaction", base + "/reaction", 3, false);
-    x << "      <Attribute Name=\"stress\" AttributeType=\"Vector\" Center=\"Node\">\n";
-    item(base + "/stress", nn, 3, false);
+      nodeArray("reaction", base + "/reaction", kVectorColumns, false);
+    x << "      <Attribute Name=\"stress\" AttributeType=\"" << names.stressAttribute
+      << "\" Center=\"Node\">\n";
+    item(base + "/stress", nn, static_cast<int>(names.stressComponents.size()), false);
     x << "      </Attribute>\n";
     if (has.contact) {
       nodeArray("contact_status", base + "/contact_nodal/status", 0, true);

@@ -71,16 +71,19 @@ struct HybridFields {
   std::vector<double> angle, ux, uy, sigmaRR, tauRT, muStress, tractionN, tractionT, muForce;
 };
 
-/// Host arrays of one step's fields (row-major).
+/// Host arrays of one step's fields (row-major); d = the mesh's dimension (2 today), s = its Voigt
+/// size (3: xx, yy, xy), the components of the mesh's row of the output table
+/// (io/OutputLayout.hpp).
 struct StepFields {
-  std::vector<double> displacement; ///< N x 2 (written N x 3, z = 0, for ParaView)
-  std::vector<double> stress;       ///< N x 3 nodal Cauchy stress xx, yy, xy
-  std::vector<double> reaction;     ///< N x 2 (internal minus external force; nonzero at supports)
-  std::vector<double> gaussCoordinates; ///< (E * nq) x 2
-  std::vector<double> gaussStress;      ///< (E * nq) x 3
+  std::vector<double> displacement; ///< N x d (written N x 3, z = 0 in 2D, for ParaView)
+  std::vector<double> stress;       ///< N x s nodal Cauchy stress (Voigt order)
+  std::vector<double> reaction;     ///< N x d (internal minus external force; nonzero at supports)
+  std::vector<double> gaussCoordinates; ///< (E * nq) x d
+  std::vector<double> gaussStress;      ///< (E * nq) x s
   int pointsPerElement = 0;
-  /// Geometrically nonlinear runs (empty otherwise): du/dx (4 per point: du/dx, du/dy, dv/dx,
-  /// dv/dy), current point coordinates, and (mixed model) the nodal stresses interpolated there.
+  /// Geometrically nonlinear runs (empty otherwise): du/dx (d x d per point, row-major; in 2D
+  /// du/dx, du/dy, dv/dx, dv/dy), current point coordinates, and (mixed model) the nodal stresses
+  /// interpolated there.
   std::vector<double> gaussGradient, gaussCurrentCoordinates, gaussInterpolatedStress;
   std::string stressSource;      ///< how the nodal stresses were obtained (an HDF5 attribute)
   std::string gaussStressSource; ///< how the Gauss-point stresses were obtained (an attribute)

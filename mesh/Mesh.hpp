@@ -1,6 +1,7 @@
-// Host-side unstructured 2D mesh: node coordinates, quadrilateral connectivity, named regions,
-// boundaries (element edges) and node sets, plus its device-resident mirror. First stage of the
-// data flow: mesh -> kernels -> solver -> contact -> io.
+// Host-side unstructured mesh: node coordinates (as many per node as the element type's spatial
+// dimension; the generators and the Gmsh reader make 2D quadrilateral meshes), connectivity, named
+// regions, boundaries (element edges) and node sets, plus its device-resident mirror. First stage
+// of the data flow: mesh -> kernels -> solver -> contact -> io.
 #pragma once
 
 #include <core/ElementTraits.hpp>
@@ -26,10 +27,15 @@ struct BoundaryEdge {
   int edge;
 };
 
+/// Spatial dimension of an element type (its traits' kDim): 2 for the quadrilaterals.
+inline int spatialDimension(ElementType type) {
+  return dispatchElement(type, [](auto elem) { return decltype(elem)::kDim; });
+}
+
 struct Mesh {
   ElementType elementType = ElementType::Quad4;
   int nodesPerElement = 4;
-  std::vector<double> coordinates;      ///< 2 * numNodes, interleaved x, y
+  std::vector<double> coordinates;      ///< dim() * numNodes, interleaved x, y (, z)
   std::vector<LocalIndex> connectivity; ///< nodesPerElement * numElements, counter-clockwise
   std::vector<int> elementRegion;       ///< index into regionNames per element
   std::vector<std::string> regionNames;
@@ -42,15 +48,21 @@ struct Mesh {
   /// reoriented), one line each without a trailing newline; the program prints them to stderr.
   std::vector<std::string> warnings;
 
-  LocalIndex numNodes() const { return static_cast<LocalIndex>(coordinates.size() / 2); }
+  /// Spatial dimension: coordinates per node, the element type's kDim.
+  int dim() const { return spatialDimension(elementType); }
+  LocalIndex numNodes() const { return static_cast<LocalIndex>(coordinates.size() / dim()); }
   LocalIndex numElements() const {
     return nodesPerElement ? static_cast<LocalIndex>(connectivity.size() / nodesPerElement) : 0;
   }
   LocalIndex node(LocalIndex element, int local) const {
     return connectivity[static_cast<std::size_t>(element) * nodesPerElement + local];
   }
-  double x(LocalIndex n) const { return coordinates[2 * static_cast<std::size_t>(n)]; }
-  double y(LocalIndex n) const { return coordinates[2 * static_cast<std::size_t>(n) + 1]; }
+  /// Coordinate i (0 = x, 1 = y, 2 = z; i < dim()) of node n.
+  double coordinate(LocalIndex n, int i) const {
+    return coordinates[static_cast<std::size_t>(dim()) * static_cast<std::size_t>(n) + i];
+  }
+  double x(LocalIndex n) const { return coordinate(n, 0); }
+  double y(LocalIndex n) const { return coordinate(n, 1); }
   /// Local node k of edge `edge` of `element`.
   LocalIndex edgeNode(const BoundaryEdge &e, int k) const;
   int nodesPerEdge() const { return elementType == ElementType::Quad8 ? 3 : 2; }
@@ -129,19 +141,23 @@ template <class MemorySpace, int Dim = 2> struct MeshView {
   Kokkos::View<LocalIndex **, Kokkos::LayoutRight, MemorySpace> connectivity;
 };
 
-/// Copies a host mesh to `MemorySpace`.
-template <class MemorySpace> MeshView<MemorySpace> toDevice(const Mesh &mesh) {
-  MeshView<MemorySpace> v;
+/// Copies a host mesh to `MemorySpace` as a MeshView of dimension `Dim`; throws
+/// std::invalid_argument when `Dim` is not the mesh's dimension (its element type's kDim).
+template <class MemorySpace, int Dim = 2> MeshView<MemorySpace, Dim> toDevice(const Mesh &mesh) {
+  if (mesh.dim() != Dim)
+    throw std::invalid_argument("toDevice: mesh '" + mesh.source + "' is " +
+                                std::to_string(mesh.dim()) + "D, a " + std::to_string(Dim) +
+                                "D MeshView was asked for");
+  MeshView<MemorySpace, Dim> v;
   v.coordinates =
-      Kokkos::View<double *[2], MemorySpace>("mixcon::mesh::coordinates", mesh.numNodes());
+      Kokkos::View<double *[Dim], MemorySpace>("mixcon::mesh::coordinates", mesh.numNodes());
   v.connectivity = Kokkos::View<LocalIndex **, Kokkos::LayoutRight, MemorySpace>(
       "mixcon::mesh::connectivity", mesh.numElements(), mesh.nodesPerElement);
   auto hc = Kokkos::create_mirror_view(v.coordinates);
   auto he = Kokkos::create_mirror_view(v.connectivity);
-  for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
-    hc(n, 0) = mesh.x(n);
-    hc(n, 1) = mesh.y(n);
-  }
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    for (int i = 0; i < Dim; ++i)
+      hc(n, i) = mesh.coordinate(n, i);
   for (LocalIndex e = 0; e < mesh.numElements(); ++e)
     for (int a = 0; a < mesh.nodesPerElement; ++a)
       he(e, a) = mesh.node(e, a);

@@ -35,15 +35,16 @@ LinearSolveStats LinearDisplacementModel::solve(double loadFactor) {
 }
 
 std::vector<double> LinearDisplacementModel::nodalStressHost() const {
-  Kokkos::View<double *[3], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
+  constexpr int kStress = ModelLayout::kNumStresses;
+  Kokkos::View<double *[kStress], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
   dispatchElement(mesh_.elementType, [&](auto elem) {
     nodalStressRecovery<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), s);
   });
   auto h = copyToHost(s);
-  std::vector<double> out(3 * static_cast<std::size_t>(mesh_.numNodes()));
+  std::vector<double> out(kStress * static_cast<std::size_t>(mesh_.numNodes()));
   for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
-    for (int c = 0; c < 3; ++c)
-      out[3 * n + c] = h(n, c);
+    for (int c = 0; c < kStress; ++c)
+      out[kStress * n + c] = h(n, c);
   return out;
 }
 

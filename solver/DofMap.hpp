@@ -4,6 +4,7 @@
 #pragma once
 
 #include <core/Compat.hpp>
+#include <core/Tensor.hpp>
 
 #include <cstdint>
 
@@ -11,8 +12,15 @@ namespace mixcon {
 
 using GlobalIndex = std::int64_t;
 
+/// Spatial dimension of the solver's models (2: the element kernels they call are 2D) and the
+/// per-node unknowns of their fields (core/Tensor.hpp): kNumDisplacements (2), kNumStresses (3,
+/// Voigt), kMixedUnknowns (5). Per-node counts and strides in solver/ and io/ are these
+/// constants, so that a 3D model changes the dimension here rather than literals.
+inline constexpr int kModelDim = 2;
+using ModelLayout = FieldLayout<kModelDim>;
+
 struct DofMap {
-  int dofsPerNode = 2;
+  int dofsPerNode = ModelLayout::kDisplacementUnknowns;
   LocalIndex numLocalNodes = 0;
   GlobalIndex ownedBegin = 0; ///< global index of this rank's first owned unknown
   GlobalIndex numGlobal = 0;  ///< unknowns over all ranks

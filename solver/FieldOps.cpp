@@ -41,11 +41,11 @@ double relative(double num, double den) {
   return num == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
 }
 
-/// y(stride k + c) += alpha x(2 k + c), c = 0, 1.
+/// y(stride k + c) += alpha x(kDisp k + c), c < kDisp.
 void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / 2) + i % 2) += alpha * x(i); });
+      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / kDisp) + i % kDisp) += alpha * x(i); });
 }
 
 /// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
@@ -125,21 +125,21 @@ void scaleField(const Vec &v, int stride, int offset, int width, double s) {
       });
 }
 
-/// blocks(p) = node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
-/// expandGraph(graph, 3)).
+/// blocks(p) = node p's kStress x kStress diagonal block of m (kStress unknowns per node,
+/// pattern of expandGraph(graph, kStress)).
 void nodalDiagonalBlocks(const CsrMatrix<Memory> &m,
-                         const Kokkos::View<double *[3][3], Memory> &blocks) {
+                         const Kokkos::View<double *[kStress][kStress], Memory> &blocks) {
   auto ro = m.rowOffsets;
   auto co = m.columns;
   auto va = m.values;
   Kokkos::parallel_for(
       "mixcon::nonlinear::nodalDiagonalBlocks", Kokkos::RangePolicy<Exec>(0, blocks.extent(0)),
       KOKKOS_LAMBDA(LocalIndex p) {
-        for (int i = 0; i < 3; ++i)
-          for (Offset k = ro(3 * p + i); k < ro(3 * p + i + 1); ++k) {
+        for (int i = 0; i < kStress; ++i)
+          for (Offset k = ro(kStress * p + i); k < ro(kStress * p + i + 1); ++k) {
             const LocalIndex c = co(k);
-            if (c / 3 == p)
-              blocks(p, i, c % 3) = va(k);
+            if (c / kStress == p)
+              blocks(p, i, c % kStress) = va(k);
           }
       });
 }
@@ -153,24 +153,26 @@ void divide(const ConstVec &x, const ConstVec &d, const Vec &y) {
 
 /// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
 /// unknowns of x (out may be base).
-void movedCoordinates(const Kokkos::View<double *[2], Memory> &base, const ConstVec &x, int stride,
-                      const Kokkos::View<double *[2], Memory> &out) {
+void movedCoordinates(const Kokkos::View<double *[kDisp], Memory> &base, const ConstVec &x,
+                      int stride, const Kokkos::View<double *[kDisp], Memory> &out) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::movedCoordinates", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
       KOKKOS_LAMBDA(LocalIndex k) {
-        for (int i = 0; i < 2; ++i)
+        for (int i = 0; i < kDisp; ++i)
           out(k, i) = base(k, i) + x(stride * k + i);
       });
 }
 
 /// The remaining prescribed change of every constrained unknown: t(stride k + c) =
-/// lambda g(2 k + c) - u(2 k + c) where flags(stride k + c) != 0 (c < 2), 0 elsewhere.
+/// lambda g(kDisp k + c) - u(kDisp k + c) where flags(stride k + c) != 0 (c < kDisp), 0
+/// elsewhere.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
                     const ConstVec &u, double lambda, int stride, const Vec &t) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::prescribedStep", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
-        const LocalIndex j = 2 * (i / stride) + i % stride; // displacement dof when i % stride < 2
+        // the displacement dof when i % stride < kDisp
+        const LocalIndex j = kDisp * (i / stride) + i % stride;
         t(i) = flags(i) ? lambda * g(j) - u(j) : 0.0;
       });
 }
@@ -213,7 +215,7 @@ void subtractNodalForces(const Vec &g, int stride, const std::vector<double> &f)
     h(i) = f[i];
   copyToDevice(fd, h);
   Vec spread("mixcon::nonlinear::frictionSpread", g.extent(0));
-  scatter<double>(fd, stride, 0, 2, spread, true);
+  scatter<double>(fd, stride, 0, kDisp, spread, true);
   axpby(-1.0, spread, 1.0, g);
 }
 

@@ -20,6 +20,15 @@ using Memory = DeviceSpace;
 using Vec = Kokkos::View<double *, Memory>;
 using ConstVec = Kokkos::View<const double *, Memory>;
 
+/// The models' per-node layout (ModelLayout, solver/DofMap.hpp) as the (stride, offset, width)
+/// arguments below take it: kDisp displacements per node (the displacement model's stride), the
+/// mixed model's kMixed unknowns per node with its kDisp displacements at offset 0 and its kStress
+/// Voigt stresses at kStressAt.
+inline constexpr int kDisp = ModelLayout::kNumDisplacements;
+inline constexpr int kStress = ModelLayout::kNumStresses;
+inline constexpr int kMixed = ModelLayout::kMixedUnknowns;
+inline constexpr int kStressAt = ModelLayout::kStressOffset;
+
 /// The row (or entry) of the i-th unknown of one field of an interleaved vector or matrix: the
 /// `width` unknowns from `offset` of every `stride`.
 KOKKOS_INLINE_FUNCTION LocalIndex fieldRow(int stride, int offset, int width, LocalIndex i) {
@@ -49,11 +58,12 @@ double strideNorm(const ConstVec &v, int stride, int first, int width,
 /// num / den; 0 for 0 / 0 and infinity for a positive num over a zero den.
 double relative(double num, double den);
 
-/// y(stride k + c) += alpha x(2 k + c), c = 0, 1.
+/// y(stride k + c) += alpha x(kDisp k + c), c < kDisp.
 void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x);
 
 /// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
-/// field out of an interleaved vector, e.g. the stresses out of 5 unknowns per node).
+/// field out of an interleaved vector, e.g. the stresses out of the mixed model's kMixed unknowns
+/// per node).
 void gather(const ConstVec &src, int stride, int offset, int width, const Vec &dst,
             double scale = 1.0);
 
@@ -78,21 +88,23 @@ void multiplyFieldRows(const CsrMatrix<Memory> &a, int stride, int offset, int w
 /// v(stride p + offset + c) *= s for c < width.
 void scaleField(const Vec &v, int stride, int offset, int width, double s);
 
-/// blocks(p) = node p's 3 x 3 diagonal block of m (3 unknowns per node, pattern of
-/// expandGraph(graph, 3)); kernels/MixedElasticity.hpp inverts and applies such blocks.
+/// blocks(p) = node p's kStress x kStress diagonal block of m (kStress unknowns per node,
+/// pattern of expandGraph(graph, kStress)); kernels/MixedElasticity.hpp inverts and applies such
+/// blocks.
 void nodalDiagonalBlocks(const CsrMatrix<Memory> &m,
-                         const Kokkos::View<double *[3][3], Memory> &blocks);
+                         const Kokkos::View<double *[kStress][kStress], Memory> &blocks);
 
 /// y = x / d, entry by entry (Jacobi).
 void divide(const ConstVec &x, const ConstVec &d, const Vec &y);
 
 /// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
 /// unknowns of x (out may be base).
-void movedCoordinates(const Kokkos::View<double *[2], Memory> &base, const ConstVec &x, int stride,
-                      const Kokkos::View<double *[2], Memory> &out);
+void movedCoordinates(const Kokkos::View<double *[kDisp], Memory> &base, const ConstVec &x,
+                      int stride, const Kokkos::View<double *[kDisp], Memory> &out);
 
 /// The remaining prescribed change of every constrained unknown: t(stride k + c) =
-/// lambda g(2 k + c) - u(2 k + c) where flags(stride k + c) != 0 (c < 2), 0 elsewhere.
+/// lambda g(kDisp k + c) - u(kDisp k + c) where flags(stride k + c) != 0 (c < kDisp), 0
+/// elsewhere.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
                     const ConstVec &u, double lambda, int stride, const Vec &t);
 
@@ -105,7 +117,7 @@ LinearSolveStats constrainedSolve(const CsrMatrix<Memory> &tangent, bool fresh,
                                   const ConstVec &target, const Vec &rhs, const Vec &diag,
                                   LinearSolver &solver, const Vec &dx, double &setupSeconds);
 
-/// g(stride k + c) -= f(2 k + c), c = 0, 1: nodal forces (e.g. friction, 2 per node, host)
+/// g(stride k + c) -= f(kDisp k + c), c < kDisp: nodal forces (e.g. friction, host)
 /// subtracted from the displacement rows of a residual.
 void subtractNodalForces(const Vec &g, int stride, const std::vector<double> &f);
 

@@ -25,8 +25,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
                                   : static_cast<ElementData<Memory>>(current_);
   const auto base = d.mesh.coordinates;
   d.mesh.coordinates =
-      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
-  movedCoordinates(base, x_, 5, d.mesh.coordinates);
+      Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
+  movedCoordinates(base, x_, kMixed, d.mesh.coordinates);
   Kokkos::deep_copy(precMatrix_.values, 0.0);
   dispatchElement(mesh_.elementType, [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);
@@ -37,8 +37,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
                  ConstVec(zero), scratch);
   constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
                       precDiag_);
-  // The stress block M = -J_tau,tau and its nodal 3 x 3 inverses for the inner CG.
-  extractFieldBlock(tangent_, 5, 2, 3, 2, 3, stressBlock_, -1.0);
+  // The stress block M = -J_tau,tau and its nodal kStress x kStress inverses for the inner CG.
+  extractFieldBlock(tangent_, kMixed, kStressAt, kStress, kStressAt, kStress, stressBlock_, -1.0);
   nodalDiagonalBlocks(stressBlock_, stressNodalBlocks_);
   invertNodalBlocks(Exec(), stressNodalBlocks_, stressBlockInverse_);
   Exec().fence();
@@ -48,8 +48,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
 
 long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, double tolerance) {
   // M z = w with M = -J_tau,tau, extracted from J once per tangent (setupSchurPreconditioner;
-  // a product with it reads 9/25 of J), CG preconditioned by the inverses of M's 3 x 3 nodal
-  // blocks (the stress components coupled at a node: anisotropic compliances).
+  // a product with it reads 9/25 of J), CG preconditioned by the inverses of M's kStress x kStress
+  // nodal blocks (the stress components coupled at a node: anisotropic compliances).
   const LinearMap apply = [&](const ConstDeviceVector &a, const DeviceVector &y) {
     multiply(Exec(), stressBlock_, a, y);
   };
@@ -75,20 +75,20 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   if (fresh_)
     setupSchurPreconditioner();
   const LocalIndex nn = mesh_.numNodes();
-  Vec in5("mixcon::nonlinear::in5", 5 * nn), w("mixcon::nonlinear::w", 3 * nn),
-      z("mixcon::nonlinear::z", 3 * nn), masked("mixcon::nonlinear::masked", 2 * nn);
+  Vec in5("mixcon::nonlinear::in5", kMixed * nn), w("mixcon::nonlinear::w", kStress * nn),
+      z("mixcon::nonlinear::z", kStress * nn), masked("mixcon::nonlinear::masked", kDisp * nn);
   const auto flags = Kokkos::View<const int *, Memory>(isConstrained_);
   // Inner solves two orders tighter than the outer tolerance, so the outer Krylov sees a fixed
   // operator to its own accuracy.
   const double innerTol = std::clamp(1e-2 * linearOptions_.tolerance, 1e-14, 1e-8);
   long inner = 0;
-  // y = (A + B M^-1 C) v for a displacement vector v (2 per node).
+  // y = (A + B M^-1 C) v for a displacement vector v (kDisp per node).
   const auto schur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-    scatter<double>(v, 5, 0, 2, in5, true);
-    multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w); // tau rows: C v
+    scatter<double>(v, kMixed, 0, kDisp, in5, true);
+    multiplyFieldRows(tangent_, kMixed, kStressAt, kStress, ConstVec(in5), w); // tau rows: C v
     inner += solveStressBlock(w, z, innerTol);
-    scatter<double>(z, 5, 2, 3, in5, false);
-    multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), y); // u rows: A v + B z
+    scatter<double>(z, kMixed, kStressAt, kStress, in5, false);
+    multiplyFieldRows(tangent_, kMixed, 0, kDisp, ConstVec(in5), y); // u rows: A v + B z
   };
   const LinearMap constrainedSchur = [&](const ConstDeviceVector &v, const DeviceVector &y) {
     maskConstrained(Exec(), flags, v, masked);
@@ -99,16 +99,17 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
     solver_->precondition(r, y);
   };
   // Right-hand side: f = -G_u - B M^-1 G_S, then b = P (f - S g) + D_c g.
-  Vec mgs("mixcon::nonlinear::mgs", 3 * nn), f("mixcon::nonlinear::schurRhs", 2 * nn),
-      gc("mixcon::nonlinear::prescribedStep", 2 * nn), sg("mixcon::nonlinear::schurG", 2 * nn),
-      b("mixcon::nonlinear::schurB", 2 * nn), du("mixcon::nonlinear::du", 2 * nn);
-  gather(g_, 5, 2, 3, w);
+  Vec mgs("mixcon::nonlinear::mgs", kStress * nn), f("mixcon::nonlinear::schurRhs", kDisp * nn),
+      gc("mixcon::nonlinear::prescribedStep", kDisp * nn),
+      sg("mixcon::nonlinear::schurG", kDisp * nn), b("mixcon::nonlinear::schurB", kDisp * nn),
+      du("mixcon::nonlinear::du", kDisp * nn);
+  gather(g_, kMixed, kStressAt, kStress, w);
   inner += solveStressBlock(w, mgs, innerTol);
-  scatter<double>(mgs, 5, 2, 3, in5, true);
-  multiplyFieldRows(tangent_, 5, 0, 2, ConstVec(in5), f); // u rows: B M^-1 G_S
-  gather(g_, 5, 0, 2, sg);
+  scatter<double>(mgs, kMixed, kStressAt, kStress, in5, true);
+  multiplyFieldRows(tangent_, kMixed, 0, kDisp, ConstVec(in5), f); // u rows: B M^-1 G_S
+  gather(g_, kMixed, 0, kDisp, sg);
   axpby(-1.0, sg, -1.0, f);
-  gather(target_, 5, 0, 2, gc);
+  gather(target_, kMixed, 0, kDisp, gc);
   schur(ConstVec(gc), sg);
   constrainedRhs(Exec(), flags, ConstVec(precDiag_), ConstVec(f), ConstVec(gc), ConstVec(sg), b);
   KrylovOptions ko;
@@ -117,13 +118,13 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   ko.maxIterations = linearOptions_.maxIterations;
   const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
   // dtau = M^-1 (C du + G_S).
-  scatter<double>(du, 5, 0, 2, in5, true);
-  multiplyFieldRows(tangent_, 5, 2, 3, ConstVec(in5), w);
-  gather(g_, 5, 2, 3, mgs);
+  scatter<double>(du, kMixed, 0, kDisp, in5, true);
+  multiplyFieldRows(tangent_, kMixed, kStressAt, kStress, ConstVec(in5), w);
+  gather(g_, kMixed, kStressAt, kStress, mgs);
   axpby(1.0, mgs, 1.0, w);
   inner += solveStressBlock(w, z, innerTol);
-  scatter<double>(du, 5, 0, 2, dx_, true);
-  scatter<double>(z, 5, 2, 3, dx_, false);
+  scatter<double>(du, kMixed, 0, kDisp, dx_, true);
+  scatter<double>(z, kMixed, kStressAt, kStress, dx_, false);
   innerIterations_ = inner;
   LinearSolveStats s;
   s.iterations = ks.iterations;
@@ -147,28 +148,32 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   const LocalIndex nn = mesh_.numNodes();
   if (fresh_) {
     setupSchurPreconditioner();
-    Vec da("mixcon::nonlinear::diagA", 2 * nn), dm("mixcon::nonlinear::diagM", 3 * nn);
+    Vec da("mixcon::nonlinear::diagA", kDisp * nn), dm("mixcon::nonlinear::diagM", kStress * nn);
     fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0); // K^L: A alone is 0 at a = 0 without stress
-    fieldDiagonal(tangent_, 5, 2, 3, dm, -1.0);
+    fieldDiagonal(tangent_, kMixed, kStressAt, kStress, dm, -1.0);
     const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
-    stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * std::sqrt(3.0 / 2.0)) : 1.0;
+    // rms over kDisp and kStress entries per node: the norms' ratio times sqrt(kStress / kDisp)
+    const double perNode = std::sqrt(static_cast<double>(kStress) / kDisp);
+    stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * perNode) : 1.0;
     // C = J_tau,u on its own (6/25 of J's entries; the tau rows of J hold 15/25).
     if (couplingBlock_.numRows == 0) {
-      couplingBlock_ = expandGraph<Memory>(graph_, 3, 2);
-      precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", 5 * nn);
+      couplingBlock_ = expandGraph<Memory>(graph_, kStress, kDisp);
+      precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", kMixed * nn);
     }
-    scatter<double>(ConstVec(precDiag_), 5, 0, 2, precDiag5_, true);
-    extractFieldBlock(tangent_, 5, 2, 3, 0, 2, couplingBlock_, 1.0);
+    scatter<double>(ConstVec(precDiag_), kMixed, 0, kDisp, precDiag5_, true);
+    extractFieldBlock(tangent_, kMixed, kStressAt, kStress, 0, kDisp, couplingBlock_, 1.0);
   }
   const double scale = stressRowScale_;
   const auto work = [](const char *label, std::size_t n) {
     return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
   };
   // Work vectors, each fully written before it is read.
-  Vec masked = work("mixcon::nonlinear::masked5", 5 * nn),
-      r2 = work("mixcon::nonlinear::r2", 2 * nn), y2 = work("mixcon::nonlinear::y2", 2 * nn),
-      w = work("mixcon::nonlinear::w", 3 * nn), t = work("mixcon::nonlinear::t", 3 * nn),
-      z = work("mixcon::nonlinear::z", 3 * nn);
+  Vec masked = work("mixcon::nonlinear::masked5", kMixed * nn),
+      r2 = work("mixcon::nonlinear::r2", kDisp * nn),
+      y2 = work("mixcon::nonlinear::y2", kDisp * nn),
+      w = work("mixcon::nonlinear::w", kStress * nn),
+      t = work("mixcon::nonlinear::t", kStress * nn),
+      z = work("mixcon::nonlinear::z", kStress * nn);
   const auto flags = Kokkos::View<const int *, Memory>(constrained5_);
   const auto flags2 = Kokkos::View<const int *, Memory>(isConstrained_);
   const auto diag = ConstVec(precDiag5_);
@@ -177,29 +182,30 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
     maskConstrained(Exec(), flags, v, masked);
     multiply(Exec(), tangent_, ConstVec(masked), y);
     finishConstrained(Exec(), flags, diag, v, y);
-    scaleField(y, 5, 2, 3, scale);
+    scaleField(y, kMixed, kStressAt, kStress, scale);
   };
   long inner = 0;
   const double precTol = mixedOptions_.preconditionerTolerance;
   // y = P^-1 D^-1 r: y_u = S~^-1 r_u, y_tau = M~^-1 (C P y_u - r_tau / s).
   const LinearMap prec = [&](const ConstDeviceVector &r, const DeviceVector &y) {
-    gather(r, 5, 0, 2, r2);
+    gather(r, kMixed, 0, kDisp, r2);
     solver_->precondition(r2, y2);
-    scatter<double>(y2, 5, 0, 2, y, true);
+    scatter<double>(y2, kMixed, 0, kDisp, y, true);
     maskConstrained(Exec(), flags2, ConstVec(y2), r2);
     multiply(Exec(), couplingBlock_, ConstVec(r2), w);
-    gather(r, 5, 2, 3, t, 1.0 / scale);
+    gather(r, kMixed, kStressAt, kStress, t, 1.0 / scale);
     axpby(-1.0, t, 1.0, w);
     inner += solveStressBlock(w, z, precTol);
-    scatter<double>(z, 5, 2, 3, y, false);
+    scatter<double>(z, kMixed, kStressAt, kStress, y, false);
   };
   // b = D (P (-G - J g) + D_c g), g the remaining prescribed step.
-  Vec f = work("mixcon::nonlinear::negativeResidual", 5 * nn),
-      jg = work("mixcon::nonlinear::jg", 5 * nn), b = work("mixcon::nonlinear::rhs5", 5 * nn);
+  Vec f = work("mixcon::nonlinear::negativeResidual", kMixed * nn),
+      jg = work("mixcon::nonlinear::jg", kMixed * nn),
+      b = work("mixcon::nonlinear::rhs5", kMixed * nn);
   axpby(-1.0, g_, 0.0, f);
   multiply(Exec(), tangent_, ConstVec(target_), jg);
   constrainedRhs(Exec(), flags, diag, ConstVec(f), ConstVec(target_), ConstVec(jg), b);
-  scaleField(b, 5, 2, 3, scale);
+  scaleField(b, kMixed, kStressAt, kStress, scale);
   KrylovOptions ko;
   ko.method = KrylovMethod::Gmres;
   ko.tolerance = linearOptions_.tolerance;

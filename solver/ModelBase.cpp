@@ -12,8 +12,8 @@ namespace mixcon {
 
 ModelBase::ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
                      const std::vector<PlaneMatrix> &stiffness, double thickness)
-    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), 2)) {
-  data_.mesh = toDevice<Memory>(mesh);
+    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), ModelLayout::kDisplacementUnknowns)) {
+  data_.mesh = toDevice<Memory, kModelDim>(mesh);
   data_.thickness = thickness;
   data_.material =
       Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
@@ -54,6 +54,7 @@ void ModelBase::addNodalForce(LocalIndex node, double fx, double fy) {
   stagedNodalForce_[dofs_.dof(node, 1)] += fy;
 }
 
+// 2D-only: the force function takes (x, y) and returns two components.
 void ModelBase::addBodyForce(
     const std::function<std::array<double, 2>(double, double, LocalIndex)> &f) {
   dispatchElement(mesh_.elementType, [&](auto elem) {
@@ -107,7 +108,7 @@ void ModelBase::checkRigidBodyModes() const {
   // Per body, the rigid-body modes t_x = (1, 0), t_y = (0, 1), r = (-y', x') in coordinates
   // centred on the body and scaled by its size; a prescribed component c at a node is one row of
   // C (its value under each mode). C^T C is singular exactly when a combination of the modes moves
-  // no prescribed component.
+  // no prescribed component. 2D-only: three rigid modes of a plane body (3D has six).
   struct Body {
     double sum[2] = {0, 0}, lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     LocalIndex count = 0, first = -1;
@@ -264,22 +265,23 @@ void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vect
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
-    Kokkos::View<double **[3], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
+    constexpr int kDim = ModelLayout::kDim, kStress = ModelLayout::kNumStresses;
+    Kokkos::View<double **[kDim], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+    Kokkos::View<double **[kStress], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
     gaussPointStress<Elem>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), sq);
     auto hx = copyToHost(xq);
     auto hs = copyToHost(sq);
     pointsPerElement = Elem::kNumQp;
-    coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 2);
-    stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * 3);
+    coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * kDim);
+    stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * kStress);
     for (LocalIndex e = 0; e < ne; ++e)
       for (int q = 0; q < Elem::kNumQp; ++q) {
         const std::size_t k = static_cast<std::size_t>(e) * Elem::kNumQp + q;
-        for (int c = 0; c < 2; ++c)
-          coordinates[2 * k + c] = hx(e, q, c);
-        for (int c = 0; c < 3; ++c)
-          stress[3 * k + c] = hs(e, q, c);
+        for (int c = 0; c < kDim; ++c)
+          coordinates[kDim * k + c] = hx(e, q, c);
+        for (int c = 0; c < kStress; ++c)
+          stress[kStress * k + c] = hs(e, q, c);
       }
   });
 }

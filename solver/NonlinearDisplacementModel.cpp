@@ -22,7 +22,7 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
     throw InputError("nonlinear displacement model: " + *why);
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
-  tangent_ = expandGraph<Memory>(graph_, 2);
+  tangent_ = expandGraph<Memory>(graph_, kDisp);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
   constrained_ = CsrMatrix<Memory>{};
@@ -74,20 +74,20 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
     } else {
       inverted =
           law_ == ElasticLaw::SaintVenantKirchhoff
-              ? assembleNonlinear<2, Elem>(
+              ? assembleNonlinear<kDisp, Elem>(
                     Exec(), data_.mesh, SvkKernel<Elem, Memory>{data_, ConstVec(u_)}, map_, a, g_)
               : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
     }
     if (report && !small_)
       assembleReportTangent<Elem>();
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
-    addDisplacementVector(g_, 2, -lambda, load_);
+    addDisplacementVector(g_, kDisp, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
-      assembleFollowerPressure<2, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
-                                        ConstVec(follower_.pressure), lambda, data_.thickness, map_,
-                                        a, g_);
+      assembleFollowerPressure<kDisp, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
+                                            ConstVec(follower_.pressure), lambda, data_.thickness,
+                                            map_, a, g_);
   });
-  return finishEvaluate(lambda, tangent, inverted, fint, g_, 2, isConstrained_,
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, kDisp, isConstrained_,
                         data_.mesh.coordinates, u_, start);
 }
 
@@ -95,26 +95,28 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
   // K^L + K^sigma of Eq. (24)-(25) on the current configuration x = X + u, with tau the Cauchy
   // stress of the Almansi law at the quadrature points.
   ElementData<Memory> current = data_;
-  current.mesh.coordinates =
-      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
-  movedCoordinates(data_.mesh.coordinates, u_, 2, current.mesh.coordinates);
+  current.mesh.coordinates = Kokkos::View<double *[kDisp], Memory>(
+      "mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
+  movedCoordinates(data_.mesh.coordinates, u_, kDisp, current.mesh.coordinates);
   const LocalIndex ne = mesh_.numElements();
-  Kokkos::View<double **[3], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
-  Kokkos::View<double **[4], Memory> grad("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
-  Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+  Kokkos::View<double **[kStress], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
+  Kokkos::View<double * * [kDisp * kDisp], Memory> grad("mixcon::nonlinear::qpGradient", ne,
+                                                        Elem::kNumQp);
+  Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
   almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), tau, grad, xq);
   assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
   assembleGeometricStiffness<Elem>(
-      Exec(), current, GaussPointStressField<Memory>{Kokkos::View<const double **[3], Memory>(tau)},
-      map_, tangent_);
+      Exec(), current,
+      GaussPointStressField<Memory>{Kokkos::View<const double **[kStress], Memory>(tau)}, map_,
+      tangent_);
 }
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
   const LinearSolveStats s =
       contact_ && contact_->constrains()
-          ? correctWithContact(lambda, 2, tangent_, constrained_, isConstrained_, g_, rhs_, target_,
-                               *solver_, du_)
-          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, 2, target_),
+          ? correctWithContact(lambda, kDisp, tangent_, constrained_, isConstrained_, g_, rhs_,
+                               target_, *solver_, du_)
+          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, kDisp, target_),
              constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, constrained_,
                               isConstrained_, g_, target_, rhs_, diag_, *solver_, du_,
                               solverSetupSeconds_));
@@ -139,7 +141,7 @@ void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
 }
 
 std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
-  Kokkos::View<double *[3], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
+  Kokkos::View<double *[kStress], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     if (small_)

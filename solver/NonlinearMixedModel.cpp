@@ -25,16 +25,16 @@ NonlinearMixedModel::NonlinearMixedModel(const Mesh &mesh, const std::vector<int
     : NonlinearModel(mesh, elementMaterial, stiffness, thickness) {
   checkMixedPairing(mesh.elementType, mesh.elementType);
   reference_ = withCompliance(data_, stiffness);
-  for (const auto &c : stiffness)
+  for (const auto &c : stiffness) // PlaneMatrix: the 2D-only 3 x 3 plane [C]
     for (int i = 0; i < 3; ++i)
       maxModulus_ = std::max(maxModulus_, std::abs(c.m[i][i]));
   current_ = reference_;
   current_.mesh.coordinates =
-      Kokkos::View<double *[2], Memory>("mixcon::nonlinear::configuration", mesh.numNodes());
+      Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::configuration", mesh.numNodes());
   Kokkos::deep_copy(current_.mesh.coordinates, data_.mesh.coordinates);
   const LocalIndex nn = mesh.numNodes();
-  tau_ = Vec("mixcon::nonlinear::cauchyStress", 3 * nn);
-  x_ = Vec("mixcon::nonlinear::increment", 5 * nn);
+  tau_ = Vec("mixcon::nonlinear::cauchyStress", kStress * nn);
+  x_ = Vec("mixcon::nonlinear::increment", kMixed * nn);
 }
 
 NonlinearMixedModel::~NonlinearMixedModel() = default;
@@ -46,37 +46,37 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     throw InputError("nonlinear mixed model: " + *why);
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
-  tangent_ = expandGraph<Memory>(graph_, 5);
+  tangent_ = expandGraph<Memory>(graph_, kMixed);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
   commitStaged();
   follower_ = followerLoads();
   const LocalIndex nn = mesh_.numNodes();
-  g_ = Vec("mixcon::nonlinear::residual", 5 * nn);
-  committed_ = Vec("mixcon::nonlinear::committed", 2 * nn);
-  dx_ = Vec("mixcon::nonlinear::correction", 5 * nn);
-  rhs_ = Vec("mixcon::nonlinear::rhs", 5 * nn);
-  target_ = Vec("mixcon::nonlinear::target", 5 * nn);
-  diag_ = Vec("mixcon::nonlinear::diagonal", 5 * nn);
+  g_ = Vec("mixcon::nonlinear::residual", kMixed * nn);
+  committed_ = Vec("mixcon::nonlinear::committed", kDisp * nn);
+  dx_ = Vec("mixcon::nonlinear::correction", kMixed * nn);
+  rhs_ = Vec("mixcon::nonlinear::rhs", kMixed * nn);
+  target_ = Vec("mixcon::nonlinear::target", kMixed * nn);
+  diag_ = Vec("mixcon::nonlinear::diagonal", kMixed * nn);
   work_ = CsrMatrix<Memory>{};
-  constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", 5 * nn);
-  scatter<int>(isConstrained_, 5, 0, 2, constrained5_, true);
+  constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", kMixed * nn);
+  scatter<int>(isConstrained_, kMixed, 0, kDisp, constrained5_, true);
   Kokkos::deep_copy(committed_, u_);
-  committedState_ = Vec("mixcon::nonlinear::committedState", 5 * nn);
+  committedState_ = Vec("mixcon::nonlinear::committedState", kMixed * nn);
   Kokkos::deep_copy(committedState_, x_);
   linearOptions_ = options;
   if (options.type == LinearSolverType::Direct) {
     linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
-    solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, 5), comm);
+    solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, kMixed), comm);
   } else {
     // Schur complement on the displacements, BoomerAMG on K^L of the current configuration.
-    precMatrix_ = expandGraph<Memory>(graph_, 2);
-    precDiag_ = Vec("mixcon::nonlinear::precDiagonal", 2 * nn);
-    stressBlock_ = expandGraph<Memory>(graph_, 3);
-    stressNodalBlocks_ =
-        Kokkos::View<double *[3][3], Memory>("mixcon::nonlinear::stressNodalBlocks", nn);
+    precMatrix_ = expandGraph<Memory>(graph_, kDisp);
+    precDiag_ = Vec("mixcon::nonlinear::precDiagonal", kDisp * nn);
+    stressBlock_ = expandGraph<Memory>(graph_, kStress);
+    stressNodalBlocks_ = Kokkos::View<double *[kStress][kStress], Memory>(
+        "mixcon::nonlinear::stressNodalBlocks", nn);
     stressBlockInverse_ =
-        Kokkos::View<double *[3][3], Memory>("mixcon::nonlinear::blockInverse", nn);
+        Kokkos::View<double *[kStress][kStress], Memory>("mixcon::nonlinear::blockInverse", nn);
     LinearSolverOptions amg = options;
     amg.symmetric = true;
     solver_ = makeLinearSolver(amg, dofs_, comm);
@@ -109,7 +109,7 @@ void NonlinearMixedModel::setIncrement(const std::vector<double> &x) {
 }
 
 void NonlinearMixedModel::updateTotalDisplacement() {
-  gather(x_, 5, 0, 2, u_);
+  gather(x_, kMixed, 0, kDisp, u_);
   if (form_ == MixedForm::Incremental && committed_.extent(0) == u_.extent(0))
     axpby(1.0, committed_, 1.0, u_);
 }
@@ -132,24 +132,24 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
     else
       inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
                                               stabilization_, map_, a, g_);
-    fint = strideNorm(g_, 5, 0, 2, {}, 0);
-    addDisplacementVector(g_, 5, -lambda, load_);
+    fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
+    addDisplacementVector(g_, kMixed, -lambda, load_);
     if (follower_.edges.extent(0) > 0)
-      assembleFollowerPressure<5, Elem>(Exec(), current ? reference_.mesh : current_.mesh,
-                                        ConstVec(x_), follower_.edges, ConstVec(follower_.pressure),
-                                        lambda, data_.thickness, map_, a, g_);
+      assembleFollowerPressure<kMixed, Elem>(
+          Exec(), current ? reference_.mesh : current_.mesh, ConstVec(x_), follower_.edges,
+          ConstVec(follower_.pressure), lambda, data_.thickness, map_, a, g_);
   });
-  return finishEvaluate(lambda, tangent, inverted, fint, g_, 5, constrained5_,
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, kMixed, constrained5_,
                         form_ == MixedForm::Current ? reference_.mesh.coordinates
                                                     : current_.mesh.coordinates,
                         x_, start);
 }
 
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
-  prescribedStep(constrained5_, prescribed_, u_, lambda, 5, target_);
+  prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, target_);
   const LinearSolveStats s =
       contact_ && contact_->constrains()
-          ? correctWithContact(lambda, 5, tangent_, work_, constrained5_, g_, rhs_, target_,
+          ? correctWithContact(lambda, kMixed, tangent_, work_, constrained5_, g_, rhs_, target_,
                                *solver_, dx_)
       : linearOptions_.type == LinearSolverType::Direct
           ? constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, work_,
@@ -160,10 +160,11 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();
-  const double du = relative(strideNorm(dx_, 5, 0, 2, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  const double du =
+      relative(strideNorm(dx_, kMixed, 0, kDisp, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
   // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
   const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
-  const double ds = relative(strideNorm(dx_, 5, 2, 3, {}, 0),
+  const double ds = relative(strideNorm(dx_, kMixed, kStressAt, kStress, {}, 0),
                              std::max(strideNorm(stressOnly(), 1, 0, 1, {}, 0), stressFloor));
   increment = std::max(du, ds);
   return s;
@@ -187,9 +188,9 @@ void NonlinearMixedModel::commit() {
       pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
     });
   }
-  movedCoordinates(current_.mesh.coordinates, x_, 5, current_.mesh.coordinates);
+  movedCoordinates(current_.mesh.coordinates, x_, kMixed, current_.mesh.coordinates);
   Vec increment("mixcon::nonlinear::increment", committed_.extent(0));
-  gather(x_, 5, 0, 2, increment);
+  gather(x_, kMixed, 0, kDisp, increment);
   axpby(1.0, increment, 1.0, committed_);
   Kokkos::deep_copy(x_, 0.0);
   updateTotalDisplacement();
@@ -219,13 +220,13 @@ void NonlinearMixedModel::projectStress(const Vec &load) {
   KrylovOptions o;
   o.tolerance = 1e-13;
   o.maxIterations = 500;
-  for (int c = 0; c < 3; ++c) {
-    gather(load, 3, c, 1, b);
-    gather(tau_, 3, c, 1, t); // the previous stress as the initial guess
+  for (int c = 0; c < kStress; ++c) {
+    gather(load, kStress, c, 1, b);
+    gather(tau_, kStress, c, 1, t); // the previous stress as the initial guess
     const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
     if (!s.converged)
       throw std::runtime_error("mixed stress update: the mass projection did not converge");
-    scatter<double>(t, 3, c, 1, tau_, false);
+    scatter<double>(t, kStress, c, 1, tau_, false);
   }
 }
 
@@ -250,10 +251,10 @@ void NonlinearMixedModel::saveCommitted(Checkpoint &state) const {
   state.put("model/displacement", toHost(committed_));
   state.put("model/stress", toHost(tau_));
   const auto c = copyToHost(current_.mesh.coordinates);
-  std::vector<double> rows(2 * c.extent(0)); // node by node, whatever the view's layout
+  std::vector<double> rows(kDisp * c.extent(0)); // node by node, whatever the view's layout
   for (std::size_t i = 0; i < c.extent(0); ++i)
-    for (int d = 0; d < 2; ++d)
-      rows[2 * i + d] = c(i, d);
+    for (int d = 0; d < kDisp; ++d)
+      rows[kDisp * i + d] = c(i, d);
   state.put("model/configuration", std::move(rows));
 }
 
@@ -268,8 +269,8 @@ void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
     const auto &rows = state.get("model/configuration", current_.mesh.coordinates.size());
     auto c = hostMirror(current_.mesh.coordinates);
     for (std::size_t i = 0; i < c.extent(0); ++i)
-      for (int d = 0; d < 2; ++d)
-        c(i, d) = rows[2 * i + d];
+      for (int d = 0; d < kDisp; ++d)
+        c(i, d) = rows[kDisp * i + d];
     copyToDevice(current_.mesh.coordinates, c);
   }
   rollback();
@@ -279,16 +280,16 @@ std::vector<double> NonlinearMixedModel::nodalStressHost() const { return toHost
 
 std::vector<double> NonlinearMixedModel::reactionHost(double) const {
   const auto g = toHost(g_);
-  std::vector<double> r(2 * (g.size() / 5));
-  for (std::size_t k = 0; k < r.size() / 2; ++k)
-    for (int i = 0; i < 2; ++i)
-      r[2 * k + i] = g[5 * k + i];
+  std::vector<double> r(kDisp * (g.size() / kMixed));
+  for (std::size_t k = 0; k < r.size() / kDisp; ++k)
+    for (int i = 0; i < kDisp; ++i)
+      r[kDisp * k + i] = g[kMixed * k + i];
   return r;
 }
 
 Kokkos::View<double *, Memory> NonlinearMixedModel::stressOnly() const {
   Vec t("mixcon::nonlinear::nodalStress", tau_.extent(0));
-  gather(x_, 5, 2, 3, t);
+  gather(x_, kMixed, kStressAt, kStress, t);
   axpby(1.0, tau_, 1.0, t);
   return t;
 }
@@ -298,7 +299,8 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpInterpolated", ne, Elem::kNumQp);
+    Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpInterpolated", ne,
+                                                Elem::kNumQp);
     interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
     auto h = copyToHost(sq);
     out.assign(h.data(), h.data() + h.size());

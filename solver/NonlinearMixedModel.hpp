@@ -93,7 +93,8 @@ private:
   Kokkos::View<double *, Memory> precDiag_;
   CsrMatrix<Memory> stressBlock_; ///< M = -J_tau,tau (solver: amg)
   /// Its 3 x 3 nodal diagonal blocks and their inverses.
-  Kokkos::View<double *[3][3], Memory> stressNodalBlocks_, stressBlockInverse_;
+  Kokkos::View<double * [ModelLayout::kNumStresses][ModelLayout::kNumStresses], Memory>
+      stressNodalBlocks_, stressBlockInverse_;
   long innerIterations_ = 0;
   MixedElementData<Memory> reference_; ///< reference geometry (form Current)
   MixedElementData<Memory> current_;   ///< c1: last converged configuration (form Incremental)

@@ -61,18 +61,18 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
 double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
                                       const Kokkos::View<double *, Memory> &g, int stride,
                                       const Kokkos::View<const int *, Memory> &flags,
-                                      const Kokkos::View<double *[2], Memory> &coordinates,
+                                      const Kokkos::View<double *[kDisp], Memory> &coordinates,
                                       const Kokkos::View<const double *, Memory> &x,
                                       std::chrono::steady_clock::time_point start) {
   // Contact detection at the positions coordinates + x, the friction forces of slip nodes (on
   // the body), and the relative residual over the free displacement unknowns.
   double free = 0.0;
   if (contact_) {
-    contact_->locate(Kokkos::View<const double *[2], Memory>(coordinates), x, stride, flags);
+    contact_->locate(Kokkos::View<const double *[kDisp], Memory>(coordinates), x, stride, flags);
     contact_->subtractForces(g, stride);
     free = contact_->freeResidualNorm(g, flags, stride);
   } else {
-    free = strideNorm(g, stride, 0, 2, flags, 0);
+    free = strideNorm(g, stride, 0, kDisp, flags, 0);
   }
   double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
   if (contact_)
@@ -89,7 +89,7 @@ void NonlinearModel::setStiffnessScale(
     const NodeGraph &graph, const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map) {
   // RMS diagonal of K^L on the reference configuration, on the model's own pattern: the force a
   // unit displacement of one node produces.
-  auto k = expandGraph<Memory>(graph, 2);
+  auto k = expandGraph<Memory>(graph, kDisp);
   dispatchElement(mesh_.elementType, [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
   });
@@ -136,10 +136,11 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);
-    Kokkos::View<double **[2], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
-    Kokkos::View<double **[3], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
-    Kokkos::View<double **[4], Memory> gq("mixcon::nonlinear::qpGradient", ne, Elem::kNumQp);
+    Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);
+    Kokkos::View<double **[kDisp], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+    Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
+    Kokkos::View<double * * [kDisp * kDisp], Memory> gq("mixcon::nonlinear::qpGradient", ne,
+                                                        Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
     almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
     if (small_) // linear law on the reference configuration

@@ -110,7 +110,7 @@ protected:
   double finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
                         const Kokkos::View<double *, Memory> &g, int stride,
                         const Kokkos::View<const int *, Memory> &flags,
-                        const Kokkos::View<double *[2], Memory> &coordinates,
+                        const Kokkos::View<double * [ModelLayout::kDim], Memory> &coordinates,
                         const Kokkos::View<const double *, Memory> &x,
                         std::chrono::steady_clock::time_point start);
   /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly

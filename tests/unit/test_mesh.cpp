@@ -125,6 +125,52 @@ TEST_P(GeneratorTest, PinnedPlateHasTheReportsCountsAndEvenlySpacedHoleNodes) {
   EXPECT_NEAR(m.y(b), 0.0, 1e-12);
 }
 
+// The mesh's dimension comes from its element type; coordinates are dim() per node, read by
+// coordinate(n, i) (x() and y() are its first two), and toDevice copies them to a MeshView of that
+// dimension only.
+TEST_P(GeneratorTest, DimensionCoordinateAccessorAndDeviceCopy) {
+  const Mesh m = rectangleMesh(3.0, 2.0, 3, 2, GetParam(), 0.5, -1.0, 1.5, 1.0);
+  EXPECT_EQ(spatialDimension(GetParam()), 2);
+  ASSERT_EQ(m.dim(), 2);
+  ASSERT_EQ(m.coordinates.size(), static_cast<std::size_t>(m.dim()) * m.numNodes());
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    for (int i = 0; i < m.dim(); ++i)
+      EXPECT_EQ(m.coordinate(n, i), m.coordinates[static_cast<std::size_t>(m.dim()) * n + i]);
+  for (LocalIndex n = 0; n < m.numNodes(); ++n) {
+    EXPECT_EQ(m.x(n), m.coordinate(n, 0));
+    EXPECT_EQ(m.y(n), m.coordinate(n, 1));
+  }
+  using Memory = Kokkos::DefaultExecutionSpace::memory_space;
+  const auto view = toDevice<Memory, 2>(m);
+  static_assert(decltype(view)::kDim == 2);
+  ASSERT_EQ(view.coordinates.extent(0), static_cast<std::size_t>(m.numNodes()));
+  ASSERT_EQ(view.connectivity.extent(0), static_cast<std::size_t>(m.numElements()));
+  ASSERT_EQ(view.connectivity.extent(1), static_cast<std::size_t>(m.nodesPerElement));
+  const auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view.coordinates);
+  const auto he = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view.connectivity);
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    for (int i = 0; i < 2; ++i)
+      EXPECT_EQ(hc(n, i), m.coordinate(n, i));
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int a = 0; a < m.nodesPerElement; ++a)
+      EXPECT_EQ(he(e, a), m.node(e, a));
+}
+
+TEST(MeshDimension, DeviceCopyOfAnotherDimensionIsRefusedByName) {
+  Mesh m = rectangleMesh(1.0, 1.0, 1, 1, ElementType::Quad4);
+  m.source = "plate.msh";
+  using Memory = Kokkos::DefaultExecutionSpace::memory_space;
+  try {
+    (void)toDevice<Memory, 3>(m);
+    FAIL() << "a 3D view of a 2D mesh was made";
+  } catch (const std::invalid_argument &e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("plate.msh"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("2D"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("3D"), std::string::npos) << msg;
+  }
+}
+
 TEST(MeshValidation, RejectsInvertedElementAndNamesIt) {
   Mesh m = rectangleMesh(2.0, 1.0, 2, 1, ElementType::Quad4);
   // Swap two nodes of element 2 so it becomes clockwise.

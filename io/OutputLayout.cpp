@@ -1,0 +1,46 @@
+// The output table (io/OutputLayout.hpp). Layer: io.
+#include <io/OutputLayout.hpp>
+
+#include <stdexcept>
+
+namespace mixcon {
+
+namespace {
+
+/// XDMF 3 names (XdmfTopologyType, XdmfGeometryType); component names in the order of the
+/// datasets' columns (Voigt<Dim>: xx yy xy in 2D, xx yy zz yz xz xy in 3D).
+std::vector<OutputNames> makeTable() {
+  const std::vector<std::string> v2 = {"x", "y"}, v3 = {"x", "y", "z"};
+  const std::vector<std::string> s2 = {"xx", "yy", "xy"}, s3 = {"xx", "yy", "zz", "yz", "xz", "xy"};
+  return {
+      {2, "quad4", 4, "Quadrilateral", "XY", v2, s2, "Vector"},
+      {2, "quad8", 8, "Quadrilateral_8", "XY", v2, s2, "Vector"},
+      {3, "hex8", 8, "Hexahedron", "XYZ", v3, s3, "Tensor6"},
+      {3, "hex20", 20, "Hexahedron_20", "XYZ", v3, s3, "Tensor6"},
+      {3, "tet4", 4, "Tetrahedron", "XYZ", v3, s3, "Tensor6"},
+      {3, "tet10", 10, "Tetrahedron_10", "XYZ", v3, s3, "Tensor6"},
+  };
+}
+
+} // namespace
+
+const std::vector<OutputNames> &outputTable() {
+  static const std::vector<OutputNames> table = makeTable();
+  return table;
+}
+
+const OutputNames &outputNames(const std::string &element, int dim) {
+  for (const OutputNames &row : outputTable())
+    if (row.element == element && row.dim == dim)
+      return row;
+  throw std::invalid_argument("output: no XDMF names for element type '" + element + "' in " +
+                              std::to_string(dim) + "D");
+}
+
+const OutputNames &outputNames(const Mesh &mesh) {
+  const std::string element = dispatchElement(
+      mesh.elementType, [](auto elem) { return std::string(decltype(elem)::kName); });
+  return outputNames(element, mesh.dim());
+}
+
+} // namespace mixcon
