@@ -8,16 +8,20 @@
 //   matrix-free      - the geometry is recomputed from the nodal coordinates at every apply.
 // Per point the arithmetic is that of Eq. (29)-(30) written with Voigt<Dim>: the strain
 // eps = B u (engineering shear), the force B^T sigma, the compliance psi^T D psi; the element
-// results are scattered with atomics into the same node-interleaved unknowns as the assembled
-// MixedOperators (u: Dim per node, stresses: Voigt<Dim>::kSize per node). The lumped compliance
-// blocks (the inner CG's preconditioner, the Schur preconditioner) stay assembled.
-// Layer: kernels (data flow: mesh -> kernels (this) -> solver (MixedModel)).
+// results are scattered (atomic adds, or element colors without atomics: MixedScatter) into the
+// same node-interleaved unknowns as the assembled MixedOperators (u: Dim per node, stresses:
+// Voigt<Dim>::kSize per node). The lumped compliance blocks (the inner CG's preconditioner, the
+// Schur preconditioner) stay assembled. Layer: kernels (data flow: mesh -> kernels (this) -> solver
+// (MixedModel)).
 #pragma once
 
 #include <kernels/ElementDriver.hpp>
 #include <kernels/MixedElasticity.hpp>
+#include <mesh/Mesh.hpp>
 
+#include <cstdint>
 #include <type_traits>
+#include <vector>
 
 namespace mixcon {
 
@@ -28,15 +32,33 @@ template <class MemorySpace> struct MixedPointGeometry {
   Kokkos::View<double ***, MemorySpace> gradient;
 };
 
+/// How element results reach the nodes: atomic adds (one launch; GPUs), or element colors (no
+/// two elements of a color share a node; one launch per color, plain adds; CPUs, where an atomic
+/// double add is a compare-and-swap loop: measured 1.5-3x the colored apply on one thread,
+/// bench/bench_mixed_operators.cpp).
+enum class MixedScatter { Atomic, Colored };
+
+/// The default scatter of an execution space: colored on host spaces, atomic on devices.
+template <class ExecSpace>
+constexpr MixedScatter kDefaultMixedScatter =
+    Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? MixedScatter::Colored
+                                                                         : MixedScatter::Atomic;
+
 /// The mixed blocks K12, K12^T and M applied element by element. With `partialAssembly` the
 /// geometric factors come from `geometry`; otherwise `geometry` is empty and they are recomputed
-/// from the coordinates in `data.mesh` at every apply.
+/// from the coordinates in `data.mesh` at every apply. With the colored scatter, the elements of
+/// color c are coloredElements(colorOffsets[c] .. colorOffsets[c + 1] - 1).
 template <class MemorySpace> struct MixedMatrixFreeOperators {
+  static constexpr int kMaxColors = 64;
   MixedElementData<MemorySpace> data;
   ElementType type = ElementType::Quad4;
   LocalIndex numNodes = 0;
   bool partialAssembly = false;
   MixedPointGeometry<MemorySpace> geometry;
+  MixedScatter scatter = MixedScatter::Atomic;
+  Kokkos::View<LocalIndex *, MemorySpace> coloredElements;
+  int numColors = 0;
+  LocalIndex colorOffsets[kMaxColors + 1] = {};
 };
 
 namespace detail {
@@ -145,18 +167,38 @@ KOKKOS_INLINE_FUNCTION void gatherNodal(const Mesh &mesh, const View &v, LocalIn
   }
 }
 
-/// v += scale ve through element e's nodes, atomically.
-template <int N, int C, class Mesh, class View>
+/// v += scale ve through element e's nodes, atomically or (colored elements) plainly.
+template <bool Atomic, int N, int C, class Mesh, class View>
 KOKKOS_INLINE_FUNCTION void scatterNodal(const Mesh &mesh, LocalIndex e, double scale,
                                          const double (&ve)[N][C], const View &v) {
   for (int a = 0; a < N; ++a) {
     const LocalIndex k = mesh.connectivity(e, a);
-    for (int c = 0; c < C; ++c)
-      Kokkos::atomic_add(&v(C * k + c), scale * ve[a][c]);
+    for (int c = 0; c < C; ++c) {
+      if constexpr (Atomic)
+        Kokkos::atomic_add(&v(C * k + c), scale * ve[a][c]);
+      else
+        v(C * k + c) += scale * ve[a][c];
+    }
   }
 }
 
-template <class Elem, bool Stored, class ExecSpace, class MemorySpace>
+/// body(e) for every element: one launch (Atomic) or one launch per color.
+template <bool Atomic, class ExecSpace, class MemorySpace, class Body>
+void forEachElement(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
+                    const char *label, const Body &body) {
+  if constexpr (Atomic) {
+    Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(exec, 0, op.data.material.extent(0)),
+                         body);
+  } else {
+    const auto list = op.coloredElements;
+    for (int c = 0; c < op.numColors; ++c)
+      Kokkos::parallel_for(
+          label, Kokkos::RangePolicy<ExecSpace>(exec, op.colorOffsets[c], op.colorOffsets[c + 1]),
+          KOKKOS_LAMBDA(LocalIndex i) { body(list(i)); });
+  }
+}
+
+template <class Elem, bool Stored, bool Atomic, class ExecSpace, class MemorySpace>
 void couplingTransposeKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
                              const Kokkos::View<const double *, MemorySpace> &u,
                              const Kokkos::View<double *, MemorySpace> &r) {
@@ -164,10 +206,8 @@ void couplingTransposeKernel(const ExecSpace &exec, const MixedMatrixFreeOperato
   constexpr int nu = FieldLayout<dim>::kNumDisplacements, nv = FieldLayout<dim>::kNumStresses;
   const auto ref = referencePoints<Elem>();
   Kokkos::deep_copy(exec, r, 0.0);
-  Kokkos::parallel_for(
-      "mixcon::mixed::matrixFree::couplingTranspose",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, op.data.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e) {
+  forEachElement<Atomic>(
+      exec, op, "mixcon::mixed::matrixFree::couplingTranspose", KOKKOS_LAMBDA(LocalIndex e) {
         double xe[n][dim], ue[n][dim], wg[n][dim], re[n][nv] = {};
         coordinatesIfNeeded<Elem, Stored>(op.data.mesh, e, xe);
         gatherNodal<n, nu>(op.data.mesh, u, e, ue);
@@ -178,21 +218,19 @@ void couplingTransposeKernel(const ExecSpace &exec, const MixedMatrixFreeOperato
             for (int k = 0; k < nv; ++k)
               re[b][k] += ref.sh[q][b] * eps[k];
         }
-        scatterNodal<n, nv>(op.data.mesh, e, 1.0, re, r);
+        scatterNodal<Atomic, n, nv>(op.data.mesh, e, 1.0, re, r);
       });
 }
 
-template <class Elem, bool Stored, class ExecSpace, class MemorySpace>
+template <class Elem, bool Stored, bool Atomic, class ExecSpace, class MemorySpace>
 void couplingKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
                     double alpha, const Kokkos::View<const double *, MemorySpace> &s,
                     const Kokkos::View<double *, MemorySpace> &f) {
   constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
   constexpr int nu = FieldLayout<dim>::kNumDisplacements, nv = FieldLayout<dim>::kNumStresses;
   const auto ref = referencePoints<Elem>();
-  Kokkos::parallel_for(
-      "mixcon::mixed::matrixFree::coupling",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, op.data.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e) {
+  forEachElement<Atomic>(
+      exec, op, "mixcon::mixed::matrixFree::coupling", KOKKOS_LAMBDA(LocalIndex e) {
         double xe[n][dim], se[n][nv], wg[n][dim], fe[n][dim] = {};
         coordinatesIfNeeded<Elem, Stored>(op.data.mesh, e, xe);
         gatherNodal<n, nv>(op.data.mesh, s, e, se);
@@ -200,11 +238,11 @@ void couplingKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<Memory
           pointFactors<Elem, Stored>(op, ref, e, q, xe, wg);
           addWeightedDivergence<dim, n>(wg, interpolateStress<dim, n>(ref.sh[q], se), fe);
         }
-        scatterNodal<n, nu>(op.data.mesh, e, alpha, fe, f);
+        scatterNodal<Atomic, n, nu>(op.data.mesh, e, alpha, fe, f);
       });
 }
 
-template <class Elem, bool Stored, class ExecSpace, class MemorySpace>
+template <class Elem, bool Stored, bool Atomic, class ExecSpace, class MemorySpace>
 void complianceKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
                       const Kokkos::View<const double *, MemorySpace> &x,
                       const Kokkos::View<double *, MemorySpace> &y) {
@@ -212,10 +250,8 @@ void complianceKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<Memo
   constexpr int nv = FieldLayout<dim>::kNumStresses;
   const auto ref = referencePoints<Elem>();
   Kokkos::deep_copy(exec, y, 0.0);
-  Kokkos::parallel_for(
-      "mixcon::mixed::matrixFree::compliance",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, op.data.material.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex e) {
+  forEachElement<Atomic>(
+      exec, op, "mixcon::mixed::matrixFree::compliance", KOKKOS_LAMBDA(LocalIndex e) {
         double xe[n][dim], xs[n][nv], wg[n][dim], ye[n][nv] = {};
         coordinatesIfNeeded<Elem, Stored>(op.data.mesh, e, xe);
         gatherNodal<n, nv>(op.data.mesh, x, e, xs);
@@ -234,18 +270,64 @@ void complianceKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<Memo
             for (int r = 0; r < nv; ++r)
               ye[a][r] += ref.sh[q][a] * z[r];
         }
-        scatterNodal<n, nv>(op.data.mesh, e, 1.0, ye, y);
+        scatterNodal<Atomic, n, nv>(op.data.mesh, e, 1.0, ye, y);
       });
 }
 
-/// Runs Kernel<Elem, Stored> for the operators' element type and geometry source.
-template <class F> void dispatchMatrixFree(ElementType type, bool stored, F &&f) {
-  dispatchElement(type, [&](auto elem) {
-    if (stored)
-      f(elem, std::true_type{});
+/// Runs f(Elem, Stored, Atomic) for the operators' element type, geometry source and scatter.
+template <class MemorySpace, class F>
+void dispatchMatrixFree(const MixedMatrixFreeOperators<MemorySpace> &op, F &&f) {
+  dispatchElement(op.type, [&](auto elem) {
+    const bool atomic = op.scatter == MixedScatter::Atomic;
+    if (op.partialAssembly && atomic)
+      f(elem, std::true_type{}, std::true_type{});
+    else if (op.partialAssembly)
+      f(elem, std::true_type{}, std::false_type{});
+    else if (atomic)
+      f(elem, std::false_type{}, std::true_type{});
     else
-      f(elem, std::false_type{});
+      f(elem, std::false_type{}, std::false_type{});
   });
+}
+
+/// Greedy element coloring (no two elements of a color share a node) into op's color lists;
+/// false when more than kMaxColors colors would be needed (op then keeps the atomic scatter).
+template <class MemorySpace>
+bool colorElements(const Mesh &mesh, MixedMatrixFreeOperators<MemorySpace> &op) {
+  constexpr int maxColors = MixedMatrixFreeOperators<MemorySpace>::kMaxColors;
+  const LocalIndex ne = mesh.numElements();
+  std::vector<std::uint64_t> used(mesh.numNodes(), 0); // colors taken at each node
+  std::vector<int> color(ne);
+  int numColors = 0;
+  for (LocalIndex e = 0; e < ne; ++e) {
+    std::uint64_t taken = 0;
+    for (int a = 0; a < mesh.nodesPerElement; ++a)
+      taken |= used[mesh.node(e, a)];
+    int c = 0;
+    while (c < maxColors && (taken >> c & 1u))
+      ++c;
+    if (c == maxColors)
+      return false;
+    color[e] = c;
+    numColors = std::max(numColors, c + 1);
+    for (int a = 0; a < mesh.nodesPerElement; ++a)
+      used[mesh.node(e, a)] |= std::uint64_t(1) << c;
+  }
+  std::vector<LocalIndex> count(numColors + 1, 0);
+  for (LocalIndex e = 0; e < ne; ++e)
+    ++count[color[e] + 1];
+  for (int c = 0; c < numColors; ++c)
+    count[c + 1] += count[c];
+  op.numColors = numColors;
+  for (int c = 0; c <= numColors; ++c)
+    op.colorOffsets[c] = count[c];
+  op.coloredElements =
+      Kokkos::View<LocalIndex *, MemorySpace>("mixcon::mixed::matrixFree::coloredElements", ne);
+  auto h = hostMirror(op.coloredElements);
+  for (LocalIndex e = 0; e < ne; ++e)
+    h(count[color[e]]++) = e;
+  copyToDevice(op.coloredElements, h);
+  return true;
 }
 
 } // namespace detail
@@ -280,17 +362,22 @@ MixedPointGeometry<MemorySpace> precomputeMixedGeometry(const ExecSpace &exec,
   return g;
 }
 
-/// The matrix-free operators of `d` on `numNodes` nodes; with `partialAssembly` the geometric
-/// factors are computed here (the setup cost), otherwise nothing is allocated.
+/// The matrix-free operators of `d` (the element data of `mesh`, which gives the element type and
+/// the host connectivity for the coloring); with `partialAssembly` the geometric factors are
+/// computed here (the setup cost), otherwise only the color lists (colored scatter) are stored.
 template <class ExecSpace, class MemorySpace>
 MixedMatrixFreeOperators<MemorySpace>
-makeMixedMatrixFree(const ExecSpace &exec, const MixedElementData<MemorySpace> &d, ElementType type,
-                    LocalIndex numNodes, bool partialAssembly) {
+makeMixedMatrixFree(const ExecSpace &exec, const MixedElementData<MemorySpace> &d, const Mesh &mesh,
+                    bool partialAssembly, MixedScatter scatter = kDefaultMixedScatter<ExecSpace>) {
   MixedMatrixFreeOperators<MemorySpace> op;
   op.data = d;
-  op.type = type;
-  op.numNodes = numNodes;
+  op.type = mesh.elementType;
+  op.numNodes = mesh.numNodes();
   op.partialAssembly = partialAssembly;
+  op.scatter = scatter;
+  if (scatter == MixedScatter::Colored && !detail::colorElements(mesh, op))
+    op.scatter = MixedScatter::Atomic;
+  const ElementType type = mesh.elementType;
   if (partialAssembly)
     dispatchElement(
         type, [&](auto elem) { op.geometry = precomputeMixedGeometry<decltype(elem)>(exec, d); });
@@ -302,8 +389,9 @@ template <class ExecSpace, class MemorySpace>
 void applyCouplingTranspose(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
                             const Kokkos::View<const double *, MemorySpace> &u,
                             const Kokkos::View<double *, MemorySpace> &r) {
-  detail::dispatchMatrixFree(op.type, op.partialAssembly, [&](auto elem, auto stored) {
-    detail::couplingTransposeKernel<decltype(elem), decltype(stored)::value>(exec, op, u, r);
+  detail::dispatchMatrixFree(op, [&](auto elem, auto stored, auto atomic) {
+    detail::couplingTransposeKernel<decltype(elem), decltype(stored)::value,
+                                    decltype(atomic)::value>(exec, op, u, r);
   });
 }
 
@@ -318,8 +406,9 @@ void applyCoupling(const ExecSpace &exec, const MixedMatrixFreeOperators<MemoryS
     Kokkos::parallel_for(
         "mixcon::mixed::matrixFree::scale", Kokkos::RangePolicy<ExecSpace>(exec, 0, f.extent(0)),
         KOKKOS_LAMBDA(LocalIndex i) { f(i) *= beta; });
-  detail::dispatchMatrixFree(op.type, op.partialAssembly, [&](auto elem, auto stored) {
-    detail::couplingKernel<decltype(elem), decltype(stored)::value>(exec, op, alpha, s, f);
+  detail::dispatchMatrixFree(op, [&](auto elem, auto stored, auto atomic) {
+    detail::couplingKernel<decltype(elem), decltype(stored)::value, decltype(atomic)::value>(
+        exec, op, alpha, s, f);
   });
 }
 
@@ -328,8 +417,9 @@ template <class ExecSpace, class MemorySpace>
 void applyCompliance(const ExecSpace &exec, const MixedMatrixFreeOperators<MemorySpace> &op,
                      const Kokkos::View<const double *, MemorySpace> &x,
                      const Kokkos::View<double *, MemorySpace> &y) {
-  detail::dispatchMatrixFree(op.type, op.partialAssembly, [&](auto elem, auto stored) {
-    detail::complianceKernel<decltype(elem), decltype(stored)::value>(exec, op, x, y);
+  detail::dispatchMatrixFree(op, [&](auto elem, auto stored, auto atomic) {
+    detail::complianceKernel<decltype(elem), decltype(stored)::value, decltype(atomic)::value>(
+        exec, op, x, y);
   });
 }
 

@@ -2,7 +2,8 @@
 // assembly and fully matrix-free against the assembled node-block operators (MixedOperators) and
 // a plain host loop over the reference element matrices (tests/support/Reference.hpp), on
 // distorted Quad4 and Quad8 meshes with three materials, with the OpenMP threads of the run
-// (atomic scatter races would show as differences between repeated applies).
+// (atomic scatter races would show as differences between repeated applies), with the atomic and
+// the colored scatter; and the element coloring itself.
 #include <kernels/MixedMatrixFree.hpp>
 #include <solver/MixedModel.hpp>
 #include <support/KernelFixture.hpp>
@@ -81,6 +82,12 @@ HostProducts hostProducts(const Fixture &f, const Eigen::VectorXd &u, const Eige
   return p;
 }
 
+/// (partial assembly?, scatter) of every variant.
+const std::pair<bool, MixedScatter> kVariants[] = {{true, MixedScatter::Atomic},
+                                                   {true, MixedScatter::Colored},
+                                                   {false, MixedScatter::Atomic},
+                                                   {false, MixedScatter::Colored}};
+
 struct Products {
   Eigen::VectorXd r, k, m;
 };
@@ -115,9 +122,11 @@ TEST_P(MixedMatrixFreeTest, AppliesMatchAssembledAndHostLoop) {
   ASSERT_LT(relativeError(ref.r, host.r), 1e-12);
   ASSERT_LT(relativeError(ref.k, host.k), 1e-12);
   ASSERT_LT(relativeError(ref.m, host.m), 1e-12);
-  for (const bool partial : {true, false}) {
-    SCOPED_TRACE(partial ? "partial assembly" : "fully matrix-free");
-    const auto mf = makeMixedMatrixFree(Exec(), d, GetParam(), nn, partial);
+  for (const auto &[partial, scatter] : kVariants) {
+    SCOPED_TRACE(std::string(partial ? "partial assembly" : "fully matrix-free") +
+                 (scatter == MixedScatter::Atomic ? ", atomic" : ", colored"));
+    const auto mf = makeMixedMatrixFree(Exec(), d, f.mesh, partial, scatter);
+    EXPECT_EQ(mf.scatter, scatter);
     EXPECT_EQ(mf.geometry.weight.extent(0), partial ? f.mesh.numElements() : 0u);
     const Products p = apply(mf, u, s, f0, 1.0, 0.0);
     EXPECT_LT(relativeError(p.r, ref.r), 1e-12);
@@ -141,7 +150,7 @@ TEST_P(MixedMatrixFreeTest, AppliesMatchAssembledAndHostLoop) {
 TEST_P(MixedMatrixFreeTest, PartialAssemblyFactorsAreTheGeometry) {
   const Fixture f = threeMaterialFixture(GetParam(), 5, 4);
   const auto d = mixedData(f);
-  const auto mf = makeMixedMatrixFree(Exec(), d, GetParam(), f.mesh.numNodes(), true);
+  const auto mf = makeMixedMatrixFree(Exec(), d, f.mesh, true);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.geometry.weight);
   auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.geometry.gradient);
   double area = 0.0, worst = 0.0;
@@ -161,7 +170,7 @@ TEST_P(MixedMatrixFreeTest, PartialAssemblyFactorsAreTheGeometry) {
 
 /// Repeated applies on a larger mesh with every thread of the run scatter atomically into shared
 /// nodes; each result matches the host loop (a lost update would not).
-TEST_P(MixedMatrixFreeTest, AtomicScatterIsRaceFreeWithThreads) {
+TEST_P(MixedMatrixFreeTest, ScatterIsRaceFreeWithThreads) {
   const Fixture f = threeMaterialFixture(GetParam(), 60, 40);
   const auto d = mixedData(f);
   const int nn = f.mesh.numNodes();
@@ -169,13 +178,39 @@ TEST_P(MixedMatrixFreeTest, AtomicScatterIsRaceFreeWithThreads) {
                         f0 = Eigen::VectorXd::Zero(2 * nn);
   const HostProducts host = hostProducts(f, u, s);
   RecordProperty("threads", Exec().concurrency());
-  for (const bool partial : {true, false}) {
-    const auto mf = makeMixedMatrixFree(Exec(), d, GetParam(), nn, partial);
+  for (const auto &[partial, scatter] : kVariants) {
+    const auto mf = makeMixedMatrixFree(Exec(), d, f.mesh, partial, scatter);
     for (int repeat = 0; repeat < 10; ++repeat) {
       const Products p = apply(mf, u, s, f0, 1.0, 0.0);
-      ASSERT_LT(relativeError(p.r, host.r), 1e-12) << "partial " << partial << " repeat " << repeat;
-      ASSERT_LT(relativeError(p.k, host.k), 1e-12) << "partial " << partial << " repeat " << repeat;
-      ASSERT_LT(relativeError(p.m, host.m), 1e-12) << "partial " << partial << " repeat " << repeat;
+      SCOPED_TRACE(::testing::Message()
+                   << "partial " << partial << " atomic " << (scatter == MixedScatter::Atomic)
+                   << " repeat " << repeat);
+      ASSERT_LT(relativeError(p.r, host.r), 1e-12);
+      ASSERT_LT(relativeError(p.k, host.k), 1e-12);
+      ASSERT_LT(relativeError(p.m, host.m), 1e-12);
     }
   }
+}
+
+/// The element colors: every element once, no two elements of a color sharing a node, and few
+/// colors on these quadrilateral meshes.
+TEST_P(MixedMatrixFreeTest, ElementColorsShareNoNode) {
+  const Fixture f = threeMaterialFixture(GetParam(), 9, 7);
+  const auto mf = makeMixedMatrixFree(Exec(), mixedData(f), f.mesh, false, MixedScatter::Colored);
+  ASSERT_EQ(mf.scatter, MixedScatter::Colored);
+  EXPECT_LE(mf.numColors, 8);
+  auto list = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.coloredElements);
+  std::vector<int> seen(f.mesh.numElements(), 0);
+  for (int c = 0; c < mf.numColors; ++c) {
+    std::vector<int> nodeUsed(f.mesh.numNodes(), 0);
+    for (LocalIndex i = mf.colorOffsets[c]; i < mf.colorOffsets[c + 1]; ++i) {
+      const LocalIndex e = list(i);
+      ++seen[e];
+      for (int a = 0; a < f.mesh.nodesPerElement; ++a)
+        EXPECT_EQ(nodeUsed[f.mesh.node(e, a)]++, 0) << "color " << c << " element " << e;
+    }
+  }
+  EXPECT_EQ(mf.colorOffsets[mf.numColors], f.mesh.numElements());
+  for (LocalIndex e = 0; e < f.mesh.numElements(); ++e)
+    EXPECT_EQ(seen[e], 1) << "element " << e;
 }
