@@ -34,7 +34,7 @@ template <class MemorySpace> struct MixedPointGeometry {
 
 /// How element results reach the nodes: atomic adds (one launch; GPUs), or element colors (no
 /// two elements of a color share a node; one launch per color, plain adds; CPUs, where an atomic
-/// double add is a compare-and-swap loop: measured 1.5-3x the colored apply on one thread,
+/// double add is a compare-and-swap loop: measured up to 2.4x the colored apply on one thread,
 /// bench/bench_mixed_operators.cpp).
 enum class MixedScatter { Atomic, Colored };
 
