@@ -21,19 +21,6 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// The operator form of `requested`, Auto resolved by the rule measured with
-/// bench/bench_mixed_operators.cpp (docs/performance.md, one thread, best of 3): the model's
-/// Schur solve with partial assembly took 0.92 of the assembled time on 1e4 Quad8 elements (the
-/// inner CG's M products dominate; M s by partial assembly is 0.6-1.0 of assembled from 1e4
-/// Quad8 elements on), 1.07 on 1e3; on Quad4 it took 1.2-1.6 of it, and fully matrix-free 1.1-2.3
-/// everywhere. So: partial assembly for Quad8 from 1e4 elements, the assembled operators otherwise.
-MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
-                                      LocalIndex numElements) {
-  if (requested != MixedOperatorForm::Auto)
-    return requested;
-  return type == ElementType::Quad8 && numElements >= 10000 ? MixedOperatorForm::PartialAssembly
-                                                            : MixedOperatorForm::Assembled;
-}
 } // namespace
 
 /// The saddle-point system on the host: unknowns [u (2N); S (3N)], sparse LU.
@@ -69,6 +56,15 @@ MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
   }
   copyToDevice(m.compliance, h);
   return m;
+}
+
+// Measured rule: see the declaration (solver/MixedModel.hpp) and docs/performance.md.
+MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
+                                      LocalIndex numElements) {
+  if (requested != MixedOperatorForm::Auto)
+    return requested;
+  return type == ElementType::Quad8 && numElements >= 10000 ? MixedOperatorForm::PartialAssembly
+                                                            : MixedOperatorForm::Assembled;
 }
 
 void MixedModel::setInitialStress(const std::vector<double> &tau) {

@@ -32,6 +32,15 @@ namespace mixcon {
 MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
                                              const std::vector<PlaneMatrix> &stiffness);
 
+/// The operator form of `requested`, Auto resolved by the rule measured with
+/// bench/bench_mixed_operators.cpp (docs/performance.md, one thread, best of 3): the model's
+/// Schur solve with partial assembly took 0.92 of the assembled time on 1e4 Quad8 elements (the
+/// inner CG's M products dominate; M s by partial assembly is 0.6-1.0 of assembled from 1e4
+/// Quad8 elements on), 1.07 on 1e3; on Quad4 it took 1.2-1.6 of it, and fully matrix-free 1.1-2.3
+/// everywhere. So: partial assembly for Quad8 from 1e4 elements, the assembled operators otherwise.
+MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
+                                      LocalIndex numElements);
+
 class MixedModel final : public ModelBase {
 public:
   /// Throws InputError for an unsupported (displacement, stress) pairing or a material whose [C]
