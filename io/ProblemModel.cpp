@@ -11,13 +11,14 @@ namespace mixcon::detail {
 
 ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity", "compliance",
-               "stabilization", "stress_element", "mixed_form", "stress_update", "elastic_law"});
+               "stabilization", "stress_element", "mixed_form", "stress_update", "elastic_law",
+               "operators"});
   ModelSpec s;
   if (m.has("formulation"))
     s.formulation = m["formulation"].choice({"displacement", "mixed"}) == "mixed"
                         ? Formulation::Mixed
                         : Formulation::Displacement;
-  for (const char *key : {"compliance", "stabilization", "stress_element"})
+  for (const char *key : {"compliance", "stabilization", "stress_element", "operators"})
     if (m.has(key) && s.formulation != Formulation::Mixed)
       m[key].fail(std::string(key) + " applies to formulation: mixed only");
   if (m.has("compliance"))
@@ -31,6 +32,14 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   }
   if (m.has("stress_element"))
     s.stressElement = elementType(m["stress_element"]);
+  if (m.has("operators")) { // how K12, K12^T and M are applied (kernels/MixedMatrixFree.hpp)
+    const std::string v =
+        m["operators"].choice({"auto", "assembled", "partial_assembly", "matrix_free"});
+    s.mixed.operators = v == "assembled"          ? MixedOperatorForm::Assembled
+                        : v == "partial_assembly" ? MixedOperatorForm::PartialAssembly
+                        : v == "matrix_free"      ? MixedOperatorForm::MatrixFree
+                                                  : MixedOperatorForm::Auto;
+  }
   if (m.has("analysis"))
     s.analysis = m["analysis"].choice({"plane_stress", "plane_strain"}) == "plane_strain"
                      ? PlaneAnalysis::PlaneStrain
@@ -40,7 +49,7 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   if (m.has("geometric_nonlinearity")) {
     s.geometricNonlinearity = m["geometric_nonlinearity"].boolean();
     if (s.geometricNonlinearity && s.formulation == Formulation::Mixed)
-      for (const char *key : {"compliance", "stress_element"})
+      for (const char *key : {"compliance", "stress_element", "operators"})
         if (m.has(key))
           m[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver; the "
                                          "geometrically nonlinear mixed model uses the "

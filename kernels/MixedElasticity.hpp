@@ -277,6 +277,34 @@ assembleMixedOperators(const ExecSpace &exec, const MixedElementData<MemorySpace
   return ops;
 }
 
+/// Only the lumped compliance blocks and their inverses of all elements (what the matrix-free
+/// path keeps assembled: the inner CG's preconditioner), same arithmetic as
+/// assembleMixedOperators; graph, coupling and compliance stay empty.
+template <class Elem, class ExecSpace, class MemorySpace>
+MixedOperators<MemorySpace> assembleLumpedCompliance(const ExecSpace &exec,
+                                                     const MixedElementData<MemorySpace> &d,
+                                                     LocalIndex numNodes) {
+  MixedOperators<MemorySpace> ops;
+  ops.lumped = Kokkos::View<double *[3][3], MemorySpace>("mixcon::mixed::lumped", numNodes);
+  ops.lumpedInverse =
+      Kokkos::View<double *[3][3], MemorySpace>("mixcon::mixed::lumpedInv", numNodes);
+  auto lm = ops.lumped;
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleLumpedCompliance",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
+        MixedElementBlocks<Elem> blk;
+        mixedElementBlocks<Elem>(d, e, blk);
+        for (int a = 0; a < Elem::kNumNodes; ++a) {
+          const LocalIndex k = d.mesh.connectivity(e, a);
+          for (int r = 0; r < 3; ++r)
+            for (int s = 0; s < 3; ++s)
+              Kokkos::atomic_add(&lm(k, r, s), blk.ml[a] * blk.d.m[r][s]);
+        }
+      });
+  invertNodalBlocks(exec, lm, ops.lumpedInverse);
+  return ops;
+}
+
 /// r = K12^T u: stress-node residual r (3 per node, interleaved) from displacements u (2 per node).
 template <class ExecSpace, class MemorySpace>
 void applyCouplingTranspose(const ExecSpace &exec, const MixedOperators<MemorySpace> &ops,

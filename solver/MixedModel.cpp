@@ -12,6 +12,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace mixcon {
 
@@ -19,6 +20,7 @@ namespace {
 double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
+
 } // namespace
 
 /// The saddle-point system on the host: unknowns [u (2N); S (3N)], sparse LU.
@@ -56,6 +58,15 @@ MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
   return m;
 }
 
+// Measured rule: see the declaration (solver/MixedModel.hpp) and docs/performance.md.
+MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
+                                      LocalIndex numElements) {
+  if (requested != MixedOperatorForm::Auto)
+    return requested;
+  return type == ElementType::Quad8 && numElements >= 10000 ? MixedOperatorForm::PartialAssembly
+                                                            : MixedOperatorForm::Assembled;
+}
+
 void MixedModel::setInitialStress(const std::vector<double> &tau) {
   if (tau.size() != 3 * static_cast<std::size_t>(mesh_.numNodes()))
     throw std::invalid_argument("MixedModel::setInitialStress: expected 3 values per node");
@@ -84,6 +95,10 @@ std::string MixedModel::solverName() const {
       << (options_.compliance == ComplianceMass::Consistent ? " on matrix-free S_a" : " on S_a,L")
       << " + BoomerAMG("
       << (options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd") << ")";
+  s << ", K12/M "
+    << (form_ == MixedOperatorForm::Assembled         ? "assembled"
+        : form_ == MixedOperatorForm::PartialAssembly ? "by partial assembly"
+                                                      : "matrix-free");
   return s.str();
 }
 
@@ -105,9 +120,18 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   const auto dgraph = toDevice<Memory>(graph_);
   const auto map = elementScatterMap<Memory>(mesh_, graph_);
   const auto tau = initialStressOnDevice();
+  form_ = resolveOperatorForm(options_.operators, mesh_.elementType, mesh_.numElements());
+  // The assembled coupling is needed by the lumped-Schur preconditioner whatever the form.
+  const bool assembleBlocks = form_ == MixedOperatorForm::Assembled ||
+                              (options_.linear.type != LinearSolverType::Direct &&
+                               options_.preconditioner == SchurPreconditioner::LumpedSchur);
+  if (form_ != MixedOperatorForm::Assembled)
+    matrixFree_ =
+        makeMixedMatrixFree(Exec(), mixed_, mesh_, form_ == MixedOperatorForm::PartialAssembly);
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    ops_ = assembleMixedOperators<Elem>(Exec(), mixed_, dgraph, map);
+    ops_ = assembleBlocks ? assembleMixedOperators<Elem>(Exec(), mixed_, dgraph, map)
+                          : assembleLumpedCompliance<Elem>(Exec(), mixed_, mesh_.numNodes());
     // a Kd + K11 on the node graph: the part of S_a that is not K12 M^-1 K12^T.
     stiffness_ = expandGraph<Memory>(graph_, 2);
     if (a > 0.0)
@@ -161,6 +185,29 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   solverSetupSeconds_ = amg_->setupSeconds();
 }
 
+void MixedModel::applyCouplingTransposeBlock(const ConstDeviceVector &u,
+                                             const DeviceVector &r) const {
+  if (form_ == MixedOperatorForm::Assembled)
+    applyCouplingTranspose(Exec(), ops_, u, r);
+  else
+    applyCouplingTranspose(Exec(), matrixFree_, u, r);
+}
+
+void MixedModel::applyCouplingBlock(double alpha, const ConstDeviceVector &s, double beta,
+                                    const DeviceVector &f) const {
+  if (form_ == MixedOperatorForm::Assembled)
+    applyCoupling(Exec(), ops_, alpha, s, beta, f);
+  else
+    applyCoupling(Exec(), matrixFree_, alpha, s, beta, f);
+}
+
+void MixedModel::applyComplianceBlock(const ConstDeviceVector &x, const DeviceVector &y) const {
+  if (form_ == MixedOperatorForm::Assembled)
+    applyCompliance(Exec(), ops_, x, y);
+  else
+    applyCompliance(Exec(), matrixFree_, x, y);
+}
+
 void MixedModel::applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s) {
   innerIterations_ += solveCompliance(r, s, options_.innerTolerance);
 }
@@ -177,10 +224,7 @@ long MixedModel::solveCompliance(const ConstDeviceVector &r, const DeviceVector 
   o.maxIterations = options_.innerMaxIterations;
   Kokkos::deep_copy(s, 0.0);
   const auto st = krylovSolve(
-      o,
-      [&](const ConstDeviceVector &x, const DeviceVector &y) {
-        applyCompliance(Exec(), ops_, x, y);
-      },
+      o, [&](const ConstDeviceVector &x, const DeviceVector &y) { applyComplianceBlock(x, y); },
       [&](const ConstDeviceVector &x, const DeviceVector &y) {
         applyNodalBlocks(Exec(), ops_.lumpedInverse, x, y);
       },
@@ -195,10 +239,10 @@ long MixedModel::solveCompliance(const ConstDeviceVector &r, const DeviceVector 
 
 void MixedModel::applySchur(const ConstDeviceVector &u, const DeviceVector &y) {
   ++operatorApplications_;
-  applyCouplingTranspose(Exec(), ops_, u, workStressRhs_);
+  applyCouplingTransposeBlock(u, workStressRhs_);
   applyComplianceInverse(ConstDeviceVector(workStressRhs_), workStress_);
   multiply(Exec(), stiffness_, u, y); // a Kd u + K11 u
-  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(workStress_), 1.0, y);
+  applyCouplingBlock(1.0 - options_.stabilization, ConstDeviceVector(workStress_), 1.0, y);
 }
 
 LinearSolveStats MixedModel::solve(double loadFactor) {
@@ -248,7 +292,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
 
   // Stresses from the displacements with the same M as the solve (tight inner tolerance).
   // (not counted in innerIterations(), which reports the Schur products' inner iterations)
-  applyCouplingTranspose(Exec(), ops_, ConstDeviceVector(u_), workStressRhs_);
+  applyCouplingTransposeBlock(ConstDeviceVector(u_), workStressRhs_);
   solveCompliance(ConstDeviceVector(workStressRhs_), s_, std::min(options_.innerTolerance, 1e-12));
   Exec().fence();
 
@@ -364,13 +408,49 @@ LinearSolveStats MixedModel::solveDirect(double loadFactor) {
   return s;
 }
 
+std::vector<std::pair<std::string, std::size_t>> MixedModel::deviceViewBytes() const {
+  std::vector<std::pair<std::string, std::size_t>> b;
+  auto add = [&](const std::string &name, const auto &v) {
+    b.emplace_back(name, v.span() * sizeof(typename std::decay_t<decltype(v)>::value_type));
+  };
+  add("mesh.coordinates", data_.mesh.coordinates);
+  add("mesh.connectivity", data_.mesh.connectivity);
+  add("material", data_.material);
+  add("load", load_);
+  add("u", u_);
+  add("isConstrained", isConstrained_);
+  add("prescribed", prescribed_);
+  add("stress", s_);
+  add("constrainedDiagonal", constrainedDiagonal_);
+  add("workStressRhs", workStressRhs_);
+  add("workStress", workStress_);
+  add("graph.rowOffsets", ops_.graph.rowOffsets);
+  add("graph.columns", ops_.graph.columns);
+  add("graph.transpose", ops_.graph.transpose);
+  add("coupling", ops_.coupling);
+  add("compliance", ops_.compliance);
+  add("lumped", ops_.lumped);
+  add("lumpedInverse", ops_.lumpedInverse);
+  add("matrixFree.weight", matrixFree_.geometry.weight);
+  add("matrixFree.gradient", matrixFree_.geometry.gradient);
+  add("matrixFree.coloredElements", matrixFree_.coloredElements);
+  for (const auto &[name, m] :
+       {std::pair<const char *, const CsrMatrix<Memory> *>{"stiffness", &stiffness_},
+        {"preconditioner", &precMatrix_}}) {
+    add(std::string(name) + ".rowOffsets", m->rowOffsets);
+    add(std::string(name) + ".columns", m->columns);
+    add(std::string(name) + ".values", m->values);
+  }
+  return b;
+}
+
 std::vector<double> MixedModel::nodalStressHost() const { return toHost(s_); }
 
 std::vector<double> MixedModel::reactionHost(double loadFactor) const {
   // (1-a) K12 S + a Kd u + K11 u - lambda F
   DeviceVector f("mixcon::mixed::internalForce", u_.extent(0));
   multiply(Exec(), stiffness_, ConstDeviceVector(u_), f);
-  applyCoupling(Exec(), ops_, 1.0 - options_.stabilization, ConstDeviceVector(s_), 1.0, f);
+  applyCouplingBlock(1.0 - options_.stabilization, ConstDeviceVector(s_), 1.0, f);
   return reactionFrom(f, loadFactor);
 }
 

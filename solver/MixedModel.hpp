@@ -10,14 +10,20 @@
 //   amg    - Krylov on the Schur complement preconditioned by one BoomerAMG V-cycle on the
 //            assembled lumped S_a (or on Kd): with lumped M the operator is that assembled
 //            matrix; with consistent M it is applied matrix-free with an inner CG on M.
+// K12, K12^T and M are applied through the assembled node-block operators or element by element
+// (partial assembly or fully matrix-free, kernels/MixedMatrixFree.hpp; MixedOptions::operators).
 // Data flow: mesh -> kernels -> solver (this) -> io.
 #pragma once
 
 #include <kernels/MixedElasticity.hpp>
+#include <kernels/MixedMatrixFree.hpp>
 #include <solver/MixedOptions.hpp>
 #include <solver/ModelBase.hpp>
 
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace mixcon {
 
@@ -25,6 +31,15 @@ namespace mixcon {
 /// not positive definite.
 MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
                                              const std::vector<PlaneMatrix> &stiffness);
+
+/// The operator form of `requested`, Auto resolved by the rule measured with
+/// bench/bench_mixed_operators.cpp (docs/performance.md, one thread, best of 3): the model's
+/// Schur solve with partial assembly took 0.92 of the assembled time on 1e4 Quad8 elements (the
+/// inner CG's M products dominate; M s by partial assembly is 0.6-1.0 of assembled from 1e4
+/// Quad8 elements on), 1.07 on 1e3; on Quad4 it took 1.2-1.6 of it, and fully matrix-free 1.1-2.3
+/// everywhere. So: partial assembly for Quad8 from 1e4 elements, the assembled operators otherwise.
+MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
+                                      LocalIndex numElements);
 
 class MixedModel final : public ModelBase {
 public:
@@ -58,12 +73,20 @@ public:
   std::vector<double> nodalStressHost() const override;        ///< the stress unknowns
   std::vector<double> reactionHost(double loadFactor) const override;
 
+  /// The assembled operators: the lumped blocks always; graph, coupling and compliance only when
+  /// the solve uses them (operatorForm() Assembled, or the lumped-Schur preconditioner).
   const MixedOperators<Memory> &operators() const { return ops_; }
+  /// How K12, K12^T and M are applied (the options' choice, Auto resolved); after setup().
+  MixedOperatorForm operatorForm() const { return form_; }
   const MixedElementData<Memory> &elementData() const { return mixed_; }
   /// y = S_a u, unconstrained (with the options' M; consistent M through the inner CG).
   void applySchur(const ConstDeviceVector &u, const DeviceVector &y);
   /// s = M^-1 r (consistent: inner CG to inner_tolerance; lumped: nodal blocks).
   void applyComplianceInverse(const ConstDeviceVector &r, const DeviceVector &s);
+  /// Every Kokkos view the model holds after setup(), by name, with its bytes (the device-memory
+  /// budget; hypre's copy of the preconditioner matrix and its AMG hierarchy, the Krylov vectors
+  /// of solve() and setup's temporaries are not views held here).
+  std::vector<std::pair<std::string, std::size_t>> deviceViewBytes() const;
   /// The assembled preconditioner matrix (lumped S_a without K11, or Kd), constrained rows.
   const CsrMatrix<Memory> &preconditionerMatrix() const { return precMatrix_; }
 
@@ -76,11 +99,18 @@ private:
   long solveCompliance(const ConstDeviceVector &r, const DeviceVector &s, double tolerance);
   LinearSolveStats solveDirect(double loadFactor);
   LinearSolveStats solveSchur(double loadFactor);
+  /// r = K12^T u, f = beta f + alpha K12 s and y = M x by the chosen operator form.
+  void applyCouplingTransposeBlock(const ConstDeviceVector &u, const DeviceVector &r) const;
+  void applyCouplingBlock(double alpha, const ConstDeviceVector &s, double beta,
+                          const DeviceVector &f) const;
+  void applyComplianceBlock(const ConstDeviceVector &x, const DeviceVector &y) const;
 
   MixedOptions options_;
   MixedElementData<Memory> mixed_;
   NodeGraph graph_;
   MixedOperators<Memory> ops_;
+  MixedMatrixFreeOperators<Memory> matrixFree_; ///< used unless form_ is Assembled
+  MixedOperatorForm form_ = MixedOperatorForm::Assembled;
   CsrMatrix<Memory> stiffness_; ///< a Kd (+ K11) on the node graph, unconstrained
   CsrMatrix<Memory> precMatrix_;
   std::vector<double> initialStress_;

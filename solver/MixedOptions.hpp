@@ -13,6 +13,13 @@ enum class ComplianceMass { Consistent, Lumped };
 /// is then also the operator.
 enum class SchurPreconditioner { Auto, LumpedSchur, Stiffness };
 
+/// How the Schur operator applies K12, K12^T and the consistent M (kernels/MixedMatrixFree.hpp):
+/// the assembled node-block operators, partial assembly (geometric factors per quadrature point),
+/// or fully matrix-free (geometry recomputed). The lumped blocks and the preconditioner matrix
+/// stay assembled on every path. Auto (measured, docs/performance.md): partial assembly for Quad8
+/// meshes of 1e4 elements or more, the assembled operators otherwise.
+enum class MixedOperatorForm { Auto, Assembled, PartialAssembly, MatrixFree };
+
 struct MixedOptions {
   ComplianceMass compliance = ComplianceMass::Consistent;
   double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
@@ -22,6 +29,7 @@ struct MixedOptions {
   SchurPreconditioner preconditioner = SchurPreconditioner::Auto;
   double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
   int innerMaxIterations = 500;
+  MixedOperatorForm operators = MixedOperatorForm::Auto;
 };
 
 } // namespace mixcon
