@@ -1,0 +1,237 @@
+// The nonlinear mixed model's Jacobian applied without element or global matrices (issue 16,
+// item 3, for the Hellinger-Reissner residual of kernels/ElementDriver.hpp's mixedElement): y = J
+// dx element by element, at the quadrature points. Per element: gather the coordinates, the
+// state x (u, S) and the direction dx (du, dS); per quadrature point: the geometry, the point
+// law's response and derivatives (kernels/MixedPointPhysics.hpp, evaluate<true>), then the
+// directional derivative of the element residual, which is the driver's ke applied to dx:
+//   dl = grad(du) (on X, or on the current x = X + u), dh = A dl with A = I (incremental form) or
+//   I - h (current form), ds = psi dS,
+//   dP = dP/dh : dh + dP/ds ds,  dr = dr/dh : dh + dr/ds ds (+ r div(du), current form),
+//   y_u(a, i) += da (dP_ij g_aj + [current] P_ij (g_aj div(du) - g_am dl_mj)),
+//   y_S(a, c) += da psi_a dr_c,
+// the bracketed terms being the change of da and of the current gradients with the
+// configuration. Nothing is stored between applies (the point law is re-evaluated: the
+// matrix-free end of MFEM's partial / full assembly split); the element results are scattered
+// with atomic adds (devices) or per element color with plain adds (host spaces), the coloring of
+// kernels/MixedMatrixFree.hpp. Dimension generic (FieldLayout<Dim>, Voigt<Dim>, any law whose
+// point is a MixedIncrementPoint<Dim> / MixedCurrentPoint<Dim>). Layer: kernels.
+#pragma once
+
+#include <kernels/ElementDriver.hpp>
+#include <kernels/MixedMatrixFree.hpp>
+#include <kernels/Nonlinear.hpp>
+
+namespace mixcon {
+
+/// y_e = ke dx_e of element e (ke: mixedElement's Jacobian at state x, prestress tau), computed
+/// at the quadrature points; ye[a][k]: node a's unknown k (FieldLayout's mixed order).
+template <class Elem, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+mixedJacobianActionElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                           const Law &law, const Kokkos::View<const double *, MemorySpace> &x,
+                           const Kokkos::View<const double *, MemorySpace> &tau,
+                           const Kokkos::View<const double *, MemorySpace> &dx, LocalIndex e,
+                           double (&ye)[Elem::kNumNodes][LayoutOf<Elem>::kMixedUnknowns]) {
+  using L = LayoutOf<Elem>;
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nv = L::kNumStresses;
+  constexpr int so = L::kStressOffset;
+  const auto point = law.at(e);
+  using Point = decltype(point);
+  constexpr bool current = Point::kCurrentConfiguration;
+  double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv], due[n][dim], dse[n][nv];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  for (int a = 0; a < n; ++a) {
+    const LocalIndex k = mesh.connectivity(e, a);
+    for (int i = 0; i < dim; ++i) {
+      ue[a][i] = x(L::mixedDisplacementDof(k, i));
+      due[a][i] = dx(L::mixedDisplacementDof(k, i));
+      if (current)
+        xe[a][i] += ue[a][i];
+    }
+    for (int c = 0; c < nv; ++c) {
+      se[a][c] = x(L::mixedStressDof(k, c));
+      dse[a][c] = dx(L::mixedStressDof(k, c));
+      te[a][c] = Point::kPrestress ? tau(nv * k + c) : 0.0;
+    }
+  }
+  for (int a = 0; a < n; ++a)
+    for (int k = 0; k < L::kMixedUnknowns; ++k)
+      ye[a][k] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double jw = thickness * w * detail::pointGeometry<Elem>(xe, dn, g);
+    const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+    const Mat<dim, dim> dl = detail::displacementGradient<Elem>(due, g);
+    Vector<nv> sv{}, tv{}, ds{};
+    for (int a = 0; a < n; ++a)
+      for (int c = 0; c < nv; ++c) {
+        sv.v[c] += sh[a] * se[a][c];
+        tv.v[c] += sh[a] * te[a][c];
+        ds.v[c] += sh[a] * dse[a][c];
+      }
+    const MixedPointResponse<dim> r = point.template evaluate<true>(h, sv, tv);
+    // dh = A dl, A = I - h (current) or I.
+    Mat<dim, dim> dh = dl;
+    double div = 0.0;
+    if (current) {
+      for (int k = 0; k < dim; ++k) {
+        div += dl.m[k][k];
+        for (int l = 0; l < dim; ++l)
+          for (int m = 0; m < dim; ++m)
+            dh.m[k][l] -= h.m[k][m] * dl.m[m][l];
+      }
+    }
+    Mat<dim, dim> dp{};
+    for (int i = 0; i < dim; ++i)
+      for (int j = 0; j < dim; ++j) {
+        double v = 0.0;
+        for (int k = 0; k < dim; ++k)
+          for (int l = 0; l < dim; ++l)
+            v += r.dStressDGrad.m[i * dim + j][k * dim + l] * dh.m[k][l];
+        for (int c = 0; c < nv; ++c)
+          v += r.dStressDStress.m[i * dim + j][c] * ds.v[c];
+        dp.m[i][j] = v;
+      }
+    Vector<nv> dr{};
+    for (int c = 0; c < nv; ++c) {
+      double v = current ? r.compatibility.v[c] * div : 0.0;
+      for (int k = 0; k < dim; ++k)
+        for (int l = 0; l < dim; ++l)
+          v += r.dCompatibilityDGrad.m[c][k * dim + l] * dh.m[k][l];
+      for (int k = 0; k < nv; ++k)
+        v += r.dCompatibilityDStress.m[c][k] * ds.v[k];
+      dr.v[c] = jw * v;
+    }
+    // Current form: the test gradients and da move, d(g_aj da) = da (g_aj div - g_am dl_mj).
+    for (int a = 0; a < n; ++a) {
+      for (int i = 0; i < dim; ++i) {
+        double v = 0.0;
+        for (int j = 0; j < dim; ++j) {
+          v += dp.m[i][j] * g[a][j];
+          if (current) {
+            double gm = 0.0; // sum_m g_am dl_mj
+            for (int m = 0; m < dim; ++m)
+              gm += g[a][m] * dl.m[m][j];
+            v += r.stress.m[i][j] * (g[a][j] * div - gm);
+          }
+        }
+        ye[a][i] += jw * v;
+      }
+      for (int c = 0; c < nv; ++c)
+        ye[a][so + c] += sh[a] * dr.v[c];
+    }
+  }
+}
+
+/// How y = J dx reaches the nodes: atomic adds, or the element colors of
+/// kernels/MixedMatrixFree.hpp (elements(colorOffsets[c] .. colorOffsets[c + 1] - 1) share no
+/// node; one launch per color, plain adds).
+template <class MemorySpace> struct MixedElementColors {
+  static constexpr int kMaxColors = MixedMatrixFreeOperators<MemorySpace>::kMaxColors;
+  MixedScatter scatter = MixedScatter::Atomic;
+  Kokkos::View<LocalIndex *, MemorySpace> elements;
+  int numColors = 0;
+  LocalIndex colorOffsets[kMaxColors + 1] = {};
+};
+
+/// The element colors of a (2D) host mesh for `scatter` (Colored: the greedy coloring of
+/// kernels/MixedMatrixFree.hpp; falls back to Atomic when more colors would be needed).
+template <class MemorySpace>
+MixedElementColors<MemorySpace> mixedElementColors(const Mesh &mesh, MixedScatter scatter) {
+  MixedElementColors<MemorySpace> out;
+  if (scatter != MixedScatter::Colored)
+    return out;
+  MixedMatrixFreeOperators<MemorySpace> op;
+  if (!detail::colorElements(mesh, op))
+    return out;
+  out.scatter = MixedScatter::Colored;
+  out.elements = op.coloredElements;
+  out.numColors = op.numColors;
+  for (int c = 0; c <= op.numColors; ++c)
+    out.colorOffsets[c] = op.colorOffsets[c];
+  return out;
+}
+
+namespace detail {
+template <bool Atomic, class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+scatterMixedAction(const MeshView<MemorySpace, Elem::kDim> &mesh, LocalIndex e,
+                   const double (&ye)[Elem::kNumNodes][LayoutOf<Elem>::kMixedUnknowns],
+                   const Kokkos::View<double *, MemorySpace> &y) {
+  constexpr int nu = LayoutOf<Elem>::kMixedUnknowns;
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex k = mesh.connectivity(e, a);
+    for (int c = 0; c < nu; ++c) {
+      if constexpr (Atomic)
+        Kokkos::atomic_add(&y(nu * k + c), ye[a][c]);
+      else
+        y(nu * k + c) += ye[a][c];
+    }
+  }
+}
+} // namespace detail
+
+/// y = J dx (y overwritten) for the mixed Jacobian J of mixedElement with `law` at state x and
+/// prestress tau, every element of `mesh`, scattered as `colors` says.
+template <class Elem, class ExecSpace, class Law, class MemorySpace>
+void applyMixedJacobian(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                        double thickness, const Law &law,
+                        const Kokkos::View<const double *, MemorySpace> &x,
+                        const Kokkos::View<const double *, MemorySpace> &tau,
+                        const Kokkos::View<const double *, MemorySpace> &dx,
+                        const Kokkos::View<double *, MemorySpace> &y,
+                        const MixedElementColors<MemorySpace> &colors) {
+  constexpr int n = Elem::kNumNodes, nu = LayoutOf<Elem>::kMixedUnknowns;
+  Kokkos::deep_copy(exec, y, 0.0);
+  if (colors.scatter == MixedScatter::Atomic) {
+    const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+    Kokkos::parallel_for(
+        "mixcon::kernels::mixedJacobianAction", Kokkos::RangePolicy<ExecSpace>(exec, 0, ne),
+        KOKKOS_LAMBDA(LocalIndex e) {
+          double ye[n][nu];
+          mixedJacobianActionElement<Elem>(mesh, thickness, law, x, tau, dx, e, ye);
+          detail::scatterMixedAction<true, Elem>(mesh, e, ye, y);
+        });
+    return;
+  }
+  const auto list = colors.elements;
+  for (int c = 0; c < colors.numColors; ++c)
+    Kokkos::parallel_for(
+        "mixcon::kernels::mixedJacobianActionColored",
+        Kokkos::RangePolicy<ExecSpace>(exec, colors.colorOffsets[c], colors.colorOffsets[c + 1]),
+        KOKKOS_LAMBDA(LocalIndex i) {
+          const LocalIndex e = list(i);
+          double ye[n][nu];
+          mixedJacobianActionElement<Elem>(mesh, thickness, law, x, tau, dx, e, ye);
+          detail::scatterMixedAction<false, Elem>(mesh, e, ye, y);
+        });
+}
+
+/// y = J dx of the 2D incremental form (assembleMixedIncrement's J at increment x, prestress
+/// tau, stabilization a).
+template <class Elem, class ExecSpace, class MemorySpace>
+void applyMixedIncrementJacobian(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
+                                 const Kokkos::View<const double *, MemorySpace> &tau,
+                                 const Kokkos::View<const double *, MemorySpace> &x, double a,
+                                 const Kokkos::View<const double *, MemorySpace> &dx,
+                                 const Kokkos::View<double *, MemorySpace> &y,
+                                 const MixedElementColors<MemorySpace> &colors) {
+  applyMixedJacobian<Elem>(exec, d.mesh, d.thickness,
+                           MixedIncrementLaw<MemorySpace>{d.material, d.stiffness, d.compliance, a},
+                           x, tau, dx, y, colors);
+}
+
+/// y = J dx of the 2D current form (assembleMixedCurrent's J at x, stabilization a).
+template <class Elem, class ExecSpace, class MemorySpace>
+void applyMixedCurrentJacobian(const ExecSpace &exec, const MixedElementData<MemorySpace> &d,
+                               const Kokkos::View<const double *, MemorySpace> &x, double a,
+                               const Kokkos::View<const double *, MemorySpace> &dx,
+                               const Kokkos::View<double *, MemorySpace> &y,
+                               const MixedElementColors<MemorySpace> &colors) {
+  applyMixedJacobian<Elem>(exec, d.mesh, d.thickness,
+                           MixedCurrentLaw<MemorySpace>{d.material, d.stiffness, d.compliance, a},
+                           x, Kokkos::View<const double *, MemorySpace>(), dx, y, colors);
+}
+
+} // namespace mixcon
