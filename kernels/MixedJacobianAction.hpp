@@ -208,6 +208,86 @@ void applyMixedJacobian(const ExecSpace &exec, const MeshView<MemorySpace, Elem:
         });
 }
 
+/// The stress rows of the mixed Jacobian on their own (what the matrix-free product's block
+/// preconditioner needs): c += J_S,u (pattern expandGraph(graph, nv, Dim)) and m += -J_S,S
+/// (expandGraph(graph, nv)), the same entries as mixedElement's ke, scattered with atomics
+/// through the element scatter map (map(e, a, b): position of node b in node a's graph row).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleMixedStressRows(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                             double thickness, const Law &law,
+                             const Kokkos::View<const double *, MemorySpace> &x,
+                             const Kokkos::View<const double *, MemorySpace> &tau, const Map &map,
+                             const CsrMatrix<MemorySpace> &c, const CsrMatrix<MemorySpace> &m) {
+  using L = LayoutOf<Elem>;
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nv = L::kNumStresses;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      "mixcon::kernels::mixedStressRows", Kokkos::RangePolicy<ExecSpace>(exec, 0, ne),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        const auto point = law.at(e);
+        using Point = decltype(point);
+        constexpr bool current = Point::kCurrentConfiguration;
+        double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv];
+        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+        for (int a = 0; a < n; ++a) {
+          const LocalIndex k = mesh.connectivity(e, a);
+          for (int i = 0; i < dim; ++i) {
+            ue[a][i] = x(L::mixedDisplacementDof(k, i));
+            if (current)
+              xe[a][i] += ue[a][i];
+          }
+          for (int q = 0; q < nv; ++q) {
+            se[a][q] = x(L::mixedStressDof(k, q));
+            te[a][q] = Point::kPrestress ? tau(nv * k + q) : 0.0;
+          }
+        }
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double sh[n], dn[n][dim], g[n][dim];
+          const double w = detail::referencePoint<Elem>(q, sh, dn);
+          const double jw = thickness * w * detail::pointGeometry<Elem>(xe, dn, g);
+          const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+          Vector<nv> sv{}, tv{};
+          for (int a = 0; a < n; ++a)
+            for (int v = 0; v < nv; ++v) {
+              sv.v[v] += sh[a] * se[a][v];
+              tv.v[v] += sh[a] * te[a][v];
+            }
+          const MixedPointResponse<dim> r = point.template evaluate<true>(h, sv, tv);
+          // d r_v / d dl_ml = sum_k d r_v / d h_kl A_km, A = I - h (current) or I.
+          Mat<nv, dim * dim> dr{};
+          for (int v = 0; v < nv; ++v)
+            for (int mm = 0; mm < dim; ++mm)
+              for (int l = 0; l < dim; ++l) {
+                double s = 0.0;
+                for (int k = 0; k < dim; ++k) {
+                  const double akm = (k == mm ? 1.0 : 0.0) - (current ? h.m[k][mm] : 0.0);
+                  s += r.dCompatibilityDGrad.m[v][k * dim + l] * akm;
+                }
+                dr.m[v][mm * dim + l] = s;
+              }
+          for (int a = 0; a < n; ++a) {
+            const LocalIndex row = mesh.connectivity(e, a);
+            const double fa = jw * sh[a];
+            for (int v = 0; v < nv; ++v) {
+              const Offset cs = c.rowOffsets(nv * row + v), ms = m.rowOffsets(nv * row + v);
+              for (int b = 0; b < n; ++b) {
+                const Offset cb = cs + dim * map(e, a, b), mb = ms + nv * map(e, a, b);
+                for (int mm = 0; mm < dim; ++mm) {
+                  double s = current ? r.compatibility.v[v] * g[b][mm] : 0.0;
+                  for (int l = 0; l < dim; ++l)
+                    s += dr.m[v][mm * dim + l] * g[b][l];
+                  Kokkos::atomic_add(&c.values(cb + mm), fa * s);
+                }
+                for (int k = 0; k < nv; ++k)
+                  Kokkos::atomic_add(&m.values(mb + k),
+                                     -fa * sh[b] * r.dCompatibilityDStress.m[v][k]);
+              }
+            }
+          }
+        }
+      });
+}
+
 /// y = J dx of the 2D incremental form (assembleMixedIncrement's J at increment x, prestress
 /// tau, stabilization a).
 template <class Elem, class ExecSpace, class MemorySpace>

@@ -38,7 +38,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   constrainedDiagonal(Exec(), precMatrix_, Kokkos::View<const int *, Memory>(isConstrained_),
                       precDiag_);
   // The stress block M = -J_tau,tau and its nodal kStress x kStress inverses for the inner CG.
-  extractFieldBlock(tangent_, kMixed, kStressAt, kStress, kStressAt, kStress, stressBlock_, -1.0);
+  if (!matrixFree_) // matrix-free: assembled on its own in evaluate()
+    extractFieldBlock(tangent_, kMixed, kStressAt, kStress, kStressAt, kStress, stressBlock_, -1.0);
   nodalDiagonalBlocks(stressBlock_, stressNodalBlocks_);
   invertNodalBlocks(Exec(), stressNodalBlocks_, stressBlockInverse_);
   Exec().fence();
@@ -150,7 +151,10 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
     setupSchurPreconditioner();
     Vec da("mixcon::nonlinear::diagA", kDisp * nn), dm("mixcon::nonlinear::diagM", kStress * nn);
     fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0); // K^L: A alone is 0 at a = 0 without stress
-    fieldDiagonal(tangent_, kMixed, kStressAt, kStress, dm, -1.0);
+    if (matrixFree_)
+      fieldDiagonal(stressBlock_, kStress, 0, kStress, dm, 1.0);
+    else
+      fieldDiagonal(tangent_, kMixed, kStressAt, kStress, dm, -1.0);
     const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
     // rms over kDisp and kStress entries per node: the norms' ratio times sqrt(kStress / kDisp)
     const double perNode = std::sqrt(static_cast<double>(kStress) / kDisp);
@@ -161,7 +165,8 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
       precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", kMixed * nn);
     }
     scatter<double>(ConstVec(precDiag_), kMixed, 0, kDisp, precDiag5_, true);
-    extractFieldBlock(tangent_, kMixed, kStressAt, kStress, 0, kDisp, couplingBlock_, 1.0);
+    if (!matrixFree_) // matrix-free: assembled on its own in evaluate()
+      extractFieldBlock(tangent_, kMixed, kStressAt, kStress, 0, kDisp, couplingBlock_, 1.0);
   }
   const double scale = stressRowScale_;
   const auto work = [](const char *label, std::size_t n) {
@@ -180,7 +185,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   // y = D (P J P + D_c) v, D scaling the stress rows.
   const LinearMap op = [&](const ConstDeviceVector &v, const DeviceVector &y) {
     maskConstrained(Exec(), flags, v, masked);
-    multiply(Exec(), tangent_, ConstVec(masked), y);
+    applyJacobian(ConstVec(masked), y);
     finishConstrained(Exec(), flags, diag, v, y);
     scaleField(y, kMixed, kStressAt, kStress, scale);
   };
@@ -203,7 +208,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
       jg = work("mixcon::nonlinear::jg", kMixed * nn),
       b = work("mixcon::nonlinear::rhs5", kMixed * nn);
   axpby(-1.0, g_, 0.0, f);
-  multiply(Exec(), tangent_, ConstVec(target_), jg);
+  applyJacobian(ConstVec(target_), jg);
   constrainedRhs(Exec(), flags, diag, ConstVec(f), ConstVec(target_), ConstVec(jg), b);
   scaleField(b, kMixed, kStressAt, kStress, scale);
   KrylovOptions ko;

@@ -46,12 +46,22 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     throw InputError("nonlinear mixed model: " + *why);
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
-  tangent_ = expandGraph<Memory>(graph_, kMixed);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
   commitStaged();
   follower_ = followerLoads();
+  matrixFree_ = options.type != LinearSolverType::Direct &&
+                mixedOptions_.method == MixedNewtonSolver::BlockTriangular &&
+                mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0 &&
+                contact_ == nullptr;
+  tangent_ = matrixFree_ ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kMixed);
   const LocalIndex nn = mesh_.numNodes();
+  if (matrixFree_) {
+    colors_ = mixedElementColors<Memory>(mesh_, kDefaultMixedScatter<Exec>);
+    jacobianState_ = Vec("mixcon::nonlinear::jacobianState", kMixed * nn);
+    couplingBlock_ = expandGraph<Memory>(graph_, kStress, kDisp);
+    precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", kMixed * nn);
+  }
   g_ = Vec("mixcon::nonlinear::residual", kMixed * nn);
   committed_ = Vec("mixcon::nonlinear::committed", kDisp * nn);
   dx_ = Vec("mixcon::nonlinear::correction", kMixed * nn);
@@ -117,10 +127,31 @@ void NonlinearMixedModel::updateTotalDisplacement() {
 double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
   Kokkos::deep_copy(g_, 0.0);
-  if (tangent)
+  if (tangent && !matrixFree_)
     Kokkos::deep_copy(tangent_.values, 0.0);
   const CsrMatrix<Memory> none;
-  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  const CsrMatrix<Memory> &a = tangent && !matrixFree_ ? tangent_ : none;
+  if (tangent && matrixFree_) {
+    // J stays unassembled: its state, and the stress rows C and M the preconditioner needs.
+    Kokkos::deep_copy(jacobianState_, x_);
+    Kokkos::deep_copy(couplingBlock_.values, 0.0);
+    Kokkos::deep_copy(stressBlock_.values, 0.0);
+    dispatchElement(mesh_.elementType, [&](auto elem) {
+      using Elem = decltype(elem);
+      if (form_ == MixedForm::Current)
+        assembleMixedStressRows<Elem>(
+            Exec(), reference_.mesh, reference_.thickness,
+            MixedCurrentLaw<Memory>{reference_.material, reference_.stiffness,
+                                    reference_.compliance, stabilization_},
+            ConstVec(x_), ConstVec(), map_, couplingBlock_, stressBlock_);
+      else
+        assembleMixedStressRows<Elem>(
+            Exec(), current_.mesh, current_.thickness,
+            MixedIncrementLaw<Memory>{current_.material, current_.stiffness, current_.compliance,
+                                      stabilization_},
+            ConstVec(x_), ConstVec(tau_), map_, couplingBlock_, stressBlock_);
+    });
+  }
   LocalIndex inverted = -1;
   double fint = 0.0;
   dispatchElement(mesh_.elementType, [&](auto elem) {
@@ -145,7 +176,26 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
                         x_, start);
 }
 
+void NonlinearMixedModel::applyJacobian(const ConstVec &v, const Vec &y) const {
+  if (!matrixFree_) {
+    multiply(Exec(), tangent_, v, y);
+    return;
+  }
+  const ConstVec state(jacobianState_);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    if (form_ == MixedForm::Current)
+      applyMixedCurrentJacobian<Elem>(Exec(), reference_, state, stabilization_, v, y, colors_);
+    else
+      applyMixedIncrementJacobian<Elem>(Exec(), current_, ConstVec(tau_), state, stabilization_, v,
+                                        y, colors_);
+  });
+}
+
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
+  if (matrixFree_ && mixedOptions_.method != MixedNewtonSolver::BlockTriangular)
+    throw std::logic_error("nonlinear mixed model: the matrix-free Jacobian was set up for the "
+                           "block-triangular solve");
   prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, target_);
   const LinearSolveStats s =
       contact_ && contact_->constrains()

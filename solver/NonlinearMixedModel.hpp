@@ -5,6 +5,7 @@
 #pragma once
 
 #include <kernels/MixedElasticity.hpp>
+#include <kernels/MixedJacobianAction.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/NonlinearModel.hpp>
 
@@ -28,8 +29,11 @@ public:
   /// use one BoomerAMG V-cycle on K^L of the current configuration and a block-Jacobi CG on the
   /// stress block M).
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
-  /// Which iterative solve (solver: amg); call before the first correction.
+  /// Which iterative solve (solver: amg); call before setup().
   void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
+  /// Whether GMRES applies J matrix-free (MixedNewtonSolverOptions::matrixFreeJacobian taken:
+  /// solver amg, block-triangular, no follower loads, no contact); decided in setup().
+  bool matrixFree() const { return matrixFree_; }
   /// Inner CG iterations on the stress block in the last correction (solver: amg).
   long innerIterations() const { return innerIterations_; }
   double evaluate(double lambda, bool tangent) override;
@@ -80,6 +84,12 @@ private:
   void setupSchurPreconditioner();
   LinearSolveStats solveSchur();
   LinearSolveStats solveBlockTriangular();
+  /// y = J v, J the Jacobian at the last tangent evaluation (matrix-free: at jacobianState_).
+  void applyJacobian(const Kokkos::View<const double *, Memory> &v,
+                     const Kokkos::View<double *, Memory> &y) const;
+  bool matrixFree_ = false;
+  MixedElementColors<Memory> colors_;
+  Kokkos::View<double *, Memory> jacobianState_; ///< x at the last tangent (matrix-free)
   MixedNewtonSolverOptions mixedOptions_;
   double stressRowScale_ = 1.0;              ///< s of solveBlockTriangular
   Kokkos::View<double *, Memory> precDiag5_; ///< D_c on 5 unknowns per node

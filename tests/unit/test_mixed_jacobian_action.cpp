@@ -3,11 +3,17 @@
 //    (assembleMixedIncrement / assembleMixedCurrent) times the same direction, on distorted Quad4
 //    and Quad8 meshes with random state u, S, tau and direction, a = 0 and 0.3, colored and
 //    atomic scatter, repeated (the tests run with several OpenMP threads: a race shows as a
-//    mismatch), to 1e-12 relative;
+//    mismatch), to 1e-12 relative; assembleMixedStressRows (C = J_S,u, M = -J_S,S on their own)
+//    against the same blocks of the assembled J;
 //  - 3D: applyMixedJacobian on two distorted Hex8 elements sharing a face (a hand-made
 //    MeshView<.., 3>), both forms, against mixedElement's element Jacobians assembled by hand
-//    times the direction.
+//    times the direction;
+//  - NonlinearMixedModel with MixedNewtonSolverOptions::matrixFreeJacobian: Newton on a stretched
+//    and sheared strip (prescribed displacements, both forms, a = 0 and 0.05) takes the same
+//    iterations, residuals and GMRES iterations as the assembled Jacobian and reaches the same
+//    displacements and stresses to 1e-8.
 #include <kernels/MixedJacobianAction.hpp>
+#include <solver/NonlinearMixedModel.hpp>
 #include <support/KernelFixture.hpp>
 
 #include <gtest/gtest.h>
@@ -77,8 +83,33 @@ template <class Elem> void actionCase(ElementType type) {
           incremental ? assembleMixedIncrement<Elem>(Exec(), s.d, vtau, vx, a, map, jac, g)
                       : assembleMixedCurrent<Elem>(Exec(), s.d, vx, a, map, jac, g);
       ASSERT_EQ(inverted, -1);
-      const Eigen::VectorXd expected = toDense(jac) * dx;
+      const Eigen::MatrixXd dense = toDense(jac);
+      const Eigen::VectorXd expected = dense * dx;
       ASSERT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
+      // The stress rows on their own: C = J_S,u and M = -J_S,S.
+      CsrMatrix<Memory> c = expandGraph<Memory>(graph, 3, 2), m = expandGraph<Memory>(graph, 3);
+      if (incremental)
+        assembleMixedStressRows<Elem>(
+            Exec(), s.d.mesh, s.d.thickness,
+            MixedIncrementLaw<Memory>{s.d.material, s.d.stiffness, s.d.compliance, a}, vx, vtau,
+            map, c, m);
+      else
+        assembleMixedStressRows<Elem>(
+            Exec(), s.d.mesh, s.d.thickness,
+            MixedCurrentLaw<Memory>{s.d.material, s.d.stiffness, s.d.compliance, a}, vx, vtau, map,
+            c, m);
+      Eigen::MatrixXd jc(3 * nn, 2 * nn), jm(3 * nn, 3 * nn);
+      for (int p = 0; p < nn; ++p)
+        for (int v = 0; v < 3; ++v) {
+          for (int q = 0; q < nn; ++q) {
+            for (int i = 0; i < 2; ++i)
+              jc(3 * p + v, 2 * q + i) = dense(5 * p + 2 + v, 5 * q + i);
+            for (int k = 0; k < 3; ++k)
+              jm(3 * p + v, 3 * q + k) = -dense(5 * p + 2 + v, 5 * q + 2 + k);
+          }
+        }
+      EXPECT_LT(relativeError(toDense(c), jc), 1e-12) << "C";
+      EXPECT_LT(relativeError(toDense(m), jm), 1e-12) << "M";
       for (const auto *colors : {&colored, &atomic})
         for (int repeat = 0; repeat < 4; ++repeat) {
           Kokkos::View<double *, Memory> y("y", x.size());
@@ -187,6 +218,87 @@ TEST(MixedJacobianAction, Hex8IncrementEqualsElementJacobiansTimesVector) {
 TEST(MixedJacobianAction, Hex8CurrentEqualsElementJacobiansTimesVector) {
   hexCase<MixedCurrentPoint<3>>(0.0);
   hexCase<MixedCurrentPoint<3>>(0.3);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The nonlinear mixed model with the matrix-free Jacobian against the assembled one.
+
+struct NewtonRun {
+  std::vector<double> residuals, solution;
+  std::vector<int> linearIterations;
+};
+
+NewtonRun newton(const Fixture &f, MixedForm form, double a, bool matrixFree) {
+  NonlinearMixedModel model(f.mesh, f.elementMaterial, f.materials, f.data.thickness);
+  model.setForm(form);
+  model.setStabilization(a);
+  for (LocalIndex n : f.mesh.nodesOf("left")) {
+    model.prescribe(n, 0, 0.0);
+    model.prescribe(n, 1, 0.0);
+  }
+  for (LocalIndex n : f.mesh.nodesOf("right")) {
+    model.prescribe(n, 0, 0.15);
+    model.prescribe(n, 1, 0.3);
+  }
+  MixedNewtonSolverOptions so;
+  so.method = MixedNewtonSolver::BlockTriangular;
+  so.matrixFreeJacobian = matrixFree;
+  model.setIterativeSolver(so);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Amg;
+  o.tolerance = 1e-12;
+  model.setup(o, MPI_COMM_WORLD);
+  EXPECT_EQ(model.matrixFree(), matrixFree);
+  if (matrixFree) {
+    EXPECT_EQ(model.tangent().numNonzeros(), 0) << "J must not be stored";
+  }
+  NewtonRun run;
+  run.residuals.push_back(model.evaluate(1.0, true));
+  for (int it = 0; it < 12 && (it == 0 || run.residuals.back() > 1e-10); ++it) {
+    double inc = 0.0;
+    const LinearSolveStats s = model.correct(1.0, inc);
+    EXPECT_TRUE(s.converged);
+    run.linearIterations.push_back(s.iterations);
+    run.residuals.push_back(model.evaluate(1.0, true));
+  }
+  run.solution = model.nodalStressHost();
+  const auto u = model.displacementHost();
+  run.solution.insert(run.solution.end(), u.begin(), u.end());
+  return run;
+}
+
+template <class Elem> void newtonCase(ElementType type) {
+  const Fixture f = makeFixture(type, 6, 3);
+  for (MixedForm form : {MixedForm::Current, MixedForm::Incremental})
+    for (double a : {0.0, 0.05}) {
+      SCOPED_TRACE(::testing::Message()
+                   << Elem::kName << (form == MixedForm::Current ? " current" : " incremental")
+                   << " a = " << a);
+      const NewtonRun assembled = newton(f, form, a, false);
+      const NewtonRun free = newton(f, form, a, true);
+      ASSERT_LT(assembled.residuals.back(), 1e-10) << "the assembled Newton converges";
+      ASSERT_GT(assembled.residuals.size(), 3u) << "a nonlinear problem";
+      ASSERT_EQ(free.residuals.size(), assembled.residuals.size()) << "Newton iterations";
+      for (std::size_t i = 0; i < free.residuals.size(); ++i)
+        if (assembled.residuals[i] > 1e-6) { // above the level where GMRES's rounding shows
+          EXPECT_NEAR(free.residuals[i], assembled.residuals[i], 1e-8 * assembled.residuals[i])
+              << "iteration " << i;
+        }
+      for (std::size_t i = 0; i < free.linearIterations.size(); ++i)
+        EXPECT_NEAR(free.linearIterations[i], assembled.linearIterations[i], 1)
+            << "iteration " << i;
+      const Eigen::Map<const Eigen::VectorXd> x0(assembled.solution.data(),
+                                                 assembled.solution.size()),
+          x1(free.solution.data(), free.solution.size());
+      EXPECT_LT((x1 - x0).cwiseAbs().maxCoeff(), 1e-8 * x0.cwiseAbs().maxCoeff());
+    }
+}
+
+TEST(MixedJacobianAction, Quad4MatrixFreeNewtonEqualsAssembled) {
+  newtonCase<Quad4>(ElementType::Quad4);
+}
+TEST(MixedJacobianAction, Quad8MatrixFreeNewtonEqualsAssembled) {
+  newtonCase<Quad8>(ElementType::Quad8);
 }
 
 } // namespace mixed_jacobian_action_tests
