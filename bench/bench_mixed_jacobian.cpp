@@ -5,9 +5,14 @@
 // assembly of J itself (assembleMixedCurrent: residual + Jacobian, the cost the matrix-free
 // product avoids once per Newton step). Counters: elem/s; bytes/elem = what each way keeps per
 // element beyond the state vectors (J's CSR arrays, or the action's element color list).
+// JX/newtonStep: the first Newton iteration of NonlinearMixedModel (block-triangular GMRES,
+// current form, a = 0.05, setup excluded: tangent, preconditioner setup, solve, the next
+// residual and tangent) on a square clamped on the left and displaced on the right, with the
+// assembled or the matrix-free Jacobian (MixedNewtonSolverOptions::matrixFreeJacobian).
 #include <bench/BenchMain.hpp>
 #include <kernels/MixedJacobianAction.hpp>
 #include <mesh/Generators.hpp>
+#include <solver/NonlinearMixedModel.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -117,6 +122,45 @@ void jacobianProduct(benchmark::State &state, Way way) {
     run<Quad4>(state, way, p);
 }
 
+void newtonStep(benchmark::State &state) {
+  const int n = static_cast<int>(state.range(1));
+  const Mesh mesh =
+      rectangleMesh(1.0, 1.0, n, n, state.range(0) == 8 ? ElementType::Quad8 : ElementType::Quad4);
+  const std::vector<PlaneMatrix> material{orthotropicStiffness(
+      {1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4}, PlaneAnalysis::PlaneStress, 0.3)};
+  int fgmres = 0;
+  for (auto _ : state) {
+    NonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), material, 1.0);
+    model.setStabilization(0.05);
+    for (LocalIndex k : mesh.nodesOf("left")) {
+      model.prescribe(k, 0, 0.0);
+      model.prescribe(k, 1, 0.0);
+    }
+    for (LocalIndex k : mesh.nodesOf("right")) {
+      model.prescribe(k, 0, 0.05);
+      model.prescribe(k, 1, 0.2);
+    }
+    MixedNewtonSolverOptions so;
+    so.matrixFreeJacobian = state.range(2) != 0;
+    model.setIterativeSolver(so);
+    LinearSolverOptions o; // amg
+    o.tolerance = 1e-6;
+    model.setup(o, MPI_COMM_WORLD);
+    const auto t0 = std::chrono::steady_clock::now();
+    model.evaluate(1.0, true);
+    double inc = 0.0;
+    fgmres = model.correct(1.0, inc).iterations;
+    model.evaluate(1.0, true);
+    Exec().fence();
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (model.matrixFree() != (state.range(2) != 0))
+      state.SkipWithError("the matrix-free option was not taken");
+  }
+  state.counters["elem"] = mesh.numElements();
+  state.counters["fgmres_its"] = fgmres;
+}
+
 } // namespace
 
 // n x n elements: 1024, 1e4, 1e5.
@@ -130,5 +174,12 @@ void jacobianProduct(benchmark::State &state, Way way) {
 MIXCON_JX(Way::MatrixFree, matrixFree);
 MIXCON_JX(Way::Csr, csr);
 MIXCON_JX(Way::Assembly, assembly);
+
+BENCHMARK(newtonStep)
+    ->Name("JX/newtonStep")
+    ->ArgsProduct({{4, 8}, {32, 100}, {0, 1}})
+    ->ArgNames({"nodes", "n", "matrix_free"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }
