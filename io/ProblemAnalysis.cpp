@@ -103,8 +103,8 @@ void readSolver(const YamlItem &top, Problem &p) {
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
                  "print_level", "krylov", "preconditioner", "inner_tolerance",
                  "interpolation_max_elements", "nodal_coarsening", "method",
-                 "stress_block_tolerance"});
-    for (const char *key : {"method", "stress_block_tolerance"})
+                 "stress_block_tolerance", "jacobian"});
+    for (const char *key : {"method", "stress_block_tolerance", "jacobian"})
       if (s.has(key) && !nonlinearMixed)
         s[key].fail(std::string(key) +
                     " applies to the geometrically nonlinear mixed model's solver: amg only");
@@ -114,6 +114,24 @@ void readSolver(const YamlItem &top, Problem &p) {
                                        : MixedNewtonSolver::BlockTriangular;
     if (s.has("stress_block_tolerance"))
       p.model.mixedNewton.preconditionerTolerance = s["stress_block_tolerance"].positive();
+    if (s.has("jacobian")) {
+      // The matrix-free Jacobian serves the block-triangular GMRES without contact or follower
+      // pressures (their contributions are assembled); refused where it would not be taken.
+      const YamlItem j = s["jacobian"];
+      p.model.mixedNewton.matrixFreeJacobian =
+          j.choice({"assembled", "matrix_free"}) == "matrix_free";
+      if (p.model.mixedNewton.matrixFreeJacobian) {
+        if (p.model.mixedNewton.method != MixedNewtonSolver::BlockTriangular)
+          j.fail("jacobian: matrix_free needs method: block_triangular");
+        if (!p.contact.empty())
+          j.fail("jacobian: matrix_free is not available with contact (its corrections need the "
+                 "assembled Jacobian)");
+        for (const LoadSpec &l : p.loads)
+          if (l.kind == LoadKind::Pressure && l.follower)
+            j.fail("jacobian: matrix_free is not available with follower pressures (their load "
+                   "stiffness is assembled); use follower: false or jacobian: assembled");
+      }
+    }
     for (const char *key : {"krylov", "preconditioner", "inner_tolerance"}) {
       if (s.has(key) && p.model.formulation != Formulation::Mixed)
         s[key].fail(std::string(key) + " applies to formulation: mixed only");

@@ -104,8 +104,9 @@ std::string NonlinearMixedModel::solverName() const {
     o << "flexible GMRES on the Schur complement (inner block-Jacobi CG on the stress block), one "
          "BoomerAMG V-cycle on K^L of the current configuration";
   else
-    o << "flexible GMRES(" << mixedOptions_.restart
-      << ") on the Jacobian, block-triangular preconditioner: one BoomerAMG V-cycle on K^L of the "
+    o << "flexible GMRES(" << mixedOptions_.restart << ") on the Jacobian"
+      << (matrixFree_ ? " (applied matrix-free, not assembled)" : "")
+      << ", block-triangular preconditioner: one BoomerAMG V-cycle on K^L of the "
          "current configuration, block-Jacobi CG on the stress block to "
       << mixedOptions_.preconditionerTolerance;
   return o.str();

@@ -418,6 +418,36 @@ TEST(Problem, ParsesNonlinearMixedSolver) {
   p = parseProblem(replace(y, ", method: schur, stress_block_tolerance: 1e-3", ""), "mixed.yaml",
                    "");
   EXPECT_EQ(p.model.mixedNewton.method, MixedNewtonSolver::BlockTriangular);
+  EXPECT_FALSE(p.model.mixedNewton.matrixFreeJacobian);
+}
+
+TEST(Problem, NonlinearMixedMatrixFreeJacobianKeyIsCheckedWhereItCannotBeTaken) {
+  std::string y = replace(kGood, "formulation: displacement",
+                          "formulation: mixed, geometric_nonlinearity: true");
+  y = replace(y, "pressure: 2.0}", "pressure: 2.0, follower: false}");
+  const auto expectInputError = [](const std::string &yaml, const std::string &prefix,
+                                   const std::string &part) {
+    try {
+      parseProblem(yaml, "mixed.yaml", "");
+      ADD_FAILURE() << "no error for " << part;
+    } catch (const InputError &e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(prefix, 0), 0u) << msg;
+      EXPECT_NE(msg.find(part), std::string::npos) << msg;
+    }
+  };
+  const std::string amg =
+      replace(y, "solver: {type: direct}", "solver: {type: amg, jacobian: matrix_free}");
+  EXPECT_TRUE(parseProblem(amg, "mixed.yaml", "").model.mixedNewton.matrixFreeJacobian);
+  EXPECT_FALSE(parseProblem(replace(amg, "matrix_free", "assembled"), "mixed.yaml", "")
+                   .model.mixedNewton.matrixFreeJacobian);
+  expectInputError(replace(amg, "jacobian: matrix_free", "jacobian: matrix_free, method: schur"),
+                   "mixed.yaml:", "needs method: block_triangular");
+  expectInputError(replace(amg, "matrix_free", "sparse"), "mixed.yaml:", "jacobian");
+  expectInputError(replace(amg, ", follower: false}", "}"), "mixed.yaml:", "follower");
+  expectInputError(
+      replace(kGood, "solver: {type: direct}", "solver: {type: amg, jacobian: matrix_free}"),
+      "mixed.yaml:", "jacobian applies to the geometrically nonlinear mixed");
 }
 
 TEST(Problem, ParsesNonlinearSteps) {
