@@ -153,6 +153,9 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
                                                                       : LinearSolverType::Amg;
     }
+    if (p.model.mixedNewton.matrixFreeJacobian && p.solver.type == LinearSolverType::Direct)
+      s["jacobian"].fail("jacobian: matrix_free needs type: amg (the direct solver factors the "
+                         "assembled Jacobian)");
     if (s.has("tolerance"))
       p.solver.tolerance = s["tolerance"].positive();
     // Counts of levels and elements: 0 or more.

@@ -444,6 +444,7 @@ TEST(Problem, NonlinearMixedMatrixFreeJacobianKeyIsCheckedWhereItCannotBeTaken) 
   expectInputError(replace(amg, "jacobian: matrix_free", "jacobian: matrix_free, method: schur"),
                    "mixed.yaml:", "needs method: block_triangular");
   expectInputError(replace(amg, "matrix_free", "sparse"), "mixed.yaml:", "jacobian");
+  expectInputError(replace(amg, "type: amg", "type: direct"), "mixed.yaml:", "needs type: amg");
   expectInputError(replace(amg, ", follower: false}", "}"), "mixed.yaml:", "follower");
   expectInputError(
       replace(kGood, "solver: {type: direct}", "solver: {type: amg, jacobian: matrix_free}"),
