@@ -7,6 +7,7 @@
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
 
+#include <support/MixedSolution.hpp>
 #include <support/Params.hpp>
 
 #include <gtest/gtest.h>
@@ -18,18 +19,9 @@ using namespace mixcon;
 
 namespace {
 
-double maxRelativeDifference(const std::vector<double> &a, const std::vector<double> &b) {
-  double d = 0.0, s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, std::abs(a[i] - b[i]));
-    s = std::max(s, std::abs(b[i]));
-  }
-  return d / s;
-}
+using test::maxRelativeDifference;
 
-struct Solution {
-  std::vector<double> u, s, reaction;
-  LinearSolveStats stats;
+struct Solution : test::MixedSolution {
   MixedOperatorForm form;
   std::size_t assembledCouplingEntries;
 };
@@ -49,10 +41,7 @@ Solution solveLame(ElementType type, MixedOptions o) {
   o.innerTolerance = 1e-14;
   model.setup(o, MPI_COMM_WORLD);
   Solution r;
-  r.stats = model.solve(1.0);
-  r.u = model.displacementHost();
-  r.s = model.nodalStressHost();
-  r.reaction = model.reactionHost(1.0);
+  static_cast<test::MixedSolution &>(r) = test::solveMixed(model);
   r.form = model.operatorForm();
   r.assembledCouplingEntries = model.operators().coupling.extent(0);
   return r;
