@@ -112,10 +112,15 @@ solver: {type: amg}
 output: {directory: somewhere}
 )";
 
-std::string withValue(const std::string &yaml, const std::string &value) {
+/// `yaml` with its first `from` replaced by `to`.
+std::string replaced(const std::string &yaml, const std::string &from, const std::string &to) {
   std::string y = yaml;
-  y.replace(y.find("VALUE"), 5, value);
+  y.replace(y.find(from), from.size(), to);
   return y;
+}
+
+std::string withValue(const std::string &yaml, const std::string &value) {
+  return replaced(yaml, "VALUE", value);
 }
 } // namespace
 
@@ -129,8 +134,7 @@ TEST(MixedOperatorForm, ProblemFileKey) {
     EXPECT_EQ(parseProblem(withValue(kMixed, value), "case.yaml", "").model.mixed.operators, form)
         << value;
   // Not given: Auto.
-  std::string none = kMixed;
-  none.replace(none.find(", operators: VALUE"), 18, "");
+  const std::string none = replaced(kMixed, ", operators: VALUE", "");
   EXPECT_EQ(parseProblem(none, "case.yaml", "").model.mixed.operators, MixedOperatorForm::Auto);
   // A bad value names file:line and the choices; the key is refused off the linear mixed model.
   const std::pair<std::string, std::string> bad[] = {
@@ -145,8 +149,8 @@ TEST(MixedOperatorForm, ProblemFileKey) {
       EXPECT_NE(std::string(e.what()).find("operators"), std::string::npos) << e.what();
     }
   }
-  std::string displacement = withValue(kMixed, "matrix_free");
-  displacement.replace(displacement.find("formulation: mixed"), 18, "formulation: displacement");
+  const std::string displacement =
+      replaced(withValue(kMixed, "matrix_free"), "formulation: mixed", "formulation: displacement");
   EXPECT_THROW(parseProblem(displacement, "case.yaml", ""), InputError);
 }
 
