@@ -97,6 +97,21 @@ inline Eigen::MatrixXd toDense(const CsrMatrix<Memory> &a) {
   return d;
 }
 
+/// A square n x n CSR matrix on the device from its host row offsets, columns and values.
+inline CsrMatrix<Memory> csrToDevice(LocalIndex n, const std::vector<Offset> &ro,
+                                     const std::vector<LocalIndex> &co,
+                                     const std::vector<double> &va) {
+  CsrMatrix<Memory> m;
+  m.numRows = m.numColumns = n;
+  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", ro.size());
+  m.columns = Kokkos::View<LocalIndex *, Memory>("co", co.size());
+  m.values = Kokkos::View<double *, Memory>("va", va.size());
+  copyToDevice(m.rowOffsets, ro);
+  copyToDevice(m.columns, co);
+  copyToDevice(m.values, va);
+  return m;
+}
+
 /// Device CSR copy of a dense square matrix with every entry stored (the full n x n pattern).
 inline CsrMatrix<Memory> denseToCsr(const Eigen::MatrixXd &a) {
   const LocalIndex n = static_cast<LocalIndex>(a.rows());
@@ -111,32 +126,16 @@ inline CsrMatrix<Memory> denseToCsr(const Eigen::MatrixXd &a) {
     }
   }
   ro[n] = static_cast<Offset>(co.size());
-  CsrMatrix<Memory> m;
-  m.numRows = m.numColumns = n;
-  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", ro.size());
-  m.columns = Kokkos::View<LocalIndex *, Memory>("co", co.size());
-  m.values = Kokkos::View<double *, Memory>("va", va.size());
-  copyToDevice(m.rowOffsets, ro);
-  copyToDevice(m.columns, co);
-  copyToDevice(m.values, va);
-  return m;
+  return csrToDevice(n, ro, co, va);
 }
 
 /// Device CSR copy of a compressed row-major Eigen sparse square matrix: its pattern and values.
 template <class Index>
 CsrMatrix<Memory> sparseToCsr(const Eigen::SparseMatrix<double, Eigen::RowMajor, Index> &a) {
-  CsrMatrix<Memory> m;
-  m.numRows = m.numColumns = static_cast<LocalIndex>(a.rows());
-  std::vector<Offset> ro(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1);
-  std::vector<LocalIndex> co(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
-  std::vector<double> va(a.valuePtr(), a.valuePtr() + a.nonZeros());
-  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", ro.size());
-  m.columns = Kokkos::View<LocalIndex *, Memory>("co", co.size());
-  m.values = Kokkos::View<double *, Memory>("va", va.size());
-  copyToDevice(m.rowOffsets, ro);
-  copyToDevice(m.columns, co);
-  copyToDevice(m.values, va);
-  return m;
+  const std::vector<Offset> ro(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1);
+  const std::vector<LocalIndex> co(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
+  const std::vector<double> va(a.valuePtr(), a.valuePtr() + a.nonZeros());
+  return csrToDevice(static_cast<LocalIndex>(a.rows()), ro, co, va);
 }
 
 inline double relativeError(const Eigen::MatrixXd &a, const Eigen::MatrixXd &b) {

@@ -69,11 +69,7 @@ TEST(MultiPointConstraints, EliminationEqualsTheLagrangeMultiplierSolution) {
   rhs << b, dv;
   const Eigen::VectorXd ref = kkt.fullPivLu().solve(rhs);
 
-  Kokkos::View<double *, Memory> bv("b", n);
-  auto hb = Kokkos::create_mirror_view(bv);
-  for (int i = 0; i < n; ++i)
-    hb(i) = b(i);
-  Kokkos::deep_copy(bv, hb);
+  const auto bv = toView(b);
   ConstraintElimination elimination;
   const auto t = toDevice(c, n);
   const auto reduced = elimination.eliminate(test::denseToCsr(a), t, 3.0, bv);
@@ -82,36 +78,22 @@ TEST(MultiPointConstraints, EliminationEqualsTheLagrangeMultiplierSolution) {
   EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(ad).info(), Eigen::Success); // positive definite
   EXPECT_DOUBLE_EQ(ad(2, 2), 3.0);
   EXPECT_DOUBLE_EQ(ad(5, 5), 3.0);
-  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), bv);
-  Eigen::VectorXd rb(n);
-  for (int i = 0; i < n; ++i)
-    rb(i) = hr(i);
+  const Eigen::VectorXd rb = toEigen(bv);
   const Eigen::VectorXd y = ad.ldlt().solve(rb);
   EXPECT_NEAR(y(2), 0.0, 1e-14);
   EXPECT_NEAR(y(5), 0.0, 1e-14);
-  Kokkos::View<double *, Memory> xv("x", n);
-  auto hx = Kokkos::create_mirror_view(xv);
-  for (int i = 0; i < n; ++i)
-    hx(i) = y(i);
-  Kokkos::deep_copy(xv, hx);
+  const auto xv = toView(y);
   expandConstrained(t, xv);
-  Kokkos::deep_copy(hx, xv);
-  Eigen::VectorXd x(n);
-  for (int i = 0; i < n; ++i)
-    x(i) = hx(i);
+  const Eigen::VectorXd x = toEigen(xv);
   EXPECT_LT((x - ref.head(n)).norm(), 1e-12 * ref.head(n).norm());
   EXPECT_LT((cm * x - dv).norm(), 1e-13);
   // Condensed residual zero; the slaves' residuals are the multipliers' forces: A x - b = -C^T l.
   const Eigen::VectorXd res = a * x - b;
-  Kokkos::View<double *, Memory> rv("r", n);
-  auto hrv = Kokkos::create_mirror_view(rv);
-  for (int i = 0; i < n; ++i)
-    hrv(i) = res(i);
-  Kokkos::deep_copy(rv, hrv);
+  const auto rv = toView(res);
   condenseVector(t, rv);
-  Kokkos::deep_copy(hrv, rv);
+  const Eigen::VectorXd condensed = toEigen(rv);
   for (int i = 0; i < n; ++i)
-    EXPECT_NEAR(hrv(i), 0.0, 1e-12) << i;
+    EXPECT_NEAR(condensed(i), 0.0, 1e-12) << i;
   EXPECT_LT((res + cm.transpose() * ref.tail(2)).norm(), 1e-12 * res.norm());
 }
 
