@@ -9,7 +9,8 @@
 // CPU default) and the atomic one (methods 3, 4; the GPU default).
 // Benchmarks: apply/<op> for op = K12^T u (0), K12 s (1) and M s (2), and setup (assembly of the
 // operators, given the node graph and its scatter map, versus the partial assembly's precompute,
-// versus the element coloring for matfree). Real time, a Kokkos fence before the clock stops.
+// versus the element coloring for matfree). Real time, a Kokkos fence before the clock stops;
+// every apply case is first checked against the assembled apply (SkipWithError on a mismatch).
 // Counters: elements/s and bytes/element, the operator storage the apply reads (graph + blocks, or
 // the stored factors) plus the mesh (coordinates, connectivity, material) that every path reads.
 // And solve: the model's Schur solve with each form (what the default is chosen by).
@@ -22,14 +23,17 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <vector>
 
 using namespace mixcon;
 using Exec = Kokkos::DefaultExecutionSpace;
 using Memory = Exec::memory_space;
 using ConstVector = Kokkos::View<const double *, Memory>;
+using Layout = FieldLayout<2>; // the plane problems: displacements and stresses per node
 
 namespace {
 
@@ -91,12 +95,17 @@ const Problem &problem(ElementType type, int n) {
   p->partialAtomic.scatter = MixedScatter::Atomic;
   p->matrixFreeAtomic = p->matrixFree;
   p->matrixFreeAtomic.scatter = MixedScatter::Atomic;
-  p->u = Kokkos::View<double *, Memory>("u", 2 * nn);
-  p->f = Kokkos::View<double *, Memory>("f", 2 * nn);
-  p->s = Kokkos::View<double *, Memory>("s", 3 * nn);
-  p->r = Kokkos::View<double *, Memory>("r", 3 * nn);
-  p->y = Kokkos::View<double *, Memory>("y", 3 * nn);
-  Kokkos::deep_copy(p->u, 1e-3);
+  p->u = Kokkos::View<double *, Memory>("u", Layout::kNumDisplacements * nn);
+  p->f = Kokkos::View<double *, Memory>("f", Layout::kNumDisplacements * nn);
+  p->s = Kokkos::View<double *, Memory>("s", Layout::kNumStresses * nn);
+  p->r = Kokkos::View<double *, Memory>("r", Layout::kNumStresses * nn);
+  p->y = Kokkos::View<double *, Memory>("y", Layout::kNumStresses * nn);
+  // u strains the mesh (a uniform u has K12^T u = 0, which the check before timing could not
+  // compare against): u_i = 1e-3 (1 + i mod 7).
+  auto hu = Kokkos::create_mirror_view(p->u);
+  for (std::size_t i = 0; i < hu.extent(0); ++i)
+    hu(i) = 1e-3 * static_cast<double>(1 + i % 7);
+  Kokkos::deep_copy(p->u, hu);
   Kokkos::deep_copy(p->s, 1.0);
   Kokkos::fence();
   current = std::move(p);
@@ -129,6 +138,15 @@ const MixedMatrixFreeOperators<Memory> &operatorsOf(const Problem &p, Method met
                                    : p.matrixFreeAtomic;
 }
 
+/// Counters of an apply or setup case: elements, elements/s and what an apply reads per element.
+void elementCounters(benchmark::State &state, const Problem &p, Method method) {
+  const double ne = p.mesh.numElements();
+  state.counters["elements"] = ne;
+  state.counters["elements/s"] =
+      benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["bytes/element"] = bytesPerElement(p, method);
+}
+
 ElementType typeOf(const benchmark::State &state) {
   return state.range(0) == 8 ? ElementType::Quad8 : ElementType::Quad4;
 }
@@ -142,10 +160,35 @@ template <class Ops> void applyOnce(const Problem &p, const Ops &ops, Op op) {
     applyCompliance(Exec(), ops, ConstVector(p.s), p.y);
 }
 
+/// Largest difference between `method`'s apply and the assembled operators' (the baseline),
+/// relative to the largest entry of the assembled result; checked before a case is timed.
+double differenceFromAssembled(const Problem &p, Method method, Op op) {
+  const auto out = op == CouplingTranspose ? p.r : op == Coupling ? p.f : p.y;
+  applyOnce(p, p.assembled, op);
+  const std::vector<double> ref = toHostVector(out);
+  if (method != Assembled)
+    applyOnce(p, operatorsOf(p, method), op);
+  const std::vector<double> got = toHostVector(out);
+  double d = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    d = std::max(d, std::abs(got[i] - ref[i]));
+    scale = std::max(scale, std::abs(ref[i]));
+  }
+  return d / scale;
+}
+
+/// Relative difference from the assembled apply above which a case is not timed (the forms
+/// differ by summation order only: ~1e-15).
+constexpr double kApplyTolerance = 1e-10;
+
 void apply(benchmark::State &state) {
   const auto method = static_cast<Method>(state.range(2));
   const auto op = static_cast<Op>(state.range(3));
   const Problem &p = problem(typeOf(state), static_cast<int>(state.range(1)));
+  if (differenceFromAssembled(p, method, op) > kApplyTolerance) {
+    state.SkipWithError("differs from the assembled operators");
+    return;
+  }
   for (auto _ : state) {
     if (method == Assembled)
       applyOnce(p, p.assembled, op);
@@ -153,11 +196,30 @@ void apply(benchmark::State &state) {
       applyOnce(p, operatorsOf(p, method), op);
     Kokkos::fence();
   }
-  const double ne = p.mesh.numElements();
-  state.counters["elements"] = ne;
-  state.counters["elements/s"] =
-      benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["bytes/element"] = bytesPerElement(p, method);
+  elementCounters(state, p, method);
+}
+
+/// The strip of bench_mixed_solver: 4 x 1, ny element rows of 4 ny elements.
+Mesh stripMesh(ElementType type, int ny) { return rectangleMesh(4.0, 1.0, 4 * ny, ny, type); }
+
+/// The linear mixed model on `mesh` (kept alive by the caller): one isotropic plane-stress
+/// material (E = 1, nu = 0.3), thickness 1, clamped at x = 0.
+std::unique_ptr<MixedModel> clampedStrip(const Mesh &mesh) {
+  auto model = std::make_unique<MixedModel>(
+      mesh, std::vector<int>(mesh.numElements(), 0),
+      std::vector<PlaneMatrix>{isotropicStiffness(1.0, 0.3, PlaneAnalysis::PlaneStress)}, 1.0);
+  for (LocalIndex n : mesh.nodesOf("left")) {
+    model->prescribe(n, 0, 0.0);
+    model->prescribe(n, 1, 0.0);
+  }
+  return model;
+}
+
+/// The model's operator form that applies the blocks as `method` does (colored scatter).
+MixedOperatorForm formOf(Method method) {
+  return method == Assembled ? MixedOperatorForm::Assembled
+         : method == Partial ? MixedOperatorForm::PartialAssembly
+                             : MixedOperatorForm::MatrixFree;
 }
 
 /// The device-memory budget of the set-up model (the solve benchmark's strip, ~1e4 elements):
@@ -167,19 +229,15 @@ void memory(benchmark::State &state) {
   const auto method = static_cast<Method>(state.range(2));
   const ElementType type = typeOf(state);
   const int ny = static_cast<int>(state.range(1));
-  const Mesh mesh = rectangleMesh(4.0, 1.0, 4 * ny, ny, type);
-  MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0),
-                   {isotropicStiffness(1.0, 0.3, PlaneAnalysis::PlaneStress)}, 1.0);
-  for (LocalIndex n : mesh.nodesOf("left")) {
-    model.prescribe(n, 0, 0.0);
-    model.prescribe(n, 1, 0.0);
-  }
+  const Mesh mesh = stripMesh(type, ny);
+  auto strip = clampedStrip(mesh);
+  MixedModel &model = *strip;
   MixedOptions o;
-  o.operators = method == Assembled ? MixedOperatorForm::Assembled
-                : method == Partial ? MixedOperatorForm::PartialAssembly
-                                    : MixedOperatorForm::MatrixFree;
-  for (auto _ : state)
+  o.operators = formOf(method);
+  for (auto _ : state) {
     model.setup(o, MPI_COMM_WORLD);
+    Kokkos::fence();
+  }
   double total = 0.0;
   for (const auto &[name, bytes] : model.deviceViewBytes()) {
     const double perElement = static_cast<double>(bytes) / mesh.numElements();
@@ -208,11 +266,7 @@ void setup(benchmark::State &state) {
     });
     Kokkos::fence();
   }
-  const double ne = p.mesh.numElements();
-  state.counters["elements"] = ne;
-  state.counters["elements/s"] =
-      benchmark::Counter(ne, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["bytes/element"] = bytesPerElement(p, method);
+  elementCounters(state, p, method);
 }
 
 bool large = false;
@@ -225,28 +279,24 @@ void solve(benchmark::State &state) {
   const auto method = static_cast<Method>(state.range(2));
   const ElementType type = typeOf(state);
   const int ny = static_cast<int>(state.range(1));
-  const Mesh mesh = rectangleMesh(4.0, 1.0, 4 * ny, ny, type);
-  MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0),
-                   {isotropicStiffness(1.0, 0.3, PlaneAnalysis::PlaneStress)}, 1.0);
-  for (LocalIndex n : mesh.nodesOf("left")) {
-    model.prescribe(n, 0, 0.0);
-    model.prescribe(n, 1, 0.0);
-  }
+  const Mesh mesh = stripMesh(type, ny);
+  auto strip = clampedStrip(mesh);
+  MixedModel &model = *strip;
   model.addEdgeLoad(mesh.boundaries.at("right"), 0.0, 1e-3, 0.0);
   MixedOptions o;
   o.linear.tolerance = 1e-8;
   o.linear.maxIterations = 5000;
-  o.operators = method == Assembled ? MixedOperatorForm::Assembled
-                : method == Partial ? MixedOperatorForm::PartialAssembly
-                                    : MixedOperatorForm::MatrixFree;
+  o.operators = formOf(method);
   model.setup(o, MPI_COMM_WORLD);
-  LinearSolveStats st;
+  LinearSolveStats st = model.solve(1.0); // checked before it is timed
+  if (!st.converged) {
+    state.SkipWithError("did not converge");
+    return;
+  }
   for (auto _ : state) {
     st = model.solve(1.0);
     Kokkos::fence();
   }
-  if (!st.converged)
-    state.SkipWithError("did not converge");
   state.counters["elements"] = mesh.numElements();
   state.counters["elements/s"] = benchmark::Counter(static_cast<double>(mesh.numElements()),
                                                     benchmark::Counter::kIsIterationInvariantRate);

@@ -154,6 +154,17 @@ interpolateStress(const double (&sh)[N], const double (&se)[N][Voigt<Dim>::kSize
   return s;
 }
 
+/// se[b] += psi_b sigma for every node b: the transpose of interpolateStress (a point's stress
+/// components spread to the element's nodes by the stress shape functions).
+template <int Dim, int N>
+KOKKOS_INLINE_FUNCTION void addInterpolatedTranspose(const double (&sh)[N],
+                                                     const Vector<Voigt<Dim>::kSize> &sigma,
+                                                     double (&se)[N][Voigt<Dim>::kSize]) {
+  for (int b = 0; b < N; ++b)
+    for (int k = 0; k < Voigt<Dim>::kSize; ++k)
+      se[b][k] += sh[b] * sigma[k];
+}
+
 namespace detail {
 
 /// Nodal values of element e from v (C per node, interleaved).
@@ -213,10 +224,7 @@ void couplingTransposeKernel(const ExecSpace &exec, const MixedMatrixFreeOperato
         gatherNodal<n, nu>(op.data.mesh, u, e, ue);
         for (int q = 0; q < Elem::kNumQp; ++q) {
           pointFactors<Elem, Stored>(op, ref, e, q, xe, wg);
-          const auto eps = weightedStrain<dim, n>(wg, ue);
-          for (int b = 0; b < n; ++b)
-            for (int k = 0; k < nv; ++k)
-              re[b][k] += ref.sh[q][b] * eps[k];
+          addInterpolatedTranspose<dim, n>(ref.sh[q], weightedStrain<dim, n>(wg, ue), re);
         }
         scatterNodal<Atomic, n, nv>(op.data.mesh, e, 1.0, re, r);
       });
@@ -259,16 +267,14 @@ void complianceKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<Memo
         for (int q = 0; q < Elem::kNumQp; ++q) {
           const double f = pointFactors<Elem, Stored>(op, ref, e, q, xe, wg);
           const auto sigma = interpolateStress<dim, n>(ref.sh[q], xs);
-          double z[nv];
+          Vector<nv> z;
           for (int r = 0; r < nv; ++r) {
             z[r] = 0.0;
             for (int c = 0; c < nv; ++c)
               z[r] += d.m[r][c] * sigma[c];
             z[r] *= f;
           }
-          for (int a = 0; a < n; ++a)
-            for (int r = 0; r < nv; ++r)
-              ye[a][r] += ref.sh[q][a] * z[r];
+          addInterpolatedTranspose<dim, n>(ref.sh[q], z, ye);
         }
         scatterNodal<Atomic, n, nv>(op.data.mesh, e, 1.0, ye, y);
       });

@@ -10,6 +10,7 @@
 #include <solver/ConstraintSet.hpp>
 #include <solver/DofMap.hpp>
 #include <solver/LocalFrames.hpp>
+#include <support/KernelFixture.hpp>
 #include <support/MultiPointReference.hpp>
 
 #include <gtest/gtest.h>
@@ -114,45 +115,6 @@ TEST(TangentBasis, ThreeDimensionsIsARightHandedOrthonormalFrame) {
   }
 }
 
-namespace constraint_set_tests {
-
-Kokkos::View<double *, Memory> toView(const Eigen::VectorXd &v) {
-  Kokkos::View<double *, Memory> d("v", v.size());
-  copyToDevice(d, std::vector<double>(v.data(), v.data() + v.size()));
-  return d;
-}
-
-Eigen::VectorXd toEigen(const Kokkos::View<double *, Memory> &v) {
-  const auto h = toHostVector(v);
-  return Eigen::Map<const Eigen::VectorXd>(h.data(), static_cast<long>(h.size()));
-}
-
-CsrMatrix<Memory> denseCsr(const Eigen::MatrixXd &a) {
-  const LocalIndex n = static_cast<LocalIndex>(a.rows());
-  std::vector<Offset> ro(n + 1);
-  std::vector<LocalIndex> co;
-  std::vector<double> va;
-  for (LocalIndex i = 0; i < n; ++i) {
-    ro[i] = static_cast<Offset>(co.size());
-    for (LocalIndex j = 0; j < n; ++j) {
-      co.push_back(j);
-      va.push_back(a(i, j));
-    }
-  }
-  ro[n] = static_cast<Offset>(co.size());
-  CsrMatrix<Memory> m;
-  m.numRows = m.numColumns = n;
-  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", n + 1);
-  m.columns = Kokkos::View<LocalIndex *, Memory>("co", co.size());
-  m.values = Kokkos::View<double *, Memory>("va", va.size());
-  copyToDevice(m.rowOffsets, ro);
-  copyToDevice(m.columns, co);
-  copyToDevice(m.values, va);
-  return m;
-}
-
-} // namespace constraint_set_tests
-
 TEST(ConstraintSet, FramesMultipointRowsAndDirichletSolveTheConstrainedProblem) {
   const int nodes = 12, stride = 3, n = nodes * stride;
   std::mt19937 rng(9);
@@ -247,14 +209,14 @@ TEST(ConstraintSet, FramesMultipointRowsAndDirichletSolveTheConstrainedProblem) 
   LinearSolverOptions o;
   o.type = LinearSolverType::Direct;
   auto solver = makeLinearSolver(o, DofMap::serial(nodes, stride), MPI_COMM_WORLD);
-  const auto am = denseCsr(a);
+  const auto am = test::denseToCsr(a);
   CsrMatrix<Memory> work;
   ConstraintElimination elimination;
-  const auto bv = toView(b);
+  const auto bv = test::toView(b);
   Kokkos::View<double *, Memory> xv("x", n);
   double setup = 0.0;
   solveConstrained(set, am, work, elimination, bv, *solver, xv, &setup);
-  const Eigen::VectorXd x = toEigen(xv);
+  const Eigen::VectorXd x = test::toEigen(xv);
   EXPECT_LT((x - xRef).norm(), 1e-10 * xRef.norm());
   EXPECT_GT(setup, 0.0);
 
@@ -264,10 +226,11 @@ TEST(ConstraintSet, FramesMultipointRowsAndDirichletSolveTheConstrainedProblem) 
   for (int i = 0; i < n; ++i)
     if (i % stride < 2 && !held[i])
       sum += cond(i) * cond(i);
-  const double norm = constrainedFreeNorm(set, Kokkos::View<const double *, Memory>(toView(g)));
+  const double norm =
+      constrainedFreeNorm(set, Kokkos::View<const double *, Memory>(test::toView(g)));
   EXPECT_NEAR(norm, std::sqrt(sum), 1e-13 * std::sqrt(sum));
   // At the constrained solution the residual it balances vanishes.
   const Eigen::VectorXd res = a * x - b;
-  EXPECT_LT(constrainedFreeNorm(set, Kokkos::View<const double *, Memory>(toView(res))),
+  EXPECT_LT(constrainedFreeNorm(set, Kokkos::View<const double *, Memory>(test::toView(res))),
             1e-10 * b.norm());
 }

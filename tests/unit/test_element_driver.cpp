@@ -13,6 +13,7 @@
 #include <support/KernelFixture.hpp>
 #include <support/NonlinearReference.hpp>
 #include <support/Params.hpp>
+#include <support/RandomTensor.hpp>
 #include <support/Reference.hpp>
 
 #include <gtest/gtest.h>
@@ -84,17 +85,6 @@ Eigen::MatrixXd denseReference(const Fixture &f) {
 PlaneMatrix rotatedOrthotropic() {
   return orthotropicStiffness({1.6e6, 1.1e5, 0.9e5, 1.0e5, 0.4, 0.3, 0.35},
                               PlaneAnalysis::PlaneStrain, 0.7);
-}
-
-/// A random Dim x Dim matrix with entries in [-amount, amount].
-template <int Dim> Mat<Dim, Dim> randomMatrix(unsigned seed, double amount) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-amount, amount);
-  Mat<Dim, Dim> m{};
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j)
-      m.m[i][j] = u(rng);
-  return m;
 }
 
 /// Largest deviation of law.tangent(x) from central differences of law.stress at x, relative

@@ -45,23 +45,19 @@ struct MixedSetup {
 MixedSetup makeSetup(ElementType type) {
   MixedSetup s;
   s.f = makeFixture(type, 4, 3);
-  s.d.mesh = s.f.data.mesh;
-  s.d.material = s.f.data.material;
-  s.d.stiffness = s.f.data.stiffness;
-  s.d.thickness = s.f.data.thickness;
-  s.d.compliance = Kokkos::View<PlaneMatrix *, Memory>("compliance", 2);
+  s.d = mixedElementData(s.f);
   s.hd.mesh = toDevice<Kokkos::HostSpace>(s.f.mesh);
   s.hd.thickness = s.d.thickness;
   s.hd.material = Kokkos::View<int *, Kokkos::HostSpace>("material", s.f.mesh.numElements());
   for (LocalIndex e = 0; e < s.f.mesh.numElements(); ++e)
     s.hd.material(e) = s.f.elementMaterial[e];
-  s.hd.stiffness = Kokkos::View<PlaneMatrix *, Kokkos::HostSpace>("stiffness", 2);
-  s.hd.compliance = Kokkos::View<PlaneMatrix *, Kokkos::HostSpace>("compliance", 2);
-  for (int m = 0; m < 2; ++m) {
+  const std::size_t materials = s.f.materials.size();
+  s.hd.stiffness = Kokkos::View<PlaneMatrix *, Kokkos::HostSpace>("stiffness", materials);
+  s.hd.compliance = Kokkos::View<PlaneMatrix *, Kokkos::HostSpace>("compliance", materials);
+  for (std::size_t m = 0; m < materials; ++m) {
     s.hd.stiffness(m) = s.f.materials[m];
     invert3(s.f.materials[m], s.hd.compliance(m));
   }
-  Kokkos::deep_copy(s.d.compliance, s.hd.compliance);
   return s;
 }
 

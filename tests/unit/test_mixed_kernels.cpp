@@ -18,17 +18,6 @@ using Exec = Kokkos::DefaultExecutionSpace;
 
 namespace {
 
-MixedElementData<Memory> mixedData(const Fixture &f) {
-  MixedElementData<Memory> d;
-  static_cast<ElementData<Memory> &>(d) = f.data;
-  d.compliance = Kokkos::View<PlaneMatrix *, Memory>("compliance", f.materials.size());
-  auto h = Kokkos::create_mirror_view(d.compliance);
-  for (std::size_t i = 0; i < f.materials.size(); ++i)
-    invert3(f.materials[i], h(i));
-  Kokkos::deep_copy(d.compliance, h);
-  return d;
-}
-
 Eigen::Matrix3d complianceOf(const Fixture &f, LocalIndex e) {
   return toEigen(f.materials[f.elementMaterial[e]]).inverse();
 }
@@ -92,7 +81,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, MixedKernelTest, bothElements(), elementName)
 
 TEST_P(MixedKernelTest, ElementBlocksMatchHostReference) {
   const Fixture f = makeFixture(GetParam());
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const int n = f.mesh.nodesPerElement, ne = f.mesh.numElements();
   Kokkos::View<double ***, Memory> k12("k12", ne, 2 * n, 3 * n), k22("k22", ne, 3 * n, 3 * n),
       k22l("k22l", ne, 3 * n, 3 * n);
@@ -135,7 +124,7 @@ TEST_P(MixedKernelTest, ElementBlocksMatchHostReference) {
 
 TEST_P(MixedKernelTest, AssembledOperatorsMatchDenseAssembly) {
   const Fixture f = makeFixture(GetParam(), 4, 3);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const auto ops = kernelOperators(f, d);
   const auto ref = denseBlocks(f);
   const int nn = f.mesh.numNodes();
@@ -157,7 +146,7 @@ TEST_P(MixedKernelTest, AssembledOperatorsMatchDenseAssembly) {
 
 TEST_P(MixedKernelTest, AssembledStabilizedLumpedSchurMatchesDenseProduct) {
   const Fixture f = makeFixture(GetParam(), 4, 3);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const auto ops = kernelOperators(f, d);
   const auto ref = denseBlocks(f);
   const double a = 0.2;
@@ -213,7 +202,7 @@ TEST_P(MixedKernelTest, ConstantStressFromLinearDisplacement) {
   // One material (the orthotropic one), so that the exact stress is constant.
   std::fill(f.elementMaterial.begin(), f.elementMaterial.end(), 0);
   Kokkos::deep_copy(f.data.material, 0);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const auto ops = kernelOperators(f, d);
   const auto ref = denseBlocks(f);
   const int nn = f.mesh.numNodes();

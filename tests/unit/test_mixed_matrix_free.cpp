@@ -33,17 +33,6 @@ Fixture threeMaterialFixture(ElementType type, int nx, int ny) {
   return f;
 }
 
-MixedElementData<Memory> mixedData(const Fixture &f) {
-  MixedElementData<Memory> d;
-  static_cast<ElementData<Memory> &>(d) = f.data;
-  d.compliance = Kokkos::View<PlaneMatrix *, Memory>("compliance", f.materials.size());
-  auto h = Kokkos::create_mirror_view(d.compliance);
-  for (std::size_t i = 0; i < f.materials.size(); ++i)
-    invert3(f.materials[i], h(i));
-  Kokkos::deep_copy(d.compliance, h);
-  return d;
-}
-
 MixedOperators<Memory> assembled(const Fixture &f, const MixedElementData<Memory> &d) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
@@ -112,7 +101,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, MixedMatrixFreeTest, bothElements(), elementN
 
 TEST_P(MixedMatrixFreeTest, AppliesMatchAssembledAndHostLoop) {
   const Fixture f = threeMaterialFixture(GetParam(), 7, 5);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const int nn = f.mesh.numNodes();
   const Eigen::VectorXd u = randomVector(2 * nn, 11), s = 1e3 * randomVector(3 * nn, 12),
                         f0 = randomVector(2 * nn, 13);
@@ -149,7 +138,7 @@ TEST_P(MixedMatrixFreeTest, AppliesMatchAssembledAndHostLoop) {
 /// weighted gradients to zero per point (sum_a dpsi_a/dx = 0), as the recomputed geometry.
 TEST_P(MixedMatrixFreeTest, PartialAssemblyFactorsAreTheGeometry) {
   const Fixture f = threeMaterialFixture(GetParam(), 5, 4);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const auto mf = makeMixedMatrixFree(Exec(), d, f.mesh, true);
   auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.geometry.weight);
   auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.geometry.gradient);
@@ -172,7 +161,7 @@ TEST_P(MixedMatrixFreeTest, PartialAssemblyFactorsAreTheGeometry) {
 /// nodes; each result matches the host loop (a lost update would not).
 TEST_P(MixedMatrixFreeTest, ScatterIsRaceFreeWithThreads) {
   const Fixture f = threeMaterialFixture(GetParam(), 60, 40);
-  const auto d = mixedData(f);
+  const auto d = mixedElementData(f);
   const int nn = f.mesh.numNodes();
   const Eigen::VectorXd u = randomVector(2 * nn, 21), s = randomVector(3 * nn, 22),
                         f0 = Eigen::VectorXd::Zero(2 * nn);
@@ -196,7 +185,8 @@ TEST_P(MixedMatrixFreeTest, ScatterIsRaceFreeWithThreads) {
 /// colors on these quadrilateral meshes.
 TEST_P(MixedMatrixFreeTest, ElementColorsShareNoNode) {
   const Fixture f = threeMaterialFixture(GetParam(), 9, 7);
-  const auto mf = makeMixedMatrixFree(Exec(), mixedData(f), f.mesh, false, MixedScatter::Colored);
+  const auto mf =
+      makeMixedMatrixFree(Exec(), mixedElementData(f), f.mesh, false, MixedScatter::Colored);
   ASSERT_EQ(mf.scatter, MixedScatter::Colored);
   EXPECT_LE(mf.numColors, 8);
   auto list = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), mf.coloredElements);

@@ -7,6 +7,7 @@
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
 
+#include <support/MixedSolution.hpp>
 #include <support/Params.hpp>
 
 #include <gtest/gtest.h>
@@ -18,18 +19,9 @@ using namespace mixcon;
 
 namespace {
 
-double maxRelativeDifference(const std::vector<double> &a, const std::vector<double> &b) {
-  double d = 0.0, s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, std::abs(a[i] - b[i]));
-    s = std::max(s, std::abs(b[i]));
-  }
-  return d / s;
-}
+using test::maxRelativeDifference;
 
-struct Solution {
-  std::vector<double> u, s, reaction;
-  LinearSolveStats stats;
+struct Solution : test::MixedSolution {
   MixedOperatorForm form;
   std::size_t assembledCouplingEntries;
 };
@@ -49,10 +41,7 @@ Solution solveLame(ElementType type, MixedOptions o) {
   o.innerTolerance = 1e-14;
   model.setup(o, MPI_COMM_WORLD);
   Solution r;
-  r.stats = model.solve(1.0);
-  r.u = model.displacementHost();
-  r.s = model.nodalStressHost();
-  r.reaction = model.reactionHost(1.0);
+  static_cast<test::MixedSolution &>(r) = test::solveMixed(model);
   r.form = model.operatorForm();
   r.assembledCouplingEntries = model.operators().coupling.extent(0);
   return r;
@@ -123,10 +112,15 @@ solver: {type: amg}
 output: {directory: somewhere}
 )";
 
-std::string withValue(const std::string &yaml, const std::string &value) {
+/// `yaml` with its first `from` replaced by `to`.
+std::string replaced(const std::string &yaml, const std::string &from, const std::string &to) {
   std::string y = yaml;
-  y.replace(y.find("VALUE"), 5, value);
+  y.replace(y.find(from), from.size(), to);
   return y;
+}
+
+std::string withValue(const std::string &yaml, const std::string &value) {
+  return replaced(yaml, "VALUE", value);
 }
 } // namespace
 
@@ -140,8 +134,7 @@ TEST(MixedOperatorForm, ProblemFileKey) {
     EXPECT_EQ(parseProblem(withValue(kMixed, value), "case.yaml", "").model.mixed.operators, form)
         << value;
   // Not given: Auto.
-  std::string none = kMixed;
-  none.replace(none.find(", operators: VALUE"), 18, "");
+  const std::string none = replaced(kMixed, ", operators: VALUE", "");
   EXPECT_EQ(parseProblem(none, "case.yaml", "").model.mixed.operators, MixedOperatorForm::Auto);
   // A bad value names file:line and the choices; the key is refused off the linear mixed model.
   const std::pair<std::string, std::string> bad[] = {
@@ -156,8 +149,8 @@ TEST(MixedOperatorForm, ProblemFileKey) {
       EXPECT_NE(std::string(e.what()).find("operators"), std::string::npos) << e.what();
     }
   }
-  std::string displacement = withValue(kMixed, "matrix_free");
-  displacement.replace(displacement.find("formulation: mixed"), 18, "formulation: displacement");
+  const std::string displacement =
+      replaced(withValue(kMixed, "matrix_free"), "formulation: mixed", "formulation: displacement");
   EXPECT_THROW(parseProblem(displacement, "case.yaml", ""), InputError);
 }
 

@@ -6,6 +6,7 @@
 //    and r = -(1 - a) D S.
 #include <kernels/Material.hpp>
 #include <kernels/MixedPointPhysics.hpp>
+#include <support/RandomTensor.hpp>
 
 #include <gtest/gtest.h>
 
@@ -16,22 +17,8 @@ using namespace mixcon;
 
 namespace mixed_point_tests {
 
-template <int Dim> Mat<Dim, Dim> randomGradient(std::mt19937 &rng, double amount) {
-  std::uniform_real_distribution<double> u(-amount, amount);
-  Mat<Dim, Dim> m{};
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j)
-      m.m[i][j] = u(rng);
-  return m;
-}
-
-template <int N> Vector<N> randomVoigt(std::mt19937 &rng, double amount) {
-  std::uniform_real_distribution<double> u(-amount, amount);
-  Vector<N> v{};
-  for (int i = 0; i < N; ++i)
-    v.v[i] = u(rng);
-  return v;
-}
+using test::randomMatrix;
+using test::randomVector;
 
 /// Stiffness and compliance of the dimension: a rotated orthotropic solid in 3D, its plane-strain
 /// reduction in 2D (compliance the inverse).
@@ -126,8 +113,8 @@ template <int Dim> void pointDerivativesCase() {
     const MixedIncrementPoint<Dim> inc{Constitutive<Dim>::c(), Constitutive<Dim>::d(), a};
     const MixedCurrentPoint<Dim> cur{Constitutive<Dim>::c(), Constitutive<Dim>::d(), a};
     for (int trial = 0; trial < 3; ++trial) {
-      const Mat<Dim, Dim> h = randomGradient<Dim>(rng, 0.2);
-      const Vector<nv> s = randomVoigt<nv>(rng, 1e4), tau = randomVoigt<nv>(rng, 1e4);
+      const Mat<Dim, Dim> h = randomMatrix<Dim>(rng, 0.2);
+      const Vector<nv> s = randomVector<nv>(rng, 1e4), tau = randomVector<nv>(rng, 1e4);
       SCOPED_TRACE(::testing::Message() << "a = " << a << " trial " << trial);
       expectDerivativesMatchDifferences(inc, h, s, tau);
       expectDerivativesMatchDifferences(cur, h, s, tau);
@@ -162,8 +149,8 @@ template <int Dim> void closedFormCase() {
   for (double a : {0.0, 0.3}) {
     const MixedIncrementPoint<Dim> inc{c, d, a};
     const MixedCurrentPoint<Dim> cur{c, d, a};
-    const Mat<Dim, Dim> h = randomGradient<Dim>(rng, 0.1);
-    const Vector<nv> tau = randomVoigt<nv>(rng, 1e4);
+    const Mat<Dim, Dim> h = randomMatrix<Dim>(rng, 0.1);
+    const Vector<nv> tau = randomVector<nv>(rng, 1e4);
     for (int form = 0; form < 2; ++form) {
       // S = C E(h): the strain of the stress equals the strain of the displacement.
       const Vector<nv> s = matvec(c, writtenStrain<Dim>(h, form == 1));
@@ -176,7 +163,7 @@ template <int Dim> void closedFormCase() {
         EXPECT_NEAR(r.compatibility.v[k], 0.0, 1e-12 * scale) << "form " << form << " a " << a;
     }
     // h = 0: P = tau + (1 - a) S (incremental), (1 - a) S (current); r = -(1 - a) D S.
-    const Vector<nv> s = randomVoigt<nv>(rng, 1e4);
+    const Vector<nv> s = randomVector<nv>(rng, 1e4);
     const Mat<Dim, Dim> zero{};
     const auto ri = inc.template evaluate<false>(zero, s, tau);
     const auto rc = cur.template evaluate<false>(zero, s, tau);

@@ -7,6 +7,7 @@
 #include <solver/MixedModel.hpp>
 #include <solver/Rules.hpp>
 
+#include <support/MixedSolution.hpp>
 #include <support/Params.hpp>
 
 #include <gtest/gtest.h>
@@ -17,19 +18,8 @@ using namespace mixcon;
 
 namespace {
 
-double maxRelativeDifference(const std::vector<double> &a, const std::vector<double> &b) {
-  double d = 0.0, s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, std::abs(a[i] - b[i]));
-    s = std::max(s, std::abs(b[i]));
-  }
-  return d / s;
-}
-
-struct Solution {
-  std::vector<double> u, s, reaction;
-  LinearSolveStats stats;
-};
+using test::maxRelativeDifference;
+using Solution = test::MixedSolution;
 
 Solution solvePlate(ElementType type, const MixedOptions &o) {
   const Mesh mesh = plateWithHoleMesh(1.0, 4.0, 4.0, 6, 5, type, 1.3);
@@ -43,12 +33,7 @@ Solution solvePlate(ElementType type, const MixedOptions &o) {
   model.addEdgeLoad(mesh.boundaries.at("right"), 10.0, 0.0, 0.0);
   model.addEdgeLoad(mesh.boundaries.at("top"), 0.0, 0.0, 3.0);
   model.setup(o, MPI_COMM_WORLD);
-  Solution r;
-  r.stats = model.solve(1.0);
-  r.u = model.displacementHost();
-  r.s = model.nodalStressHost();
-  r.reaction = model.reactionHost(1.0);
-  return r;
+  return test::solveMixed(model);
 }
 
 } // namespace

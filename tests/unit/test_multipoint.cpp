@@ -22,28 +22,8 @@ namespace multipoint_tests {
 
 using Memory = Kokkos::DefaultExecutionSpace::memory_space;
 
-CsrMatrix<Memory> toCsr(const Eigen::MatrixXd &a) {
-  const LocalIndex n = static_cast<LocalIndex>(a.rows());
-  CsrMatrix<Memory> m;
-  m.numRows = m.numColumns = n;
-  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", n + 1);
-  m.columns = Kokkos::View<LocalIndex *, Memory>("co", n * n);
-  m.values = Kokkos::View<double *, Memory>("va", n * n);
-  auto ro = Kokkos::create_mirror_view(m.rowOffsets);
-  auto co = Kokkos::create_mirror_view(m.columns);
-  auto va = Kokkos::create_mirror_view(m.values);
-  for (LocalIndex i = 0; i <= n; ++i)
-    ro(i) = static_cast<Offset>(i) * n;
-  for (LocalIndex i = 0; i < n; ++i)
-    for (LocalIndex j = 0; j < n; ++j) {
-      co(i * n + j) = j;
-      va(i * n + j) = a(i, j);
-    }
-  Kokkos::deep_copy(m.rowOffsets, ro);
-  Kokkos::deep_copy(m.columns, co);
-  Kokkos::deep_copy(m.values, va);
-  return m;
-}
+using test::toEigen;
+using test::toView;
 
 } // namespace multipoint_tests
 using namespace multipoint_tests;
@@ -89,49 +69,31 @@ TEST(MultiPointConstraints, EliminationEqualsTheLagrangeMultiplierSolution) {
   rhs << b, dv;
   const Eigen::VectorXd ref = kkt.fullPivLu().solve(rhs);
 
-  Kokkos::View<double *, Memory> bv("b", n);
-  auto hb = Kokkos::create_mirror_view(bv);
-  for (int i = 0; i < n; ++i)
-    hb(i) = b(i);
-  Kokkos::deep_copy(bv, hb);
+  const auto bv = toView(b);
   ConstraintElimination elimination;
   const auto t = toDevice(c, n);
-  const auto reduced = elimination.eliminate(toCsr(a), t, 3.0, bv);
+  const auto reduced = elimination.eliminate(test::denseToCsr(a), t, 3.0, bv);
   const Eigen::MatrixXd ad = test::toDense(reduced);
   EXPECT_LT((ad - ad.transpose()).norm(), 1e-12 * ad.norm());        // symmetric
   EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(ad).info(), Eigen::Success); // positive definite
   EXPECT_DOUBLE_EQ(ad(2, 2), 3.0);
   EXPECT_DOUBLE_EQ(ad(5, 5), 3.0);
-  auto hr = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), bv);
-  Eigen::VectorXd rb(n);
-  for (int i = 0; i < n; ++i)
-    rb(i) = hr(i);
+  const Eigen::VectorXd rb = toEigen(bv);
   const Eigen::VectorXd y = ad.ldlt().solve(rb);
   EXPECT_NEAR(y(2), 0.0, 1e-14);
   EXPECT_NEAR(y(5), 0.0, 1e-14);
-  Kokkos::View<double *, Memory> xv("x", n);
-  auto hx = Kokkos::create_mirror_view(xv);
-  for (int i = 0; i < n; ++i)
-    hx(i) = y(i);
-  Kokkos::deep_copy(xv, hx);
+  const auto xv = toView(y);
   expandConstrained(t, xv);
-  Kokkos::deep_copy(hx, xv);
-  Eigen::VectorXd x(n);
-  for (int i = 0; i < n; ++i)
-    x(i) = hx(i);
+  const Eigen::VectorXd x = toEigen(xv);
   EXPECT_LT((x - ref.head(n)).norm(), 1e-12 * ref.head(n).norm());
   EXPECT_LT((cm * x - dv).norm(), 1e-13);
   // Condensed residual zero; the slaves' residuals are the multipliers' forces: A x - b = -C^T l.
   const Eigen::VectorXd res = a * x - b;
-  Kokkos::View<double *, Memory> rv("r", n);
-  auto hrv = Kokkos::create_mirror_view(rv);
-  for (int i = 0; i < n; ++i)
-    hrv(i) = res(i);
-  Kokkos::deep_copy(rv, hrv);
+  const auto rv = toView(res);
   condenseVector(t, rv);
-  Kokkos::deep_copy(hrv, rv);
+  const Eigen::VectorXd condensed = toEigen(rv);
   for (int i = 0; i < n; ++i)
-    EXPECT_NEAR(hrv(i), 0.0, 1e-12) << i;
+    EXPECT_NEAR(condensed(i), 0.0, 1e-12) << i;
   EXPECT_LT((res + cm.transpose() * ref.tail(2)).norm(), 1e-12 * res.norm());
 }
 
@@ -168,32 +130,6 @@ test::MpcSparse randomSpd(int nodes, int stride, int degree, std::mt19937 &rng) 
   m += dm;
   m.makeCompressed();
   return m;
-}
-
-CsrMatrix<Memory> toCsr(const test::MpcSparse &a) {
-  CsrMatrix<Memory> m;
-  m.numRows = m.numColumns = static_cast<LocalIndex>(a.rows());
-  std::vector<Offset> ro(a.outerIndexPtr(), a.outerIndexPtr() + a.rows() + 1);
-  std::vector<LocalIndex> co(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
-  std::vector<double> va(a.valuePtr(), a.valuePtr() + a.nonZeros());
-  m.rowOffsets = Kokkos::View<Offset *, Memory>("ro", ro.size());
-  m.columns = Kokkos::View<LocalIndex *, Memory>("co", co.size());
-  m.values = Kokkos::View<double *, Memory>("va", va.size());
-  copyToDevice(m.rowOffsets, ro);
-  copyToDevice(m.columns, co);
-  copyToDevice(m.values, va);
-  return m;
-}
-
-Kokkos::View<double *, Memory> toView(const Eigen::VectorXd &v) {
-  Kokkos::View<double *, Memory> d("v", v.size());
-  copyToDevice(d, std::vector<double>(v.data(), v.data() + v.size()));
-  return d;
-}
-
-Eigen::VectorXd toEigen(const Kokkos::View<double *, Memory> &v) {
-  const auto h = toHostVector(v);
-  return Eigen::Map<const Eigen::VectorXd>(h.data(), static_cast<long>(h.size()));
 }
 
 /// Contact-like constraints on `stride` unknowns per node: `count` contactor nodes (distinct,
@@ -283,7 +219,7 @@ TEST(MultiPointConstraints, DeviceEliminationMatchesTheEigenReference) {
       const auto t = toDevice(c, n);
       ConstraintElimination elimination;
       const auto bv = toView(b);
-      const auto reduced = elimination.eliminate(toCsr(a), t, 2.5, bv);
+      const auto reduced = elimination.eliminate(test::sparseToCsr(a), t, 2.5, bv);
       EXPECT_FALSE(elimination.reusedPattern());
       // Same pattern as Eigen's (structural) product, same entries to 1e-14 of the largest.
       const auto ro = toHostVector(reduced.rowOffsets);
@@ -307,7 +243,7 @@ TEST(MultiPointConstraints, DeviceEliminationMatchesTheEigenReference) {
       a2 = test::MpcSparse(0.5 * (a2 + test::MpcSparse(a2.transpose())));
       a2.makeCompressed();
       ASSERT_EQ(a2.nonZeros(), a.nonZeros());
-      auto csr = toCsr(a);
+      auto csr = test::sparseToCsr(a);
       Kokkos::deep_copy(csr.values,
                         toView(Eigen::Map<const Eigen::VectorXd>(a2.valuePtr(), a2.nonZeros())));
       ConstraintElimination again;
