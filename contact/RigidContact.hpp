@@ -87,6 +87,13 @@ public:
                           const Kokkos::View<const int *, DeviceSpace> &flags,
                           int stride) const override;
   bool constrains() const override;
+  /// The correction's constraints (solver/ConstraintSet.hpp): local (n, t) frames at closed
+  /// nodes, their normal (and in stick tangential) components and the model's Dirichlet
+  /// unknowns prescribed, the prescribed steps in system.target. nullptr with force-driven
+  /// obstacles: their motion is an unknown of the correction that only correct() condenses.
+  const ConstraintSet *constraintSet(const ContactCorrection &system) override;
+  /// solveConstrained through the constraint set, then (force-driven obstacles) the condensed
+  /// obstacle motion added.
   LinearSolveStats correct(const ContactCorrection &system,
                            const Kokkos::View<double *, DeviceSpace> &dx) override;
   double externalForceNorm(double appliedLoads) const override;
@@ -172,6 +179,8 @@ public:
   double obstacleForce(const Kokkos::View<const double *, DeviceSpace> &y, int stride,
                        const Kokkos::View<const int *, DeviceSpace> &dirichlet, int o, int d,
                        bool withFriction) const;
+  /// The constraint set of a correction, whether or not obstacles are force driven.
+  const ConstraintSet &buildSet(const ContactCorrection &system);
 
 private:
   void buildConstraints();
@@ -200,6 +209,11 @@ private:
 
   mutable DeviceConstraints device_;
   mutable bool deviceStale_ = true;
+  // The constraint set of the last correction and the per-unknown / per-node views it refers to.
+  ConstraintSet set_;
+  Kokkos::View<int *, DeviceSpace> setFlags_, setFramed_;
+  Kokkos::View<double *[2], DeviceSpace> setNormal_;
+  ConstraintElimination elimination_; ///< unused (no multipoint rows); solveConstrained's slot
 };
 
 } // namespace mixcon

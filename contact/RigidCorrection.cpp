@@ -1,6 +1,7 @@
-// Rigid-obstacle contact in the linearized system (contact/RigidContact.hpp): the corrections
-// of the nonlinear models solved in local (n, t) frames at closed nodes, with force-driven
-// obstacles condensed; the residual the constraints leave free; friction forces as loads.
+// Rigid-obstacle contact in the linearized system (contact/RigidContact.hpp): the constraints of
+// a correction as one ConstraintSet (local (n, t) frames at closed nodes, held normal and stick
+// components, Dirichlet steps) solved by solveConstrained, with force-driven obstacles condensed
+// on top; the residual the constraints leave free; friction forces as loads.
 // Layer: contact (uses solver/).
 #include <contact/RigidContact.hpp>
 #include <core/Transfer.hpp>
@@ -167,8 +168,7 @@ double RigidContact::freeResidualNorm(const Kokkos::View<const double *, Memory>
   return std::sqrt(s);
 }
 
-LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
-                                       const Kokkos::View<double *, Memory> &dx) {
+const ConstraintSet &RigidContact::buildSet(const ContactCorrection &sys) {
   // The system in local (n, t) frames at closed contact nodes: R^T K R dx~ = -R^T G, the normal
   // (and in stick the tangential) components prescribed, then dx = R dx~ (only the displacement
   // pair of a node rotates; `stride` unknowns per node). A contact node that also carries a
@@ -176,12 +176,7 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   // condition when the normal is along that axis (symmetry lines).
   const double lambda = sys.lambda;
   const int stride = sys.stride;
-  const CsrMatrix<Memory> &tangent = *sys.tangent;
-  CsrMatrix<Memory> &work = *sys.work;
-  LinearSolver &solver = *sys.solver;
   const auto &fv = sys.flags;
-  const auto &g = sys.g;
-  const auto &rhs = sys.rhs;
   const auto &target = sys.target;
   const LocalIndex nn = numNodes_;
   // Flags and the prescribed step per unknown, the frames per node, built on the device from the
@@ -192,9 +187,15 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   const auto values = dev.values;
   const auto presc = sys.prescribed;
   const auto u = sys.displacement;
-  Kokkos::View<int *, Memory> df("mixcon::nonlinear::contactFlags", fv.extent(0)),
-      dfr("mixcon::nonlinear::framed", nn);
-  Kokkos::View<double *[2], Memory> dn("mixcon::nonlinear::frameNormal", nn);
+  if (setFlags_.extent(0) != fv.extent(0))
+    setFlags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::contactFlags", fv.extent(0));
+  if (setFramed_.extent(0) != static_cast<std::size_t>(nn)) {
+    setFramed_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::framed", nn);
+    setNormal_ = Kokkos::View<double *[2], Memory>("mixcon::nonlinear::frameNormal", nn);
+  }
+  const auto df = setFlags_;
+  const auto dfr = setFramed_;
+  const auto dn = setNormal_;
   LocalIndex unsupported = nn; // the first node with an unsupported mix of conditions
   Kokkos::parallel_reduce(
       "mixcon::contact::localFrameConditions", Kokkos::RangePolicy<Exec>(0, nn),
@@ -204,6 +205,8 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
           df(i0 + i) = fv(i0 + i);
           target(i0 + i) = i < 2 && fv(i0 + i) ? lambda * presc(2 * p + i) - u(2 * p + i) : 0.0;
         }
+        dfr(p) = 0;
+        dn(p, 0) = dn(p, 1) = 0.0;
         const int k = entry(p);
         if (k < 0 || !cflags(k, 0))
           return;
@@ -234,35 +237,57 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
     throw InputError("node " + std::to_string(Mesh::externalId(nodeIds_, unsupported)) +
                      ": contact on a surface not normal to its free direction while the "
                      "other direction is prescribed is not supported");
+  set_ = ConstraintSet{};
+  set_.stride = stride;
+  set_.flags = df;
+  set_.values = target;
+  set_.framed = dfr;
+  set_.normal = dn;
+  return set_;
+}
+
+const ConstraintSet *RigidContact::constraintSet(const ContactCorrection &sys) {
+  return drivenComponents().empty() ? &buildSet(sys) : nullptr;
+}
+
+LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
+                                       const Kokkos::View<double *, Memory> &dx) {
+  const int stride = sys.stride;
+  const CsrMatrix<Memory> &tangent = *sys.tangent;
+  CsrMatrix<Memory> &work = *sys.work;
+  LinearSolver &solver = *sys.solver;
+  const auto &fv = sys.flags;
+  const auto &g = sys.g;
+  const auto &rhs = sys.rhs;
+  const auto start = std::chrono::steady_clock::now();
+  const ConstraintSet &set = buildSet(sys);
+  axpby(-1.0, g, 0.0, rhs);
+  *sys.setupSeconds += seconds(start);
+  LinearSolveStats s =
+      solveConstrained(set, tangent, work, elimination_, rhs, solver, dx, sys.setupSeconds);
+  const auto &driven = drivenComponents();
+  const std::size_t nd = driven.size();
+  if (nd == 0)
+    return s;
+
   // Force-driven obstacles: their motion dc along each driven component is an unknown. The
   // prescribed normal (and stick tangential) components of their closed nodes then read
   // step + (n . dc) (and t . dc), so the correction is dx0 + sum_j dx_j dc_j with dx_j the
   // response to a unit motion along component j; dc follows from the balance of the contact
   // forces on each obstacle with its applied force (static condensation of the 2 rigid-body
-  // unknowns per obstacle, exact for the linearized problem).
-  const auto &driven = drivenComponents();
-  const std::size_t nd = driven.size();
-  const auto start = std::chrono::steady_clock::now();
-  if (work.numRows == 0)
-    work = cloneValues(tangent);
-  else
-    Kokkos::deep_copy(work.values, tangent.values);
-  axpby(-1.0, g, 0.0, rhs);
-  const auto cfr = Kokkos::View<const int *, Memory>(dfr);
-  const auto cn = Kokkos::View<const double *[2], Memory>(dn);
-  const auto cf = Kokkos::View<const int *, Memory>(df);
-  rotateToLocalFrames(Exec(), work, stride, cfr, cn, rhs);
-  CsrMatrix<Memory> rotated;
-  if (nd > 0)
-    rotated = cloneValues(work);
-  applyDirichlet(Exec(), work, cf, ConstVec(target), rhs);
-  Exec().fence();
-  solver.setup(work);
-  *sys.setupSeconds += seconds(start);
-  LinearSolveStats s = solver.solve(rhs, dx);
-  fromLocalFrames(Exec(), stride, cfr, cn, dx);
-  if (nd == 0)
-    return s;
+  // unknowns per obstacle, exact for the linearized problem). It stays here, outside the
+  // constraint set: dc is an unknown coupled to the contact forces, not a constraint on dx.
+  // `work` now holds the constrained R^T K R (prescribed rows and columns replaced) that the
+  // solver factored; the unit responses need R^T K R itself: rotated afresh (the same values).
+  const auto cfr = Kokkos::View<const int *, Memory>(set.framed);
+  const auto cn = set.normal;
+  const auto cf = set.flags;
+  const DeviceConstraints &dev = deviceConstraints();
+  const auto cflags = dev.flags;
+  const auto values = dev.values;
+  const auto dfr = cfr;
+  CsrMatrix<Memory> rotated = cloneValues(tangent);
+  rotateToLocalFrames(Exec(), rotated, stride, cfr, cn, Vec());
 
   // Responses to unit obstacle motions (same factorization), then the obstacle balance.
   const LocalIndex n = static_cast<LocalIndex>(g.extent(0));

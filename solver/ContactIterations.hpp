@@ -7,8 +7,11 @@
 // detection by a status signature. Implemented in contact/ by RigidContact (rigid obstacles) and
 // SurfaceContact (elastic-elastic node-to-segment), so that solver/ never includes contact/.
 // What constrains a correction is one device object, a ConstraintSet (solver/ConstraintSet.hpp:
-// Dirichlet flags and values, local frames, multipoint rows). Host-side interface (virtual,
-// never on the device). Layer: solver.
+// Dirichlet flags and values, local frames, multipoint rows): rigid contact gives local frames
+// and held components, node-to-segment contact multipoint rows, and the models solve their
+// corrections through it (NonlinearModel::correctWithContact); correct() solves only what has
+// unknowns of its own (force-driven obstacles). Host-side interface (virtual, never on the
+// device). Layer: solver.
 #pragma once
 
 #include <solver/Checkpoint.hpp>

@@ -176,7 +176,18 @@ LinearSolveStats NonlinearModel::correctWithContact(
   system.solver = &solver;
   system.stiffnessScale = stiffnessScale_;
   system.setupSeconds = &solverSetupSeconds_;
-  return contact_->correct(system, dx);
+  // Contact as a provider of constraints: the model solves through its constraint set; only a
+  // correction with unknowns of its own (force-driven obstacles) is left to the provider.
+  const auto start = std::chrono::steady_clock::now();
+  const ConstraintSet *set = contact_->constraintSet(system);
+  if (!set)
+    return contact_->correct(system, dx);
+  axpby(-1.0, g, 0.0, rhs);
+  solverSetupSeconds_ += seconds(start);
+  // Frames and Dirichlet rows keep the tangent's pattern (the model's `work`, as its own
+  // corrections); multipoint rows make a reduced matrix of another pattern (its own storage).
+  return solveConstrained(*set, tangent, set->hasMultipoint() ? contactWork_ : work,
+                          contactElimination_, rhs, solver, dx, &solverSetupSeconds_);
 }
 
 namespace detail {

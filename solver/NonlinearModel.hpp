@@ -98,7 +98,8 @@ protected:
   FollowerLoads followerLoads() const;
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
-  /// The correction `dx` with the contact constraints enforced (contact_ constrains()).
+  /// The correction `dx` with the contact constraints enforced (contact_ constrains()): solved
+  /// through contact_->constraintSet(), or by contact_->correct() where that gives none.
   LinearSolveStats correctWithContact(
       double lambda, int stride, const CsrMatrix<Memory> &tangent, CsrMatrix<Memory> &work,
       const Kokkos::View<const int *, Memory> &flags, const Kokkos::View<const double *, Memory> &g,
@@ -123,7 +124,9 @@ protected:
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
   ContactIterations *contact_ = nullptr;
-  ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
+  CsrMatrix<Memory> contactWork_;            ///< the reduced system of multipoint constraints
+  ConstraintElimination contactElimination_; ///< its symbolic phase, kept between corrections
+  ElasticLaw law_ = ElasticLaw::Almansi;     ///< the displacement model's law (output stresses)
   bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
 
 private:

@@ -1,15 +1,21 @@
 // Rigid-obstacle geometry and detection (contact/RigidObstacle.hpp) against plain host formulas,
 // and the nodal local frames (solver/LocalFrames.hpp) against dense R^T A R, for 2 and 5 unknowns
-// per node; the seating of a force-driven obstacle against a host ray cast.
+// per node; the seating of a force-driven obstacle against a host ray cast; the rigid correction
+// through its constraint set (solver/ConstraintSet.hpp) against the dense constrained solve.
 #include <contact/RigidContact.hpp>
 #include <contact/RigidObstacle.hpp>
+#include <core/Transfer.hpp>
+#include <solver/ConstraintSet.hpp>
+#include <solver/DofMap.hpp>
 #include <solver/LocalFrames.hpp>
 #include <support/KernelFixture.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 using namespace mixcon;
 using namespace mixcon::test;
@@ -223,4 +229,212 @@ TEST(RigidContact, SeatingMovesAForceDrivenPinOntoTheFirstNodeInItsPath) {
   away.setLoadFactor(1.0);
   away.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), u, 2);
   EXPECT_THROW(away.seatForceDriven(), InputError);
+}
+
+namespace contact_tests {
+
+/// A symmetric positive definite matrix on the node graph's pattern (2 unknowns per node):
+/// symmetric off-diagonal values, diagonally dominant.
+CsrMatrix<Memory> spdOnGraph(const Mesh &mesh) {
+  auto a = expandGraph<Memory>(buildNodeGraph(mesh), 2);
+  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  auto va = Kokkos::create_mirror_view(a.values);
+  for (LocalIndex i = 0; i < a.numRows; ++i) {
+    double off = 0.0;
+    Offset diag = -1;
+    for (Offset k = ro(i); k < ro(i + 1); ++k) {
+      const LocalIndex j = co(k);
+      if (j == i) {
+        diag = k;
+        continue;
+      }
+      const double lo = std::min(i, j), hi = std::max(i, j);
+      va(k) = 0.4 * std::cos(1.3 * (lo + hi) + 0.017 * lo * hi);
+      off += std::abs(va(k));
+    }
+    va(diag) = off + 1.0 + 0.1 * (i % 3);
+  }
+  Kokkos::deep_copy(a.values, va);
+  return a;
+}
+
+} // namespace contact_tests
+
+// A rigid pin pressed into the bottom of a block (3 closed nodes, one of them also held along x:
+// a symmetry line), top nodes prescribed: the rigid correction through its constraint set
+// (local frames, held normal / stick components, Dirichlet steps) equals the dense host solution
+// of the same constrained problem, in stick (friction) and slip (frictionless); the model's path
+// (constraintSet + solveConstrained) gives the provider's correct() bit for bit; the held
+// components take their steps (n . dx = -gap, in stick t . dx = the stick step) and a slip node's
+// tangential residual vanishes; building the set copies nothing between host and device. A
+// force-driven pin hands out no set (its motion is an unknown).
+TEST(RigidContact, CorrectionThroughTheConstraintSetEqualsTheDenseConstrainedSolve) {
+  const Fixture f = makeFixture(ElementType::Quad4, 6, 2);
+  const LocalIndex nn = f.mesh.numNodes();
+  const int n = 2 * nn;
+  const auto a = spdOnGraph(f.mesh);
+  const Eigen::MatrixXd ad = toDense(a);
+  const double lambda = 0.7;
+  // Dirichlet: the top nodes fully, the bottom node at x = 1.5 along x (within the pin contact).
+  std::vector<int> flags(n, 0);
+  std::vector<double> presc(n, 0.0);
+  for (LocalIndex p : f.mesh.nodesOf("top")) {
+    flags[2 * p] = flags[2 * p + 1] = 1;
+    presc[2 * p] = 0.01;
+    presc[2 * p + 1] = -0.02;
+  }
+  LocalIndex symmetric = -1;
+  for (LocalIndex p : f.mesh.nodesOf("bottom"))
+    if (std::abs(f.mesh.x(p) - 1.5) < 1e-12)
+      symmetric = p;
+  ASSERT_GE(symmetric, 0);
+  flags[2 * symmetric] = 1;
+  presc[2 * symmetric] = 0.003;
+  const Eigen::VectorXd u = 1e-3 * randomVector(n, 21), g = randomVector(n, 22);
+  Kokkos::View<int *, Memory> fv("flags", n);
+  copyToDevice(fv, flags);
+  Kokkos::View<double *, Memory> pv("prescribed", n), rhs("rhs", n), target("target", n),
+      dx("dx", n), dx2("dx2", n);
+  copyToDevice(pv, presc);
+  const auto uv = toView(u), gv = toView(g);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  auto solver = makeLinearSolver(o, DofMap::serial(nn, 2), MPI_COMM_WORLD);
+
+  for (double mu : {0.3, 0.0}) {
+    RigidContactSpec spec;
+    spec.obstacle = circle(1.5, -0.5, 0.75); // the bottom nodes at x = 1, 1.5, 2 penetrate
+    spec.nodes = f.mesh.nodesOf("bottom");
+    spec.friction = mu;
+    spec.name = "bottom";
+    RigidContact contact(nn, {spec});
+    contact.setLoadFactor(lambda);
+    contact.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), uv, 2);
+    ASSERT_EQ(contact.closeTouching(0.0), 3);
+    for (LocalIndex k = 0; k < contact.numCandidates(); ++k) {
+      if (contact.status(k) != ContactStatus::Open) {
+        EXPECT_EQ(contact.status(k), mu > 0.0 ? ContactStatus::Stick : ContactStatus::Slip);
+      }
+    }
+    ASSERT_TRUE(contact.constrains());
+
+    CsrMatrix<Memory> work, work2;
+    double setup = 0.0;
+    ContactCorrection sys;
+    sys.lambda = lambda;
+    sys.stride = 2;
+    sys.tangent = &a;
+    sys.work = &work;
+    sys.flags = fv;
+    sys.g = gv;
+    sys.prescribed = pv;
+    sys.displacement = uv;
+    sys.rhs = rhs;
+    sys.target = target;
+    sys.solver = solver.get();
+    sys.stiffnessScale = 1.0;
+    sys.setupSeconds = &setup;
+    contact.correct(sys, dx);
+    const Eigen::VectorXd x = toEigen(dx);
+    // The model's path: the provider's constraint set solved by the caller.
+    resetTransferCounts(); // the set is built on the device from the uploaded contact entries
+    const ConstraintSet *set = contact.constraintSet(sys);
+    const TransferCounts moved = transferCounts();
+    EXPECT_EQ(moved.toHostCalls + moved.toDeviceCalls, 0u);
+    ASSERT_NE(set, nullptr);
+    EXPECT_TRUE(set->hasFrames());
+    EXPECT_FALSE(set->hasMultipoint());
+    Kokkos::deep_copy(rhs, toView(Eigen::VectorXd(-g)));
+    ConstraintElimination elimination;
+    solveConstrained(*set, a, work2, elimination, rhs, *solver, dx2);
+    const Eigen::VectorXd x2 = toEigen(dx2);
+    for (int i = 0; i < n; ++i)
+      EXPECT_EQ(x2(i), x(i)) << i;
+
+    // Host reference from the host constraints: R = [n t] at framed nodes free of Dirichlet
+    // conditions, held local components with their values, the rest solving the rotated system.
+    const ContactConstraints &c = contact.constraints();
+    Eigen::MatrixXd rot = Eigen::MatrixXd::Identity(n, n);
+    std::vector<int> held(flags);
+    Eigen::VectorXd value = Eigen::VectorXd::Zero(n);
+    for (int i = 0; i < n; ++i)
+      if (flags[i])
+        value(i) = lambda * presc[i] - u(i);
+    int framedCount = 0;
+    for (LocalIndex p = 0; p < nn; ++p) {
+      if (!c.framed[p])
+        continue;
+      const double nx = c.normal[2 * p], ny = c.normal[2 * p + 1];
+      if (flags[2 * p] || flags[2 * p + 1]) { // a symmetry line: n along the free axis
+        const int fixed = flags[2 * p] ? 0 : 1, other = 1 - fixed;
+        const double nd[2] = {nx, ny};
+        held[2 * p + other] = 1;
+        value(2 * p + other) = (c.normalStep[p] - nd[fixed] * value(2 * p + fixed)) / nd[other];
+        continue;
+      }
+      ++framedCount;
+      rot(2 * p, 2 * p) = nx;
+      rot(2 * p + 1, 2 * p) = ny;
+      rot(2 * p, 2 * p + 1) = -ny;
+      rot(2 * p + 1, 2 * p + 1) = nx;
+      EXPECT_TRUE(c.normalFixed[p]);
+      EXPECT_EQ(c.tangentFixed[p] != 0, mu > 0.0);
+      held[2 * p] = 1;
+      value(2 * p) = c.normalStep[p];
+      if (c.tangentFixed[p]) {
+        held[2 * p + 1] = 1;
+        value(2 * p + 1) = c.tangentStep[p];
+      }
+    }
+    ASSERT_EQ(framedCount, 2);
+    std::vector<int> free;
+    for (int i = 0; i < n; ++i)
+      if (!held[i])
+        free.push_back(i);
+    Eigen::MatrixXd pm = Eigen::MatrixXd::Zero(n, static_cast<long>(free.size()));
+    for (std::size_t k = 0; k < free.size(); ++k)
+      pm(free[k], static_cast<long>(k)) = 1.0;
+    const Eigen::MatrixXd map = rot * pm;
+    const Eigen::VectorXd shift = rot * value;
+    const Eigen::VectorXd z =
+        (map.transpose() * ad * map).llt().solve(map.transpose() * (-g - ad * shift));
+    const Eigen::VectorXd xRef = map * z + shift;
+    EXPECT_LT((x - xRef).norm(), 1e-10 * xRef.norm()) << "mu " << mu;
+
+    // The held components directly: normal (and stick tangential) steps, slip free of force.
+    const Eigen::VectorXd r = ad * x + g;
+    for (LocalIndex p = 0; p < nn; ++p) {
+      if (!c.framed[p] || flags[2 * p] || flags[2 * p + 1])
+        continue;
+      const double nx = c.normal[2 * p], ny = c.normal[2 * p + 1];
+      EXPECT_NEAR(nx * x(2 * p) + ny * x(2 * p + 1), c.normalStep[p], 1e-12) << p;
+      const double dt = -ny * x(2 * p) + nx * x(2 * p + 1), rt = -ny * r(2 * p) + nx * r(2 * p + 1);
+      if (mu > 0.0) {
+        EXPECT_NEAR(dt, c.tangentStep[p], 1e-12) << p;
+      } else {
+        EXPECT_NEAR(rt, 0.0, 1e-10 * g.norm()) << p;
+      }
+    }
+    EXPECT_NEAR(x(2 * symmetric), lambda * presc[2 * symmetric] - u(2 * symmetric), 1e-14);
+  }
+
+  // A force-driven pin: its motion is an unknown of the correction, so no set.
+  RigidContactSpec spec;
+  spec.obstacle = circle(1.5, -0.5, 0.75);
+  spec.nodes = f.mesh.nodesOf("bottom");
+  spec.forceDriven[1] = true;
+  spec.force[1] = 1.0;
+  spec.name = "bottom";
+  RigidContact driven(nn, {spec});
+  driven.setLoadFactor(lambda);
+  driven.detect(Kokkos::View<const double *[2], Memory>(f.data.mesh.coordinates), uv, 2);
+  driven.closeTouching(0.0);
+  ContactCorrection sys;
+  sys.stride = 2;
+  sys.flags = fv;
+  sys.prescribed = pv;
+  sys.displacement = uv;
+  sys.target = target;
+  EXPECT_EQ(driven.constraintSet(sys), nullptr);
 }
