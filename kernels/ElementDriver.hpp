@@ -162,6 +162,49 @@ KOKKOS_INLINE_FUNCTION void clearElement(double (&fe)[N], double (&ke)[N][N]) {
   }
 }
 
+/// The mixed unknowns of element e in v: displacements ue[a][i] and stresses se[a][c] (Voigt)
+/// of its nodes, from the interleaved FieldLayout<Dim> vector.
+template <class Elem, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+gatherMixedUnknowns(const MeshView<MemorySpace, Elem::kDim> &mesh,
+                    const Kokkos::View<const double *, MemorySpace> &v, LocalIndex e,
+                    double (&ue)[Elem::kNumNodes][Elem::kDim],
+                    double (&se)[Elem::kNumNodes][LayoutOf<Elem>::kNumStresses]) {
+  using L = LayoutOf<Elem>;
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex k = mesh.connectivity(e, a);
+    for (int i = 0; i < Elem::kDim; ++i)
+      ue[a][i] = v(L::mixedDisplacementDof(k, i));
+    for (int c = 0; c < L::kNumStresses; ++c)
+      se[a][c] = v(L::mixedStressDof(k, c));
+  }
+}
+
+/// What a mixed point law `Point` needs of element e: nodal coordinates xe (moved by ue when the
+/// law integrates over the current configuration), the unknowns ue, se of x and the prestress
+/// te of tau (zero unless Point::kPrestress).
+template <class Elem, class Point, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+gatherMixedElement(const MeshView<MemorySpace, Elem::kDim> &mesh,
+                   const Kokkos::View<const double *, MemorySpace> &x,
+                   const Kokkos::View<const double *, MemorySpace> &tau, LocalIndex e,
+                   double (&xe)[Elem::kNumNodes][Elem::kDim],
+                   double (&ue)[Elem::kNumNodes][Elem::kDim],
+                   double (&se)[Elem::kNumNodes][LayoutOf<Elem>::kNumStresses],
+                   double (&te)[Elem::kNumNodes][LayoutOf<Elem>::kNumStresses]) {
+  constexpr int nv = LayoutOf<Elem>::kNumStresses;
+  gatherElementCoordinates<Elem>(mesh, e, xe);
+  gatherMixedUnknowns<Elem>(mesh, x, e, ue, se);
+  for (int a = 0; a < Elem::kNumNodes; ++a) {
+    const LocalIndex k = mesh.connectivity(e, a);
+    for (int i = 0; i < Elem::kDim; ++i)
+      if (Point::kCurrentConfiguration)
+        xe[a][i] += ue[a][i];
+    for (int c = 0; c < nv; ++c)
+      te[a][c] = Point::kPrestress ? tau(nv * k + c) : 0.0;
+  }
+}
+
 } // namespace detail
 
 /// Element stiffness t int B^T D B dA (the report's Eq. (25) for D = C) of the W elements first,
@@ -580,19 +623,7 @@ mixedElementRows(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness
   using Point = decltype(point);
   constexpr bool current = Point::kCurrentConfiguration;
   double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv];
-  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
-  for (int a = 0; a < n; ++a) {
-    const LocalIndex k = mesh.connectivity(e, a);
-    for (int i = 0; i < dim; ++i) {
-      ue[a][i] = x(L::mixedDisplacementDof(k, i));
-      if (current)
-        xe[a][i] += ue[a][i];
-    }
-    for (int c = 0; c < nv; ++c) {
-      se[a][c] = x(L::mixedStressDof(k, c));
-      te[a][c] = Point::kPrestress ? tau(nv * k + c) : 0.0;
-    }
-  }
+  detail::gatherMixedElement<Elem, Point>(mesh, x, tau, e, xe, ue, se, te);
   bool valid = true;
   for (int i = 0; i < nu * Rows; ++i) {
     ge[i] = 0.0;

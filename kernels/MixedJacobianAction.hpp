@@ -39,21 +39,8 @@ mixedJacobianActionElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double
   using Point = decltype(point);
   constexpr bool current = Point::kCurrentConfiguration;
   double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv], due[n][dim], dse[n][nv];
-  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
-  for (int a = 0; a < n; ++a) {
-    const LocalIndex k = mesh.connectivity(e, a);
-    for (int i = 0; i < dim; ++i) {
-      ue[a][i] = x(L::mixedDisplacementDof(k, i));
-      due[a][i] = dx(L::mixedDisplacementDof(k, i));
-      if (current)
-        xe[a][i] += ue[a][i];
-    }
-    for (int c = 0; c < nv; ++c) {
-      se[a][c] = x(L::mixedStressDof(k, c));
-      dse[a][c] = dx(L::mixedStressDof(k, c));
-      te[a][c] = Point::kPrestress ? tau(nv * k + c) : 0.0;
-    }
-  }
+  detail::gatherMixedElement<Elem, Point>(mesh, x, tau, e, xe, ue, se, te);
+  detail::gatherMixedUnknowns<Elem>(mesh, dx, e, due, dse);
   for (int a = 0; a < n; ++a)
     for (int k = 0; k < L::kMixedUnknowns; ++k)
       ye[a][k] = 0.0;
@@ -228,19 +215,7 @@ void assembleMixedStressRows(const ExecSpace &exec, const MeshView<MemorySpace, 
         using Point = decltype(point);
         constexpr bool current = Point::kCurrentConfiguration;
         double xe[n][dim], ue[n][dim], se[n][nv], te[n][nv];
-        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
-        for (int a = 0; a < n; ++a) {
-          const LocalIndex k = mesh.connectivity(e, a);
-          for (int i = 0; i < dim; ++i) {
-            ue[a][i] = x(L::mixedDisplacementDof(k, i));
-            if (current)
-              xe[a][i] += ue[a][i];
-          }
-          for (int q = 0; q < nv; ++q) {
-            se[a][q] = x(L::mixedStressDof(k, q));
-            te[a][q] = Point::kPrestress ? tau(nv * k + q) : 0.0;
-          }
-        }
+        detail::gatherMixedElement<Elem, Point>(mesh, x, tau, e, xe, ue, se, te);
         for (int q = 0; q < Elem::kNumQp; ++q) {
           double sh[n], dn[n][dim], g[n][dim];
           const double w = detail::referencePoint<Elem>(q, sh, dn);
