@@ -151,6 +151,17 @@ displacementGradient(const double (&ue)[Elem::kNumNodes][Elem::kDim],
   return h;
 }
 
+/// (s grad N_a)_i = sum_j s_ij g_a[j]: row i of a stress-like tensor times the physical gradient
+/// of one shape function (the element residual's and tangent's test-function contraction).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION double rowTimesGradient(const Mat<Dim, Dim> &s, int i,
+                                               const double (&ga)[Dim]) {
+  double v = 0.0;
+  for (int j = 0; j < Dim; ++j)
+    v += s.m[i][j] * ga[j];
+  return v;
+}
+
 /// fe = 0 and, when `Tangent`, ke = 0 (the element arrays of the finite-strain loops).
 template <bool Tangent, int N>
 KOKKOS_INLINE_FUNCTION void clearElement(double (&fe)[N], double (&ke)[N][N]) {
@@ -480,12 +491,8 @@ spatialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, 
     const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
     const Mat<dim, dim> s = voigtToStress<dim>(point.stress(h));
     for (int a = 0; a < n; ++a)
-      for (int i = 0; i < dim; ++i) {
-        double v = 0.0;
-        for (int j = 0; j < dim; ++j)
-          v += s.m[i][j] * g[a][j];
-        fe[dim * a + i] += jw * v;
-      }
+      for (int i = 0; i < dim; ++i)
+        fe[dim * a + i] += jw * detail::rowTimesGradient<dim>(s, i, g[a]);
     if (!Tangent)
       continue;
     // am(c, m dim + l) = sum_k tangent(c, k dim + l) (delta_km - h_km): dsigma_c for the
@@ -552,12 +559,8 @@ materialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
     const Mat<dim, dim> s = voigtToStress<dim>(point.stress(f));
     const Mat<dim, dim> p = matmul(f, s);
     for (int a = 0; a < n; ++a)
-      for (int i = 0; i < dim; ++i) {
-        double v = 0.0;
-        for (int j = 0; j < dim; ++j)
-          v += p.m[i][j] * g[a][j];
-        fe[dim * a + i] += jw * v;
-      }
+      for (int i = 0; i < dim; ++i)
+        fe[dim * a + i] += jw * detail::rowTimesGradient<dim>(p, i, g[a]);
     if (!Tangent)
       continue;
     const auto t = point.tangent(f);
@@ -578,12 +581,8 @@ materialElement(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
         for (int j = 0; j < dim; ++j)
           dp.m[m][j] += gs[j];
         for (int a = 0; a < n; ++a)
-          for (int i = 0; i < dim; ++i) {
-            double v = 0.0;
-            for (int j = 0; j < dim; ++j)
-              v += dp.m[i][j] * g[a][j];
-            ke[dim * a + i][dim * b + m] += jw * v;
-          }
+          for (int i = 0; i < dim; ++i)
+            ke[dim * a + i][dim * b + m] += jw * detail::rowTimesGradient<dim>(dp, i, g[a]);
       }
     }
   }
@@ -655,12 +654,8 @@ mixedElementRows(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness
     const MixedPointResponse<dim> r = point.template evaluate<Tangent>(h, sv, tv);
     for (int ar = 0; ar < Rows; ++ar) {
       const int a = first + ar;
-      for (int i = 0; i < dim; ++i) {
-        double v = 0.0;
-        for (int j = 0; j < dim; ++j)
-          v += r.stress.m[i][j] * g[a][j];
-        ge[nu * ar + i] += jw * v;
-      }
+      for (int i = 0; i < dim; ++i)
+        ge[nu * ar + i] += jw * detail::rowTimesGradient<dim>(r.stress, i, g[a]);
       for (int c = 0; c < nv; ++c)
         ge[nu * ar + so + c] += jw * sh[a] * r.compatibility.v[c];
     }
