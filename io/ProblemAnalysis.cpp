@@ -103,7 +103,8 @@ void readSolver(const YamlItem &top, Problem &p) {
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
                  "print_level", "krylov", "preconditioner", "inner_tolerance",
                  "interpolation_max_elements", "nodal_coarsening", "method",
-                 "stress_block_tolerance", "jacobian"});
+                 "stress_block_tolerance", "jacobian", "rigid_body_modes", "coarsest_size",
+                 "reuse_hierarchy", "direct_fallback"});
     for (const char *key : {"method", "stress_block_tolerance", "jacobian"})
       if (s.has(key) && !nonlinearMixed)
         s[key].fail(std::string(key) +
@@ -183,6 +184,14 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.interpolationMaxElements = count("interpolation_max_elements", 0);
     if (s.has("nodal_coarsening"))
       p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
+    if (s.has("rigid_body_modes"))
+      p.solver.rigidBodyModes = s["rigid_body_modes"].boolean();
+    if (s.has("coarsest_size"))
+      p.solver.coarsestSize = count("coarsest_size", 1);
+    if (s.has("reuse_hierarchy"))
+      p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();
+    if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
+      p.solver.directFallbackUnknowns = 0;
   }
 
   if (const auto why = rules::mixedContactSolver(p.model.formulation == Formulation::Mixed,

@@ -27,6 +27,7 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
   assemblySeconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solver_ = makeLinearSolver(options, dofs_, comm);
+  solver_->setNearNullSpace(data_.mesh.coordinates);
   solver_->setup(constrained_);
 }
 

@@ -57,15 +57,36 @@ double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVect
   return std::sqrt(dot(r, r));
 }
 
+/// The backward-error test of KrylovOptions::backwardErrorFloor: ||r|| small against
+/// ||A|| ||x|| + ||b|| (operatorNorm 0: never).
+bool atFloor(double rnorm, double operatorNorm, const ConstDeviceVector &x, double bnorm) {
+  return operatorNorm > 0.0 &&
+         rnorm <= kBackwardErrorFloor * (operatorNorm * std::sqrt(dot(x, x)) + bnorm);
+}
+
+/// ||A w|| / ||w|| for w of pseudo-random signs (an estimate of ||A||, from below).
+double operatorNormEstimate(const LinearMap &a, const DeviceVector &w, const DeviceVector &y) {
+  Kokkos::parallel_for(
+      "mixcon::krylov::signs", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, w.extent(0)),
+      KOKKOS_LAMBDA(std::size_t i) {
+        const unsigned h = static_cast<unsigned>(i) * 2654435761u; // Knuth's multiplicative hash
+        w(i) = (h >> 16) & 1u ? 1.0 : -1.0;
+      });
+  a(w, y);
+  return std::sqrt(dot(y, y) / dot(w, w));
+}
+
 KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
                        const ConstDeviceVector &b, double bnorm, const DeviceVector &x,
                        Vectors work) {
   KrylovStats s;
   auto r = work.next(), rOld = work.next(), z = work.next(), d = work.next(), q = work.next();
+  const double norm = o.backwardErrorFloor ? operatorNormEstimate(a, z, q) : 0.0;
   double rnorm = residual(a, b, x, r);
   // Restart from the true residual whenever the recursive one has converged but the true one
   // (operator applied with inner iterations) has not.
-  while (rnorm > o.tolerance * bnorm && s.iterations < o.maxIterations) {
+  while (rnorm > o.tolerance * bnorm && !atFloor(rnorm, norm, x, bnorm) &&
+         s.iterations < o.maxIterations) {
     p(r, z);
     Kokkos::deep_copy(d, z);
     double rz = dot(r, z);
@@ -91,7 +112,8 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
     rnorm = residual(a, b, x, r);
   }
   s.relativeResidual = rnorm / bnorm;
-  s.converged = std::isfinite(s.relativeResidual) && s.relativeResidual <= o.tolerance;
+  s.converged = std::isfinite(s.relativeResidual) &&
+                (s.relativeResidual <= o.tolerance || atFloor(rnorm, norm, x, bnorm));
   return s;
 }
 
@@ -105,8 +127,15 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
   std::vector<DeviceVector> v{work.next()}, z;
   std::vector<std::vector<double>> h(m + 1, std::vector<double>(m, 0.0));
   std::vector<double> cs(m), sn(m), g(m + 1);
+  double norm = 0.0;
+  if (o.backwardErrorFloor) {
+    z.push_back(work.next());
+    v.push_back(work.next());
+    norm = operatorNormEstimate(a, z[0], v[1]);
+  }
   double rnorm = residual(a, b, x, v[0]);
-  while (rnorm > o.tolerance * bnorm && s.iterations < o.maxIterations) {
+  while (rnorm > o.tolerance * bnorm && !atFloor(rnorm, norm, x, bnorm) &&
+         s.iterations < o.maxIterations) {
     axpby(0.0, v[0], 1.0 / rnorm, v[0]);
     std::fill(g.begin(), g.end(), 0.0);
     g[0] = rnorm;
@@ -156,7 +185,8 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
     rnorm = residual(a, b, x, v[0]);
   }
   s.relativeResidual = rnorm / bnorm;
-  s.converged = std::isfinite(s.relativeResidual) && s.relativeResidual <= o.tolerance;
+  s.converged = std::isfinite(s.relativeResidual) &&
+                (s.relativeResidual <= o.tolerance || atFloor(rnorm, norm, x, bnorm));
   return s;
 }
 

@@ -9,11 +9,16 @@
 #include <Eigen/SparseLU>
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
+#include <_hypre_parcsr_ls.h> // SetSmoothInterpVectors, SetInterpRefine (not in HYPRE_parcsr_ls.h)
 #include <_hypre_parcsr_mv.h> // hypre_ParVectorLocalVector, hypre_VectorData (BorrowedVector)
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -40,13 +45,35 @@ void check(HYPRE_Int err, const char *what) {
 /// ends at 3.1e-10 for 1e-10). Direct (slack 100): its residual is about eps * cond(A) and
 /// cannot be iterated down (refinement with the same factors gains little: 1.2e-7 -> 6.8e-8 on a
 /// strip at L/h = 100; the slender_displacement example's tangents give 2.3e-7 for 1e-8).
+/// Or at the accuracy floor, whatever the method said: backward error (||A|| the row-sum norm)
+/// at most kBackwardErrorFloor (LinearSolver.hpp).
 /// Never for a NaN or a zero iterate (x = 0 for a nonzero b is what a breakdown leaves).
+double backwardError(double residualNorm, double matrixNorm, double xNorm, double bNorm) {
+  const double scale = matrixNorm * xNorm + bNorm;
+  return scale > 0.0 ? residualNorm / scale : std::numeric_limits<double>::infinity();
+}
+
 bool trueResidualConverged(double relativeResidual, double xNormSquared, double tolerance,
-                           bool methodConverged, double slack) {
+                           bool methodConverged, double slack, double backward) {
   if (!std::isfinite(relativeResidual) || !(xNormSquared > 0.0) || !std::isfinite(xNormSquared))
     return false;
   return relativeResidual <= tolerance ||
-         (methodConverged && relativeResidual <= slack * tolerance);
+         (methodConverged && relativeResidual <= slack * tolerance) ||
+         backward <= kBackwardErrorFloor;
+}
+
+/// The row-sum norm of the owned rows.
+double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
+  const auto ro = hostReadable(a.rowOffsets);
+  const auto va = hostReadable(a.values);
+  double norm = 0.0;
+  for (LocalIndex i = 0; i < a.numRows; ++i) {
+    double sum = 0.0;
+    for (Offset k = ro(i); k < ro(i + 1); ++k)
+      sum += std::fabs(va(k));
+    norm = std::max(norm, sum);
+  }
+  return norm;
 }
 
 /// Where the Kokkos memory is host-accessible (the OpenMP and Serial builds), hypre (a CPU build)
@@ -56,6 +83,11 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
 /// iteration and every solve stay off the transfer counts. Where it is not (a CUDA Kokkos with a
 /// CPU hypre), the wrapper copies b to the host and x back through the counted transfer API
 /// (core/Transfer.hpp); a GPU hypre would take the device pointers instead.
+/// Up to this size the coarsest level is solved by hypre's Gaussian elimination, which factors
+/// it at every V-cycle; larger ones (the escalation ladder) by the inverse formed at setup (relax
+/// type 199): 1.1 s against 27 s per load step of the L/h = 100 cantilever with 4000.
+constexpr int kGaussEliminationSize = 100;
+
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
 
 class BorrowedVector {
@@ -71,224 +103,6 @@ public:
 private:
   hypre_Vector *local_;
   HYPRE_Complex *own_;
-};
-
-class HypreAmgSolver final : public LinearSolver {
-public:
-  HypreAmgSolver(const LinearSolverOptions &o, const DofMap &dofs, MPI_Comm comm)
-      : options_(o), dofs_(dofs), comm_(comm) {}
-  ~HypreAmgSolver() override { release(); }
-
-  void setup(const CsrMatrix<DeviceSpace> &a) override {
-    const auto start = std::chrono::steady_clock::now();
-    release();
-    const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
-    const HYPRE_Int n = a.numRows;
-    // Set up once per (Newton) tangent: hypre reads the CSR arrays in place where it can.
-    Kokkos::fence();
-    const auto ro = hostReadable(a.rowOffsets);
-    const auto co = hostReadable(a.columns);
-    const auto va = hostReadable(a.values);
-
-    check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
-    check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
-    std::vector<HYPRE_Int> ncols(n), diagSizes(n), offdSizes(n, 0);
-    std::vector<HYPRE_BigInt> cols(co.extent(0));
-    rows_.resize(n); // owned global rows, reused by every solve() and precondition()
-    zero_.assign(n, 0.0);
-    for (HYPRE_Int i = 0; i < n; ++i) {
-      ncols[i] = diagSizes[i] = static_cast<HYPRE_Int>(ro(i + 1) - ro(i));
-      rows_[i] = lo + i;
-    }
-    for (std::size_t k = 0; k < cols.size(); ++k)
-      cols[k] = lo + co(k); // serial numbering: local column + first owned row
-    check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, diagSizes.data(), offdSizes.data()),
-          "IJMatrixSetDiagOffdSizes");
-    check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
-    check(HYPRE_IJMatrixSetValues(ij_, n, ncols.data(), rows_.data(), cols.data(), va.data()),
-          "IJMatrixSetValues");
-    check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
-    check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
-
-    for (HYPRE_IJVector *v : {&ijb_, &ijx_, &ijr_}) {
-      check(HYPRE_IJVectorCreate(comm_, lo, hi, v), "IJVectorCreate");
-      check(HYPRE_IJVectorSetObjectType(*v, HYPRE_PARCSR), "IJVectorSetObjectType");
-      check(HYPRE_IJVectorInitialize(*v), "IJVectorInitialize");
-      check(HYPRE_IJVectorAssemble(*v), "IJVectorAssemble");
-    }
-    HYPRE_IJVectorGetObject(ijb_, reinterpret_cast<void **>(&parb_));
-    HYPRE_IJVectorGetObject(ijx_, reinterpret_cast<void **>(&parx_));
-    HYPRE_IJVectorGetObject(ijr_, reinterpret_cast<void **>(&parr_));
-
-    HYPRE_BoomerAMGCreate(&amg_);
-    HYPRE_BoomerAMGSetCoarsenType(amg_, 10); // HMIS
-    HYPRE_BoomerAMGSetInterpType(amg_, 6);   // extended+i
-    HYPRE_BoomerAMGSetPMaxElmts(amg_, options_.interpolationMaxElements);
-    HYPRE_BoomerAMGSetStrongThreshold(amg_, options_.strongThreshold);
-    HYPRE_BoomerAMGSetRelaxType(amg_, 8); // l1-scaled symmetric Gauss-Seidel
-    HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
-    HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
-    if (options_.nodalCoarsening)
-      HYPRE_BoomerAMGSetNodal(amg_, 1); // coarsen nodes by the Frobenius norm of their blocks
-    HYPRE_BoomerAMGSetAggNumLevels(amg_, options_.aggressiveLevels);
-    HYPRE_BoomerAMGSetMaxIter(amg_, 1); // one V-cycle as preconditioner
-    HYPRE_BoomerAMGSetTol(amg_, 0.0);
-    HYPRE_BoomerAMGSetPrintLevel(amg_, options_.printLevel);
-
-    if (options_.symmetric) {
-      HYPRE_ParCSRPCGCreate(comm_, &pcg_);
-      HYPRE_PCGSetTol(pcg_, options_.tolerance);
-      HYPRE_PCGSetAbsoluteTol(pcg_, 0.0);
-      HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
-      HYPRE_PCGSetTwoNorm(pcg_, 1);
-      HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
-      HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                          reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      check(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup");
-    } else {
-      HYPRE_ParCSRGMRESCreate(comm_, &gmres_);
-      HYPRE_GMRESSetKDim(gmres_, options_.gmresRestart);
-      HYPRE_GMRESSetTol(gmres_, options_.tolerance);
-      HYPRE_GMRESSetAbsoluteTol(gmres_, 0.0);
-      HYPRE_GMRESSetMaxIter(gmres_, options_.maxIterations);
-      HYPRE_GMRESSetPrintLevel(gmres_, options_.printLevel);
-      HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      check(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup");
-    }
-    setupSeconds_ = seconds(start);
-  }
-
-  LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
-                         const Kokkos::View<double *, DeviceSpace> &x) override {
-    const auto start = std::chrono::steady_clock::now();
-    LinearSolveStats s;
-    const HYPRE_Int n = dofs_.numOwned();
-    const ConstDeviceVector owned = Kokkos::subview(b, std::make_pair(0, static_cast<int>(n)));
-    double bnorm = dot(owned, owned); // a device reduction (b stays where it is)
-    MPI_Allreduce(MPI_IN_PLACE, &bnorm, 1, MPI_DOUBLE, MPI_SUM, comm_);
-    if (bnorm == 0.0) { // hypre divides by ||b||; the answer is x = 0, exactly
-      Kokkos::deep_copy(x, 0.0);
-      s.converged = true;
-      return s;
-    }
-    std::optional<BorrowedVector> borrowB, borrowX;
-    if constexpr (kHypreReadsKokkosMemory) {
-      Kokkos::deep_copy(x, 0.0); // the zero initial guess, written where hypre iterates
-      Kokkos::fence();
-      borrowB.emplace(parb_, b.data());
-      borrowX.emplace(parx_, x.data());
-    } else {
-      const auto hb = copyToHost(b);
-      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
-      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
-    }
-    HYPRE_Int err = 0, its = 0;
-    const auto run = [&] { // one hypre solve from the current x; adds its iterations
-      HYPRE_Int e = 0, k = 0;
-      if (pcg_) {
-        e = HYPRE_ParCSRPCGSolve(pcg_, parA_, parb_, parx_);
-        HYPRE_PCGGetNumIterations(pcg_, &k);
-      } else {
-        e = HYPRE_ParCSRGMRESSolve(gmres_, parA_, parb_, parx_);
-        HYPRE_GMRESGetNumIterations(gmres_, &k);
-      }
-      if (e != 0)
-        HYPRE_ClearAllErrors(); // non-convergence is reported through stats
-      its += k;
-      return e;
-    };
-    // hypre's final residual is its recursively updated one: a breakdown (a singular matrix, an
-    // indefinite preconditioner) can end as "1 iteration, residual 0" with x still 0. Decide from
-    // the true residual ||b - A x|| / ||b|| of the system as posed.
-    double rr = 0.0, xx = 0.0;
-    const auto trueResidual = [&] {
-      HYPRE_ParVectorCopy(parb_, parr_);
-      HYPRE_ParCSRMatrixMatvec(-1.0, parA_, parx_, 1.0, parr_);
-      HYPRE_ParVectorInnerProd(parr_, parr_, &rr);
-      HYPRE_ParVectorInnerProd(parx_, parx_, &xx);
-      return std::sqrt(rr / bnorm);
-    };
-    err = run();
-    double relative = trueResidual();
-    // At tight tolerances the recursive residual drifts below the true one (attainable accuracy):
-    // where hypre stopped on it, restart from x with the true residual (residual replacement).
-    for (int restart = 0;
-         restart < 2 && err == 0 && relative > options_.tolerance && its < options_.maxIterations;
-         ++restart) {
-      err = run();
-      relative = trueResidual();
-    }
-    if constexpr (!kHypreReadsKokkosMemory) {
-      auto hx = hostMirror(x);
-      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-      copyToDevice(x, hx);
-    }
-    s.iterations = its;
-    s.relativeResidual = relative;
-    s.converged = trueResidualConverged(s.relativeResidual, xx, options_.tolerance, err == 0, 10.0);
-    s.solveSeconds = seconds(start);
-    s.setupSeconds = setupSeconds_;
-    return s;
-  }
-
-  void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
-                    const Kokkos::View<double *, DeviceSpace> &x) override {
-    // Once per iteration of the Krylov method around it: on the views' memory where hypre can.
-    const HYPRE_Int n = dofs_.numOwned();
-    if constexpr (kHypreReadsKokkosMemory) {
-      Kokkos::deep_copy(x, 0.0);
-      Kokkos::fence();
-      const BorrowedVector borrowB(parb_, b.data()), borrowX(parx_, x.data());
-      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
-    } else {
-      const auto hb = copyToHost(b);
-      auto hx = hostMirror(x);
-      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
-      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
-      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
-      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
-      copyToDevice(x, hx);
-    }
-  }
-
-  std::string name() const override {
-    return options_.symmetric ? "hypre PCG + BoomerAMG" : "hypre GMRES + BoomerAMG";
-  }
-  double setupSeconds() const override { return setupSeconds_; }
-
-private:
-  void release() {
-    if (pcg_)
-      HYPRE_ParCSRPCGDestroy(pcg_);
-    if (gmres_)
-      HYPRE_ParCSRGMRESDestroy(gmres_);
-    if (amg_)
-      HYPRE_BoomerAMGDestroy(amg_);
-    if (ij_)
-      HYPRE_IJMatrixDestroy(ij_);
-    if (ijb_)
-      HYPRE_IJVectorDestroy(ijb_);
-    if (ijx_)
-      HYPRE_IJVectorDestroy(ijx_);
-    if (ijr_)
-      HYPRE_IJVectorDestroy(ijr_);
-    pcg_ = gmres_ = amg_ = nullptr;
-    ij_ = nullptr;
-    ijb_ = ijx_ = ijr_ = nullptr;
-  }
-
-  LinearSolverOptions options_;
-  DofMap dofs_;
-  MPI_Comm comm_;
-  HYPRE_IJMatrix ij_ = nullptr;
-  HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
-  HYPRE_ParCSRMatrix parA_ = nullptr;
-  HYPRE_ParVector parb_ = nullptr, parx_ = nullptr, parr_ = nullptr;
-  HYPRE_Solver pcg_ = nullptr, gmres_ = nullptr, amg_ = nullptr;
-  std::vector<HYPRE_BigInt> rows_; ///< owned global row numbers
-  std::vector<double> zero_;       ///< zero initial guess
-  double setupSeconds_ = 0.0;
 };
 
 class DirectSolver final : public LinearSolver {
@@ -314,6 +128,7 @@ public:
       for (Offset k = ro(i); k < ro(i + 1); ++k)
         if (va(k) != 0.0)
           t.emplace_back(i, co(k), va(k));
+    normInf_ = rowSumNorm(a);
     matrix_.resize(a.numRows, a.numColumns);
     matrix_.setFromTriplets(t.begin(), t.end());
     // LDL^T reads one triangle only: a nonsymmetric matrix goes to LU directly.
@@ -366,8 +181,9 @@ public:
         hx(i) = ex(i);
       copyToDevice(x, hx);
     }
-    s.converged = bn == 0.0 || trueResidualConverged(s.relativeResidual, ex.squaredNorm(),
-                                                     tolerance_, true, 100.0);
+    s.converged = bn == 0.0 || trueResidualConverged(
+                                   s.relativeResidual, ex.squaredNorm(), tolerance_, true, 100.0,
+                                   backwardError(s.relativeResidual * bn, normInf_, ex.norm(), bn));
     s.iterations = 1;
     s.solveSeconds = seconds(start);
     s.setupSeconds = setupSeconds_;
@@ -405,10 +221,473 @@ private:
       "that no support holds)";
 
   static constexpr int kRefinements = 3;
+  double normInf_ = 0.0; ///< row-sum norm of the matrix (backward error)
   bool symmetric_ = true;
   double tolerance_ = 1e-8;
   bool useLu_ = false;
   double setupSeconds_ = 0.0;
+};
+
+class HypreAmgSolver final : public LinearSolver {
+public:
+  HypreAmgSolver(const LinearSolverOptions &o, const DofMap &dofs, MPI_Comm comm)
+      : options_(o), dofs_(dofs), comm_(comm), coarsest_(o.coarsestSize) {
+    MPI_Comm_size(comm, &ranks_);
+  }
+  ~HypreAmgSolver() override { release(); }
+
+  void setup(const CsrMatrix<DeviceSpace> &a) override {
+    const auto start = std::chrono::steady_clock::now();
+    Kokkos::fence();
+    if (direct_) { // the fall back of an earlier solve stays for the run
+      direct_->setup(a);
+      matrix_ = a;
+      ++builds_;
+    } else if (options_.reuseHierarchy && amg_ && !rebuild_ && samePattern(a)) {
+      updateValues(a); // the hierarchy stays; its fine level is this matrix
+      normInf_ = rowSumNorm(a);
+      MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
+      matrix_ = a;
+      ++reuses_;
+      kept_ = true;
+    } else {
+      matrix_ = a;
+      build();
+    }
+    setupSeconds_ = seconds(start);
+  }
+
+  LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
+                         const Kokkos::View<double *, DeviceSpace> &x) override {
+    const auto start = std::chrono::steady_clock::now();
+    std::string note;
+    LinearSolveStats s = direct_ ? direct_->solve(b, x) : iterate(b, x);
+    int total = s.iterations;
+    // A kept hierarchy that no longer converges: redo the solve with a fresh one.
+    if (!direct_ && kept_ && !s.converged) {
+      note = "AMG hierarchy rebuilt (the kept one did not converge in " +
+             std::to_string(s.iterations) + " iterations)";
+      build();
+      s = iterate(b, x);
+      total += s.iterations;
+    }
+    // The escalation ladder: a stronger AMG, then the direct solver.
+    while (!direct_ && !s.converged) {
+      std::string step;
+      if (!strengthen(step))
+        break;
+      if (!note.empty())
+        note += "; ";
+      note += step;
+      s = direct_ ? direct_->solve(b, x) : iterate(b, x);
+      total += s.iterations;
+    }
+    if (!direct_ && kept_ && s.iterations > options_.reuseIterationGrowth * freshIterations_)
+      rebuild_ = true; // the next setup builds a fresh hierarchy
+    // Converged, but slowly: the next hierarchies take the next step of the ladder.
+    if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations &&
+        nextCoarsest() > coarsest_) {
+      coarsest_ = nextCoarsest();
+      rebuild_ = true;
+      note += std::string(note.empty() ? "" : "; ") + "AMG took " + std::to_string(s.iterations) +
+              " iterations: the next hierarchies stop at " + std::to_string(coarsest_) +
+              " unknowns";
+    }
+    if (!direct_ && !kept_)
+      freshIterations_ = std::max(s.iterations, 1);
+    s.iterations = total;
+    s.note = note;
+    s.solveSeconds = seconds(start);
+    s.setupSeconds = setupSeconds_;
+    return s;
+  }
+
+  void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
+                    const Kokkos::View<double *, DeviceSpace> &x) override {
+    if (direct_) {
+      direct_->precondition(b, x);
+      return;
+    }
+    // Once per iteration of the Krylov method around it: on the views' memory where hypre can.
+    const HYPRE_Int n = dofs_.numOwned();
+    if constexpr (kHypreReadsKokkosMemory) {
+      Kokkos::deep_copy(x, 0.0);
+      Kokkos::fence();
+      const BorrowedVector borrowB(parb_, b.data()), borrowX(parx_, x.data());
+      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+    } else {
+      const auto hb = copyToHost(b);
+      auto hx = hostMirror(x);
+      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
+      copyToDevice(x, hx);
+    }
+  }
+
+  bool strengthen(std::string &note) override {
+    if (direct_ || matrix_.numRows == 0)
+      return false;
+    std::ostringstream o;
+    if (nextCoarsest() > coarsest_) {
+      o << "AMG rebuilt with a coarsest level of up to " << nextCoarsest() << " unknowns (was "
+        << coarsest_ << ")";
+      coarsest_ = nextCoarsest();
+      build();
+      note = o.str();
+      return true;
+    }
+    if (ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns) {
+      direct_ = std::make_unique<DirectSolver>(comm_, options_.symmetric, options_.tolerance);
+      direct_->setup(matrix_);
+      release();
+      o << "the AMG did not converge: falling back to the direct solver (" << dofs_.numGlobal
+        << " unknowns)";
+      note = o.str();
+      return true;
+    }
+    return false;
+  }
+
+  void setNearNullSpace(const Kokkos::View<const double **, DeviceSpace> &positions) override {
+    positions_ = positions;
+  }
+
+  std::string name() const override {
+    if (direct_)
+      return direct_->name() + " (fallen back from AMG)";
+    std::string n = options_.symmetric ? "hypre PCG + BoomerAMG" : "hypre GMRES + BoomerAMG";
+    if (!rotations_.empty() || willUseRotations())
+      n += " with rigid-body modes";
+    return n;
+  }
+  double setupSeconds() const override { return setupSeconds_; }
+  int builds() const override { return builds_; }
+  int reuses() const override { return reuses_; }
+
+private:
+  bool willUseRotations() const {
+    const int dim = dofs_.dofsPerNode;
+    return options_.rigidBodyModes && (dim == 2 || dim == 3) && positions_.extent(0) > 0 &&
+           static_cast<int>(positions_.extent(1)) == dim &&
+           static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes;
+  }
+
+  /// Same rows and columns as the matrix of the last build (the same views, or equal arrays).
+  bool samePattern(const CsrMatrix<DeviceSpace> &a) const {
+    if (a.numRows != builtRows_ || a.columns.extent(0) != builtColumns_.size())
+      return false;
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    for (LocalIndex i = 0; i < a.numRows; ++i)
+      if (ncols_[i] != static_cast<HYPRE_Int>(ro(i + 1) - ro(i)))
+        return false;
+    const HYPRE_BigInt lo = dofs_.ownedBegin;
+    for (std::size_t k = 0; k < builtColumns_.size(); ++k)
+      if (builtColumns_[k] != lo + co(k))
+        return false;
+    return true;
+  }
+
+  /// New values into the assembled hypre matrix (same pattern): the kept hierarchy's fine level.
+  void updateValues(const CsrMatrix<DeviceSpace> &a) {
+    const auto va = hostReadable(a.values);
+    check(HYPRE_IJMatrixSetValues(ij_, a.numRows, ncols_.data(), rows_.data(), builtColumns_.data(),
+                                  va.data()),
+          "IJMatrixSetValues (kept hierarchy)");
+  }
+
+  /// The hypre matrix, vectors and a fresh BoomerAMG hierarchy with its Krylov method, from
+  /// matrix_.
+  void build() {
+    release();
+    const CsrMatrix<DeviceSpace> &a = matrix_;
+    const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
+    const HYPRE_Int n = a.numRows;
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    const auto va = hostReadable(a.values);
+
+    check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
+    check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
+    ncols_.resize(n);
+    std::vector<HYPRE_Int> offdSizes(n, 0);
+    builtColumns_.resize(co.extent(0));
+    rows_.resize(n); // owned global rows, reused by every solve() and precondition()
+    zero_.assign(n, 0.0);
+    for (HYPRE_Int i = 0; i < n; ++i) {
+      ncols_[i] = static_cast<HYPRE_Int>(ro(i + 1) - ro(i));
+      rows_[i] = lo + i;
+    }
+    for (std::size_t k = 0; k < builtColumns_.size(); ++k)
+      builtColumns_[k] = lo + co(k); // serial numbering: local column + first owned row
+    builtRows_ = n;
+    normInf_ = rowSumNorm(a);
+    MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
+    check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, ncols_.data(), offdSizes.data()),
+          "IJMatrixSetDiagOffdSizes");
+    check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
+    check(HYPRE_IJMatrixSetValues(ij_, n, ncols_.data(), rows_.data(), builtColumns_.data(),
+                                  va.data()),
+          "IJMatrixSetValues");
+    check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
+    check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
+
+    for (HYPRE_IJVector *v : {&ijb_, &ijx_, &ijr_}) {
+      check(HYPRE_IJVectorCreate(comm_, lo, hi, v), "IJVectorCreate");
+      check(HYPRE_IJVectorSetObjectType(*v, HYPRE_PARCSR), "IJVectorSetObjectType");
+      check(HYPRE_IJVectorInitialize(*v), "IJVectorInitialize");
+      check(HYPRE_IJVectorAssemble(*v), "IJVectorAssemble");
+    }
+    HYPRE_IJVectorGetObject(ijb_, reinterpret_cast<void **>(&parb_));
+    HYPRE_IJVectorGetObject(ijx_, reinterpret_cast<void **>(&parx_));
+    HYPRE_IJVectorGetObject(ijr_, reinterpret_cast<void **>(&parr_));
+
+    HYPRE_BoomerAMGCreate(&amg_);
+    HYPRE_BoomerAMGSetCoarsenType(amg_, 10); // HMIS
+    HYPRE_BoomerAMGSetInterpType(amg_, 6);   // extended+i
+    HYPRE_BoomerAMGSetPMaxElmts(amg_, options_.interpolationMaxElements);
+    HYPRE_BoomerAMGSetStrongThreshold(amg_, options_.strongThreshold);
+    HYPRE_BoomerAMGSetRelaxType(amg_, 8); // l1-scaled symmetric Gauss-Seidel
+    HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
+    HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
+    if (options_.nodalCoarsening)
+      HYPRE_BoomerAMGSetNodal(amg_, 1); // coarsen nodes by the Frobenius norm of their blocks
+    HYPRE_BoomerAMGSetAggNumLevels(amg_, options_.aggressiveLevels);
+    HYPRE_BoomerAMGSetMaxCoarseSize(amg_, coarsest_);
+    if (coarsest_ > kGaussEliminationSize) // a large coarsest level: inverted once, at setup
+      HYPRE_BoomerAMGSetCycleRelaxType(amg_, 199, 3);
+    HYPRE_BoomerAMGSetMaxIter(amg_, 1); // one V-cycle as preconditioner
+    HYPRE_BoomerAMGSetTol(amg_, 0.0);
+    HYPRE_BoomerAMGSetPrintLevel(amg_, options_.printLevel);
+    if (setRotations())
+      check(HYPRE_BoomerAMGSetInterpVectors(amg_, static_cast<HYPRE_Int>(rotations_.size()),
+                                            rotations_.data()),
+            "BoomerAMGSetInterpVectors");
+
+    if (options_.symmetric) {
+      HYPRE_ParCSRPCGCreate(comm_, &pcg_);
+      HYPRE_PCGSetTol(pcg_, options_.tolerance);
+      HYPRE_PCGSetAbsoluteTol(pcg_, 0.0);
+      HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
+      HYPRE_PCGSetTwoNorm(pcg_, 1);
+      HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
+      HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                          reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      check(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup");
+    } else {
+      HYPRE_ParCSRGMRESCreate(comm_, &gmres_);
+      HYPRE_GMRESSetKDim(gmres_, options_.gmresRestart);
+      HYPRE_GMRESSetTol(gmres_, options_.tolerance);
+      HYPRE_GMRESSetAbsoluteTol(gmres_, 0.0);
+      HYPRE_GMRESSetMaxIter(gmres_, options_.maxIterations);
+      HYPRE_GMRESSetPrintLevel(gmres_, options_.printLevel);
+      HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      check(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup");
+    }
+    ++builds_;
+    kept_ = false;
+    rebuild_ = false;
+  }
+
+  /// One Krylov solve of A x = b with the current hierarchy, judged on the true residual. While
+  /// a stronger level is left, at most escalationIterations iterations.
+  LinearSolveStats iterate(const Kokkos::View<const double *, DeviceSpace> &b,
+                           const Kokkos::View<double *, DeviceSpace> &x) {
+    LinearSolveStats s;
+    const HYPRE_Int n = dofs_.numOwned();
+    const ConstDeviceVector owned = Kokkos::subview(b, std::make_pair(0, static_cast<int>(n)));
+    double bnorm = dot(owned, owned); // a device reduction (b stays where it is)
+    MPI_Allreduce(MPI_IN_PLACE, &bnorm, 1, MPI_DOUBLE, MPI_SUM, comm_);
+    if (bnorm == 0.0) { // hypre divides by ||b||; the answer is x = 0, exactly
+      Kokkos::deep_copy(x, 0.0);
+      s.converged = true;
+      return s;
+    }
+    const int cap = canStrengthen()
+                        ? std::min(options_.maxIterations, options_.escalationIterations)
+                        : options_.maxIterations;
+    if (pcg_)
+      HYPRE_PCGSetMaxIter(pcg_, cap);
+    else
+      HYPRE_GMRESSetMaxIter(gmres_, cap);
+    std::optional<BorrowedVector> borrowB, borrowX;
+    if constexpr (kHypreReadsKokkosMemory) {
+      Kokkos::deep_copy(x, 0.0); // the zero initial guess, written where hypre iterates
+      Kokkos::fence();
+      borrowB.emplace(parb_, b.data());
+      borrowX.emplace(parx_, x.data());
+    } else {
+      const auto hb = copyToHost(b);
+      HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
+      HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
+    }
+    HYPRE_Int err = 0, its = 0;
+    const auto run = [&] { // one hypre solve from the current x; adds its iterations
+      HYPRE_Int e = 0, k = 0;
+      if (pcg_) {
+        e = HYPRE_ParCSRPCGSolve(pcg_, parA_, parb_, parx_);
+        HYPRE_PCGGetNumIterations(pcg_, &k);
+      } else {
+        e = HYPRE_ParCSRGMRESSolve(gmres_, parA_, parb_, parx_);
+        HYPRE_GMRESGetNumIterations(gmres_, &k);
+      }
+      if (e != 0)
+        HYPRE_ClearAllErrors(); // non-convergence is reported through stats
+      its += k;
+      return e;
+    };
+    // hypre's final residual is its recursively updated one: a breakdown (a singular matrix, an
+    // indefinite preconditioner) can end as "1 iteration, residual 0" with x still 0. Decide from
+    // the true residual ||b - A x|| / ||b|| of the system as posed.
+    double rr = 0.0, xx = 0.0;
+    const auto trueResidual = [&] {
+      HYPRE_ParVectorCopy(parb_, parr_);
+      HYPRE_ParCSRMatrixMatvec(-1.0, parA_, parx_, 1.0, parr_);
+      HYPRE_ParVectorInnerProd(parr_, parr_, &rr);
+      HYPRE_ParVectorInnerProd(parx_, parx_, &xx);
+      return std::sqrt(rr / bnorm);
+    };
+    err = run();
+    double relative = trueResidual();
+    // At tight tolerances the recursive residual drifts below the true one (attainable accuracy):
+    // where hypre stopped on it, restart from x with the true residual (residual replacement).
+    for (int restart = 0; restart < 2 && err == 0 && relative > options_.tolerance && its < cap;
+         ++restart) {
+      err = run();
+      relative = trueResidual();
+    }
+    if constexpr (!kHypreReadsKokkosMemory) {
+      auto hx = hostMirror(x);
+      HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
+      copyToDevice(x, hx);
+    }
+    s.iterations = its;
+    s.relativeResidual = relative;
+    s.converged = trueResidualConverged(
+        s.relativeResidual, xx, options_.tolerance, err == 0, 10.0,
+        backwardError(std::sqrt(rr), normInf_, std::sqrt(xx), std::sqrt(bnorm)));
+    return s;
+  }
+
+  /// The next coarsest size of the ladder (the current one at its end).
+  int nextCoarsest() const {
+    for (int size : options_.escalationCoarsestSizes)
+      if (size > coarsest_)
+        return size;
+    return coarsest_;
+  }
+
+  bool canStrengthen() const {
+    return nextCoarsest() > coarsest_ ||
+           (ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns);
+  }
+
+  /// The rigid-body rotations of the positions as BoomerAMG interpolation vectors (the
+  /// translations are the constants the systems AMG interpolates anyway): in 2D (-y, x), in 3D
+  /// the three rotations about the axes, about the centroid. With nodal coarsening, as hypre's
+  /// interpolation-vector variants require. False (nothing set) where they do not apply.
+  bool setRotations() {
+    if (!willUseRotations())
+      return false;
+    const int dim = dofs_.dofsPerNode;
+    const auto x = hostReadable(positions_);
+    const LocalIndex nn = dofs_.numLocalNodes;
+    double centroid[3] = {0.0, 0.0, 0.0};
+    for (LocalIndex k = 0; k < nn; ++k)
+      for (int i = 0; i < dim; ++i)
+        centroid[i] += x(k, i) / nn;
+    const int count = dim == 2 ? 1 : 3;
+    const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
+    std::vector<double> values(dofs_.numOwned());
+    for (int r = 0; r < count; ++r) {
+      // rotation about axis a (2D: z): component b gets -(x_c - c_c), component c gets x_b - c_b
+      const int a = dim == 2 ? 2 : r, b = (a + 1) % 3, c = (a + 2) % 3;
+      std::fill(values.begin(), values.end(), 0.0);
+      for (LocalIndex k = 0; k < nn; ++k) {
+        const auto at = [&](int i) { return i < dim ? x(k, i) - centroid[i] : 0.0; };
+        if (b < dim)
+          values[dim * k + b] = -at(c);
+        if (c < dim)
+          values[dim * k + c] = at(b);
+      }
+      HYPRE_IJVector v = nullptr;
+      check(HYPRE_IJVectorCreate(comm_, lo, hi, &v), "IJVectorCreate");
+      rotationVectors_.push_back(v);
+      check(HYPRE_IJVectorSetObjectType(v, HYPRE_PARCSR), "IJVectorSetObjectType");
+      check(HYPRE_IJVectorInitialize(v), "IJVectorInitialize");
+      check(HYPRE_IJVectorSetValues(v, dofs_.numOwned(), rows_.data(), values.data()),
+            "IJVectorSetValues");
+      check(HYPRE_IJVectorAssemble(v), "IJVectorAssemble");
+      HYPRE_ParVector par = nullptr;
+      HYPRE_IJVectorGetObject(v, reinterpret_cast<void **>(&par));
+      rotations_.push_back(par);
+    }
+    // Settings measured on the slender strips (docs/performance.md): nodal coarsening by the
+    // row-sum norm of the node blocks, GM2 with at most 4 added entries per row, the vectors
+    // smoothed and the interpolation refined once.
+    HYPRE_BoomerAMGSetNodal(amg_, 4);
+    HYPRE_BoomerAMGSetInterpVecVariant(amg_, options_.interpolationVectorVariant);
+    HYPRE_BoomerAMGSetInterpVecQMax(amg_, 4);
+    HYPRE_BoomerAMGSetSmoothInterpVectors(amg_, 1);
+    HYPRE_BoomerAMGSetInterpRefine(amg_, 1);
+    return true;
+  }
+
+  void release() {
+    if (pcg_)
+      HYPRE_ParCSRPCGDestroy(pcg_);
+    if (gmres_)
+      HYPRE_ParCSRGMRESDestroy(gmres_);
+    if (amg_)
+      HYPRE_BoomerAMGDestroy(amg_);
+    if (ij_)
+      HYPRE_IJMatrixDestroy(ij_);
+    if (ijb_)
+      HYPRE_IJVectorDestroy(ijb_);
+    if (ijx_)
+      HYPRE_IJVectorDestroy(ijx_);
+    if (ijr_)
+      HYPRE_IJVectorDestroy(ijr_);
+    for (HYPRE_IJVector v : rotationVectors_) // the AMG does not own the level-0 vectors
+      HYPRE_IJVectorDestroy(v);
+    rotationVectors_.clear();
+    rotations_.clear();
+    pcg_ = gmres_ = amg_ = nullptr;
+    ij_ = nullptr;
+    ijb_ = ijx_ = ijr_ = nullptr;
+    parA_ = nullptr;
+    parb_ = parx_ = parr_ = nullptr;
+  }
+
+  LinearSolverOptions options_;
+  DofMap dofs_;
+  MPI_Comm comm_;
+  int ranks_ = 1;
+  int coarsest_ = 9; ///< the coarsest size in use (grows along the escalation ladder)
+  HYPRE_IJMatrix ij_ = nullptr;
+  HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
+  HYPRE_ParCSRMatrix parA_ = nullptr;
+  HYPRE_ParVector parb_ = nullptr, parx_ = nullptr, parr_ = nullptr;
+  HYPRE_Solver pcg_ = nullptr, gmres_ = nullptr, amg_ = nullptr;
+  CsrMatrix<DeviceSpace> matrix_;          ///< the matrix of the last setup (for rebuilds)
+  std::vector<HYPRE_BigInt> rows_;         ///< owned global row numbers
+  std::vector<HYPRE_Int> ncols_;           ///< entries per row of the built matrix
+  std::vector<HYPRE_BigInt> builtColumns_; ///< its global column numbers
+  LocalIndex builtRows_ = -1;
+  std::vector<double> zero_;                             ///< zero initial guess
+  Kokkos::View<const double **, DeviceSpace> positions_; ///< see setNearNullSpace()
+  std::vector<HYPRE_IJVector> rotationVectors_;          ///< owned by this solver
+  std::vector<HYPRE_ParVector> rotations_;               ///< their ParCSR views, for hypre
+  std::unique_ptr<LinearSolver> direct_;                 ///< the direct fall back, once taken
+  bool kept_ = false;       ///< the hierarchy was built on an earlier matrix
+  bool rebuild_ = false;    ///< the kept hierarchy slowed down: build afresh at the next setup
+  int freshIterations_ = 1; ///< iterations of the last solve with a fresh hierarchy
+  int builds_ = 0, reuses_ = 0;
+  double setupSeconds_ = 0.0;
+  double normInf_ = 0.0;
 };
 
 } // namespace

@@ -10,6 +10,7 @@
 #include <memory>
 #include <mpi.h>
 #include <string>
+#include <vector>
 
 namespace mixcon {
 
@@ -41,7 +42,39 @@ struct LinearSolverOptions {
   /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of LDL^T.
   bool symmetric = true;
   int gmresRestart = 50;
+  /// BoomerAMG interpolation fitted to the rigid-body rotations of the node positions given by
+  /// setNearNullSpace() (hypre's systems AMG with interpolation vectors, nodal coarsening), so
+  /// that bending is seen on the coarse levels of slender parts (docs/performance.md).
+  bool rigidBodyModes = true;
+  /// hypre's InterpVecVariant: 1, 2 the global-matrix approaches GM1, GM2; 3 local neighbourhood
+  /// (LN). GM2 measured fewest iterations on slender strips (docs/performance.md).
+  int interpolationVectorVariant = 2;
+  /// Largest coarsest level of BoomerAMG (solved by Gaussian elimination); hypre's default 9.
+  int coarsestSize = 9;
+  /// Robustness ladder of the AMG solver, in this order, whenever a solve does not converge within
+  /// `escalationIterations` (or, for the AMG used as a preconditioner, when the method around it
+  /// asks through strengthen()): rebuild with the next coarsest size of `escalationCoarsestSizes`
+  /// (slender parts: coarse levels of long, thin elements lock in bending, so the hierarchy must
+  /// stop while the elements are still short: L/h = 100 needs about 400, L/h = 1000 about 3000
+  /// unknowns; the ladder stops at 2000: the coarsest level is a dense inverse), then the direct
+  /// solver where the system has at most `directFallbackUnknowns` unknowns on one rank. Each step
+  /// is reported (LinearSolveStats::note) and kept for the run.
+  int escalationIterations = 200;
+  std::vector<int> escalationCoarsestSizes = {500, 2000};
+  long directFallbackUnknowns = 200000; ///< 0: never fall back to the direct solver
+  /// Keep the AMG hierarchy of an earlier matrix of the same sparsity pattern (Newton and contact
+  /// corrections): only the fine-level values are updated, until a solve takes more than
+  /// `reuseIterationGrowth` times the iterations the fresh hierarchy took (then it is rebuilt at
+  /// the next setup; a solve that fails with a kept hierarchy is redone with a fresh one).
+  bool reuseHierarchy = true;
+  double reuseIterationGrowth = 2.0;
 };
+
+/// Every solver also accepts a solution at the accuracy floor of floating point: normwise
+/// backward error ||b - A x|| / (||A|| ||x|| + ||b||) at most this. Slender parts need it: a strip
+/// of L/h = 100 cannot get below ||r|| / ||b|| = 4e-7, one of L/h = 1000 below 4e-3, by any
+/// solver (backward error 4e-17: the exact solution in double precision; cond(A) ~ (L/h)^4).
+inline constexpr double kBackwardErrorFloor = 1e-14;
 
 struct LinearSolveStats {
   int iterations = 0;
@@ -52,6 +85,9 @@ struct LinearSolveStats {
   double setupSeconds = 0.0;
   double solveSeconds = 0.0;
   bool converged = false;
+  /// What the solver changed to get there (a stronger AMG, the direct fall back, a rebuilt
+  /// hierarchy), for the log; empty when nothing changed.
+  std::string note;
 };
 
 /// A solver bound to one matrix: setup() once (factorization or AMG hierarchy), then any number
@@ -68,8 +104,25 @@ public:
   /// solve (direct), from a zero initial guess.
   virtual void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
                             const Kokkos::View<double *, DeviceSpace> &x) = 0;
+  /// The node positions (one row per local node, one column per displacement component) the
+  /// matrices handed to setup() are built on: the AMG solver derives the rigid-body modes from
+  /// them at each setup(), so the view may be updated in place between setups (an
+  /// updated-Lagrangian model moves it with the deformation). Ignored by the direct solver and
+  /// where the unknowns per node are not the positions' components.
+  virtual void setNearNullSpace(const Kokkos::View<const double **, DeviceSpace> &) {}
+  /// Makes the preconditioner stronger for every later setup() and solve (the AMG's escalation
+  /// ladder, see LinearSolverOptions) and rebuilds it on the matrix of the last setup(), for a
+  /// method that applies precondition() and did not converge. False when nothing stronger is
+  /// left. `note` says what was done.
+  virtual bool strengthen(std::string &note) {
+    (void)note;
+    return false;
+  }
   virtual std::string name() const = 0;
   virtual double setupSeconds() const = 0;
+  /// Full setups (hierarchies built or factorizations) and setups that kept the hierarchy.
+  virtual int builds() const { return 0; }
+  virtual int reuses() const { return 0; }
 };
 
 /// Creates the solver chosen in the options. `comm` must outlive the solver. Throws

@@ -65,6 +65,8 @@ bool LoadStepper::attempt(double lambda, IncrementOutcome &out, std::string &why
     }
     ++out.iterations;
     out.linearIterations += s.iterations;
+    if (!s.note.empty() && log_)
+      *log_ << "    load factor " << lambda << ", iteration " << it << ": " << s.note << "\n";
     out.solveSeconds += s.solveSeconds;
     if (!s.converged) {
       std::ostringstream m;

@@ -181,6 +181,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   Exec().fence();
   assemblySeconds_ += secondsSince(t);
   amg_ = makeLinearSolver(options_.linear, dofs_, comm);
+  amg_->setNearNullSpace(data_.mesh.coordinates);
   amg_->setup(precMatrix_);
   solverSetupSeconds_ = amg_->setupSeconds();
 }

@@ -24,8 +24,7 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   ElementData<Memory> d = current ? static_cast<ElementData<Memory>>(reference_)
                                   : static_cast<ElementData<Memory>>(current_);
   const auto base = d.mesh.coordinates;
-  d.mesh.coordinates =
-      Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::precCoordinates", mesh_.numNodes());
+  d.mesh.coordinates = positions_; // also the AMG's rigid-body modes
   movedCoordinates(base, x_, kMixed, d.mesh.coordinates);
   Kokkos::deep_copy(precMatrix_.values, 0.0);
   dispatchElement(mesh_.elementType, [&](auto elem) {
@@ -116,6 +115,7 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   KrylovOptions ko;
   ko.method = KrylovMethod::Gmres;
   ko.tolerance = linearOptions_.tolerance;
+  ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
   ko.maxIterations = linearOptions_.maxIterations;
   const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
   // dtau = M^-1 (C du + G_S).
@@ -214,6 +214,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   KrylovOptions ko;
   ko.method = KrylovMethod::Gmres;
   ko.tolerance = linearOptions_.tolerance;
+  ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
   ko.maxIterations = linearOptions_.maxIterations;
   ko.restart = mixedOptions_.restart;
   Kokkos::deep_copy(dx_, 0.0);

@@ -41,6 +41,10 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   // follower pressure's load stiffness is not.
   linearOptions_.symmetric = false;
   solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
+  positions_ =
+      Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::positions", mesh_.numNodes());
+  Kokkos::deep_copy(positions_, data_.mesh.coordinates);
+  solver_->setNearNullSpace(positions_);
   assemblySeconds_ = seconds(start);
 }
 
@@ -53,8 +57,10 @@ void NonlinearDisplacementModel::setDisplacement(const std::vector<double> &u) {
 double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
   Kokkos::deep_copy(g_, 0.0);
-  if (tangent)
+  if (tangent) {
     Kokkos::deep_copy(tangent_.values, 0.0);
+    movedCoordinates(data_.mesh.coordinates, u_, kDisp, positions_);
+  }
   const CsrMatrix<Memory> none;
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
   LocalIndex inverted = -1;

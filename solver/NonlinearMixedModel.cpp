@@ -75,6 +75,8 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   committedState_ = Vec("mixcon::nonlinear::committedState", kMixed * nn);
   Kokkos::deep_copy(committedState_, x_);
   linearOptions_ = options;
+  comm_ = comm;
+  jacobianDirect_.reset();
   if (options.type == LinearSolverType::Direct) {
     linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
     solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, kMixed), comm);
@@ -90,6 +92,8 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     LinearSolverOptions amg = options;
     amg.symmetric = true;
     solver_ = makeLinearSolver(amg, dofs_, comm);
+    positions_ = Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::positions", nn);
+    solver_->setNearNullSpace(positions_);
   }
   assemblySeconds_ = seconds(start);
 }
@@ -110,6 +114,47 @@ std::string NonlinearMixedModel::solverName() const {
          "current configuration, block-Jacobi CG on the stress block to "
       << mixedOptions_.preconditionerTolerance;
   return o.str();
+}
+
+LinearSolveStats NonlinearMixedModel::solveIterative() {
+  const auto direct = [&] {
+    return constrainedSolve(tangent_, true, work_, constrained5_, g_, target_, rhs_, diag_,
+                            *jacobianDirect_, dx_, solverSetupSeconds_);
+  };
+  if (jacobianDirect_)
+    return direct();
+  const auto once = [&] {
+    return mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur() : solveBlockTriangular();
+  };
+  LinearSolveStats s = once();
+  // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
+  // escalation ladder (a larger coarsest level, then the direct solver) is taken step by step.
+  std::string note, step;
+  int iterations = s.iterations;
+  while (!s.converged && solver_->strengthen(step)) {
+    note += (note.empty() ? "" : "; ") + step;
+    s = once();
+    iterations += s.iterations;
+  }
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  const long unknowns = static_cast<long>(kMixed) * mesh_.numNodes();
+  if (!s.converged && !matrixFree_ && ranks == 1 &&
+      unknowns <= linearOptions_.directFallbackUnknowns) {
+    LinearSolverOptions o = linearOptions_;
+    o.type = LinearSolverType::Direct;
+    o.symmetric = false;
+    jacobianDirect_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kMixed), comm_);
+    note += std::string(note.empty() ? "" : "; ") + "the iterative solve did not converge " +
+            "(relative residual " + std::to_string(s.relativeResidual) +
+            "): falling back to the direct LU of the Jacobian (" + std::to_string(unknowns) +
+            " unknowns)";
+    s = direct();
+    iterations += s.iterations;
+  }
+  s.iterations = iterations;
+  s.note = note;
+  return s;
 }
 
 void NonlinearMixedModel::setPrestress(const std::vector<double> &tau) { fromHost(tau, tau_); }
@@ -206,8 +251,7 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
           ? constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, work_,
                              constrained5_, g_, target_, rhs_, diag_, *solver_, dx_,
                              solverSetupSeconds_)
-      : mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur()
-                                                         : solveBlockTriangular();
+          : solveIterative();
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();

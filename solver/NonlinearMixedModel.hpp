@@ -82,6 +82,12 @@ private:
   /// tau <- M(c2)^-1 load, component by component (the L2 projection of the stress update).
   void projectStress(const Kokkos::View<double *, Memory> &load);
   void setupSchurPreconditioner();
+  /// solveSchur() or solveBlockTriangular(), stronger AMG preconditioners while they fail.
+  LinearSolveStats solveIterative();
+  /// The fall back of solveIterative() once the AMG ladder is spent: the direct LU of the
+  /// assembled Jacobian (one rank, assembled J, at most directFallbackUnknowns unknowns); kept.
+  std::unique_ptr<LinearSolver> jacobianDirect_;
+  MPI_Comm comm_ = MPI_COMM_SELF;
   LinearSolveStats solveSchur();
   LinearSolveStats solveBlockTriangular();
   /// y = J v, J the Jacobian at the last tangent evaluation (matrix-free: at jacobianState_).

@@ -128,6 +128,9 @@ protected:
   ConstraintElimination contactElimination_; ///< its symbolic phase, kept between corrections
   ElasticLaw law_ = ElasticLaw::Almansi;     ///< the displacement model's law (output stresses)
   bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
+  /// The node positions of the last tangent handed to the AMG solver, whose rigid-body modes
+  /// it interpolates (LinearSolver::setNearNullSpace); moved in place with every tangent.
+  Kokkos::View<double * [ModelLayout::kDim], Memory> positions_;
 
 private:
   std::vector<BoundaryEdge> followerEdges_;
