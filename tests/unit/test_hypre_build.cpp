@@ -19,10 +19,11 @@ bool endsWith(const std::string &s, const std::string &suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// "OpenMP" or "sequential" from the symbols of the loaded libHYPRE.
+// "OpenMP" or "sequential" from the symbols of the loaded libHYPRE; empty when hypre's symbols
+// are not visible to dlsym (a static libHYPRE linked without -rdynamic).
 std::string loadedHypreThreading() {
-  void *bound = dlsym(RTLD_DEFAULT, "HYPRE_BoomerAMGCreate");
-  EXPECT_NE(bound, nullptr) << "no libHYPRE loaded";
+  if (dlsym(RTLD_DEFAULT, "HYPRE_BoomerAMGCreate") == nullptr)
+    return "";
   return dlsym(RTLD_DEFAULT, "hypre_NumThreads") != nullptr ? "OpenMP" : "sequential";
 }
 
@@ -42,11 +43,15 @@ TEST(HypreBuild, VersionNamesTheLinkedThreading) {
   RecordProperty("hypre", version + " from " + loadedHyprePath());
   EXPECT_EQ(version.rfind("hypre ", 0), 0u) << version;
   // The headers mixcon was compiled with and the library it runs on agree.
-  EXPECT_TRUE(endsWith(version, "(" + loaded + ")"))
-      << version << ", but the loaded " << loadedHyprePath() << " is " << loaded;
+  if (!loaded.empty()) {
+    EXPECT_TRUE(endsWith(version, "(" + loaded + ")"))
+        << version << ", but the loaded " << loadedHyprePath() << " is " << loaded;
+  }
   const char *expected = std::getenv("MIXCON_EXPECT_HYPRE");
   if (expected == nullptr)
     return; // not asked which one: nothing more to check
-  EXPECT_EQ(loaded, std::string(expected)) << loadedHyprePath();
   EXPECT_TRUE(endsWith(version, "(" + std::string(expected) + ")")) << version;
+  if (!loaded.empty()) {
+    EXPECT_EQ(loaded, std::string(expected)) << loadedHyprePath();
+  }
 }
