@@ -1,13 +1,20 @@
 #!/usr/bin/env bash
 # One entry point for the README's quick start and for CI, on a fresh Debian 12 machine:
 # installs missing Debian packages, builds Kokkos (OpenMP + Serial) into a cache if no
-# Kokkos_ROOT is given, configures and builds mixcon, then:
+# Kokkos_ROOT is given, builds a threaded hypre (OpenMP, from Debian's hypre 2.26 source package,
+# cmake/build-hypre.sh, about 2 minutes on 2 cores) into the same cache unless told otherwise,
+# configures and builds mixcon against them, then:
 #   example   runs the main example (Hertz contact) and prints its comparison with the closed form
 #   test      runs the whole test suite (ctest: unit, validation, install test)
 #   sanitize  Debug build with AddressSanitizer + UndefinedBehaviorSanitizer, runs the unit tests
 #   bench     runs the Google Benchmark programs (results in build/bench/*.json)
 # Environment: Kokkos_ROOT (use your own Kokkos, e.g. a CUDA build), MIXCON_BUILD_DIR,
-# MIXCON_CACHE (where Kokkos is built), OMP_NUM_THREADS.
+# MIXCON_CACHE (where Kokkos and hypre are built), OMP_NUM_THREADS, and for hypre:
+#   (nothing)            the threaded hypre of cmake/build-hypre.sh (the default)
+#   HYPRE_ROOT=<prefix>  your own hypre (its HYPREConfig.cmake, or include/ and lib/)
+#   MIXCON_HYPRE=debian  Debian's sequential libhypre-dev (the fallback)
+# Whichever it is, the installed mixconConfig.cmake finds that same hypre, and the programs find
+# libHYPRE through their RPATH (no LD_LIBRARY_PATH).
 set -euo pipefail
 mode=${1:-example}
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -17,6 +24,21 @@ bash "$root/cmake/install-deps.sh"
 if [ -z "${Kokkos_ROOT:-}" ]; then
   Kokkos_ROOT=$(bash "$root/cmake/build-kokkos.sh" | tail -n 1)
 fi
+# hypre: forget a previous configure's choice (a cache entry would win over a changed
+# HYPRE_ROOT), then pass the one asked for; Debian's is found in the system paths.
+hypre_args=(-UHYPRE_DIR -UHYPRE_INCLUDE_DIR -UHYPRE_LIBRARY -UHYPRE_ROOT)
+if [ "${MIXCON_HYPRE:-}" = debian ]; then
+  echo "mixcon: Debian's sequential hypre (MIXCON_HYPRE=debian)"
+  unset HYPRE_ROOT # CMake would search an exported HYPRE_ROOT first
+elif [ -n "${MIXCON_HYPRE:-}" ]; then
+  echo "mixcon: MIXCON_HYPRE='$MIXCON_HYPRE' is not 'debian' (unset it for the threaded hypre)" >&2
+  exit 2
+else
+  if [ -z "${HYPRE_ROOT:-}" ]; then
+    HYPRE_ROOT=$(bash "$root/cmake/build-hypre.sh" | tail -n 1)
+  fi
+  hypre_args+=(-DHYPRE_ROOT="$HYPRE_ROOT")
+fi
 
 configure_and_build() { # build-dir, extra cmake args...
   local dir=$1
@@ -24,7 +46,7 @@ configure_and_build() { # build-dir, extra cmake args...
   mkdir -p "$dir"
   # The configure log stays inside the build directory (never next to it, in the source tree).
   local log=$dir/configure.log
-  cmake -S "$root" -B "$dir" -DKokkos_ROOT="$Kokkos_ROOT" "$@" > "$log" 2>&1 ||
+  cmake -S "$root" -B "$dir" -DKokkos_ROOT="$Kokkos_ROOT" "${hypre_args[@]}" "$@" > "$log" 2>&1 ||
     { cat "$log"; exit 1; }
   cmake --build "$dir" -j "$jobs"
 }

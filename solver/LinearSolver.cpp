@@ -704,9 +704,16 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
 
 std::string hypreVersion() {
 #ifdef HYPRE_RELEASE_VERSION
-  return std::string("hypre ") + HYPRE_RELEASE_VERSION;
+  std::string version = std::string("hypre ") + HYPRE_RELEASE_VERSION;
 #else
-  return "hypre";
+  std::string version = "hypre";
+#endif
+  // HYPRE_config.h of the install mixcon was compiled against: cmake/build-hypre.sh's threaded
+  // build defines HYPRE_USING_OPENMP, Debian's libhypre-dev does not.
+#ifdef HYPRE_USING_OPENMP
+  return version + " (OpenMP)";
+#else
+  return version + " (sequential)";
 #endif
 }
 

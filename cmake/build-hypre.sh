@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Builds a threaded hypre (OpenMP) from Debian bookworm's hypre 2.26.0-3 source package and installs
+# it into a cache directory. Debian's binary libhypre-dev is sequential (no OpenMP), and about 75% of
+# the 2D Hertz run is spent in it (issue 20). The configuration matches Debian's where it matters for
+# the ABI (/usr/include/hypre/HYPRE_config.h: 32-bit HYPRE_Int and HYPRE_BigInt, no mixed int, MPI
+# with Open MPI, host memory), plus OpenMP. Built with hypre's CMake: a shared libHYPRE and a
+# HYPREConfig.cmake that cmake/FindHYPRE.cmake finds through HYPRE_ROOT. Idempotent: a finished
+# install is detected and reused.
+#
+# Usage: cmake/build-hypre.sh [PREFIX]
+#   PREFIX defaults to ${MIXCON_CACHE:-$HOME/.cache/mixcon}/hypre-2.26.0-openmp
+# Prints the install prefix on its last line (pass it as -DHYPRE_ROOT=...).
+set -euo pipefail
+
+cache=${MIXCON_CACHE:-$HOME/.cache/mixcon}
+prefix=${1:-$cache/hypre-2.26.0-openmp}
+stamp="$prefix/.mixcon-hypre-complete"
+if [ -f "$stamp" ] && [ -f "$prefix/lib/cmake/HYPRE/HYPREConfig.cmake" ]; then
+  echo "mixcon: hypre already installed"
+  echo "$prefix"
+  exit 0
+fi
+
+mkdir -p "$cache"
+work=$(mktemp -d "$cache/hypre-build.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+src_version=2.26.0-3
+tarball=hypre_2.26.0.orig.tar.gz
+
+if [ ! -f "$cache/$tarball" ] || [ ! -f "$cache/hypre_${src_version}.dsc" ]; then
+  # A private apt configuration that adds bookworm's source index without touching the system's.
+  lists="$work/lists"; mkdir -p "$lists/partial"
+  uri=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
+  [ -n "$uri" ] || uri=http://deb.debian.org/debian
+  keyring=/usr/share/keyrings/debian-archive-keyring.gpg
+  echo "deb-src [signed-by=$keyring] $uri bookworm main" > "$work/sources.list"
+  o=(-o "Dir::Etc::SourceList=$work/sources.list" -o "Dir::Etc::SourceParts=/dev/null"
+     -o "Dir::State::Lists=$lists")
+  apt-get "${o[@]}" update -q
+  (cd "$cache" && apt-get "${o[@]}" source --download-only "hypre=$src_version")
+fi
+
+# Verify the tarball against the checksum the (signed) .dsc lists.
+want=$(awk -v f="$tarball" '/^Checksums-Sha256:/{s=1; next} /^[A-Z]/{s=0} s && $3==f {print $1}' \
+  "$cache/hypre_${src_version}.dsc")
+have=$(sha256sum "$cache/$tarball" | awk '{print $1}')
+if [ -z "$want" ] || [ "$want" != "$have" ]; then
+  echo "mixcon: checksum mismatch for $tarball (want '$want', have '$have')" >&2
+  rm -f "$cache/$tarball"
+  exit 1
+fi
+
+tar -C "$work" -xzf "$cache/$tarball"
+srcdir=$(ls -d "$work"/hypre-*/src)
+# Debian's ABI: HYPRE_Int = HYPRE_BigInt = int (no HYPRE_ENABLE_BIGINT / MIXEDINT), MPI on, double
+# precision, host memory. Its SuperLU_dist coupling is left out (mixcon does not call it). The
+# install's RPATH points at its own lib directory, so programs linking it need no LD_LIBRARY_PATH.
+cmake -S "$srcdir" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
+  -DHYPRE_ENABLE_SHARED=ON -DHYPRE_WITH_OPENMP=ON -DHYPRE_WITH_MPI=ON \
+  -DHYPRE_ENABLE_BIGINT=OFF -DHYPRE_ENABLE_MIXEDINT=OFF -DHYPRE_ENABLE_SINGLE=OFF \
+  -DHYPRE_BUILD_EXAMPLES=OFF -DHYPRE_BUILD_TESTS=OFF \
+  -DCMAKE_INSTALL_PREFIX="$prefix" -DCMAKE_INSTALL_RPATH="$prefix/lib" \
+  -DCMAKE_C_FLAGS="-w"
+cmake --build "$work/build" -j "$(nproc)"
+cmake --install "$work/build"
+touch "$stamp"
+echo "$prefix"
