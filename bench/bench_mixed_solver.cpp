@@ -15,7 +15,8 @@
 // MIXCON_BENCH_MAX_UNKNOWNS caps the sizes (default 1.1e6; the mixed unknowns, 5 per node, count).
 // The exact-kd and block-triangular cases also run on the displacement model's largest meshes
 // (about 1e6 displacement unknowns, 2.5e6 mixed). MIXCON_BENCH_STRESS_TOLERANCE sets the
-// block-triangular preconditioner's CG tolerance on M (default 1e-2).
+// block-triangular preconditioner's CG tolerance on M (default 1e-2), MIXCON_BENCH_RESTART its
+// GMRES restart (default 30).
 #include <bench/BenchMain.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
@@ -83,6 +84,8 @@ void strip(benchmark::State &state) {
         method == BlockTriangular ? MixedLinearMethod::BlockTriangular : MixedLinearMethod::Schur;
     if (const char *t = std::getenv("MIXCON_BENCH_STRESS_TOLERANCE"))
       o.preconditionerTolerance = std::atof(t);
+    if (const char *r = std::getenv("MIXCON_BENCH_RESTART"))
+      o.restart = std::atoi(r);
     static_cast<MixedModel &>(*model).setup(o, MPI_COMM_WORLD);
   }
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
