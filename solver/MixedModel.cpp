@@ -24,6 +24,18 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+/// A Krylov solve's figures as the model reports them.
+LinearSolveStats statsOf(const KrylovStats &ks, double setupSeconds,
+                         std::chrono::steady_clock::time_point start) {
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.setupSeconds = setupSeconds;
+  s.solveSeconds = secondsSince(start);
+  return s;
+}
+
 } // namespace
 
 /// The saddle-point system on the host: unknowns [u (2N); S (3N)], sparse LU.
@@ -353,13 +365,7 @@ LinearSolveStats MixedModel::solveBlockTriangular(double loadFactor) {
   gather(x, kMixed, kStressAt, kStress, s_);
   Exec().fence();
 
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.setupSeconds = solverSetupSeconds_;
-  s.solveSeconds = secondsSince(start);
-  return s;
+  return statsOf(ks, solverSetupSeconds_, start);
 }
 
 LinearSolveStats MixedModel::solveSchur(double loadFactor) {
@@ -407,13 +413,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   solveCompliance(ConstDeviceVector(workStressRhs_), s_, std::min(options_.innerTolerance, 1e-12));
   Exec().fence();
 
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.setupSeconds = solverSetupSeconds_;
-  s.solveSeconds = secondsSince(start);
-  return s;
+  return statsOf(ks, solverSetupSeconds_, start);
 }
 
 void MixedModel::setupDirect() {

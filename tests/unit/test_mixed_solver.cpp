@@ -47,25 +47,6 @@ Solution solvePlate(ElementType type, const MixedOptions &o, bool prestress = fa
   return test::solveMixed(model);
 }
 
-/// Iterations of one solve of the strip 4 x 1 (clamped left, end shear; DESIGN-NOTES' case).
-LinearSolveStats solveStrip(ElementType type, int ny, const MixedOptions &o, std::string *name,
-                            long *inner = nullptr) {
-  const Mesh mesh = rectangleMesh(4.0, 1.0, 4 * ny, ny, type);
-  MixedModel model(mesh, std::vector<int>(mesh.numElements(), 0),
-                   {isotropicStiffness(1.0, 0.3, PlaneAnalysis::PlaneStress)}, 1.0);
-  for (LocalIndex n : mesh.nodesOf("left")) {
-    model.prescribe(n, 0, 0.0);
-    model.prescribe(n, 1, 0.0);
-  }
-  model.addEdgeLoad(mesh.boundaries.at("right"), 0.0, 1e-3, 0.0);
-  model.setup(o, MPI_COMM_WORLD);
-  const LinearSolveStats st = model.solve(1.0);
-  *name = model.solverName();
-  if (inner)
-    *inner = model.innerIterations();
-  return st;
-}
-
 } // namespace
 
 class MixedSolverTest : public ::testing::TestWithParam<ElementType> {};
@@ -126,12 +107,13 @@ TEST_P(MixedSolverTest, BlockTriangularIterationsStayNearTheSchurMethods) {
     o.stabilization = a;
     o.linear.tolerance = 1e-8;
     o.method = MixedLinearMethod::Schur;
-    std::string schurName, blockName;
     const int ny = GetParam() == ElementType::Quad8 ? 8 : 16;
-    const LinearSolveStats schur = solveStrip(GetParam(), ny, o, &schurName);
+    const test::StripSolve schurRun = test::solveShearedStrip(GetParam(), ny, o);
     o.method = MixedLinearMethod::BlockTriangular;
-    long inner = 0;
-    const LinearSolveStats block = solveStrip(GetParam(), ny, o, &blockName, &inner);
+    const test::StripSolve blockRun = test::solveShearedStrip(GetParam(), ny, o);
+    const LinearSolveStats &schur = schurRun.stats, &block = blockRun.stats;
+    const std::string &schurName = schurRun.solverName, &blockName = blockRun.solverName;
+    const long inner = blockRun.innerIterations;
     ASSERT_TRUE(schur.converged);
     ASSERT_TRUE(block.converged) << block.relativeResidual;
     EXPECT_NE(schurName.find("flexible CG on matrix-free S_a"), std::string::npos) << schurName;
