@@ -112,19 +112,20 @@ std::string MixedModel::solverName() const {
   s << "mixed " << (options_.compliance == ComplianceMass::Consistent ? "consistent" : "lumped")
     << " M, a = " << options_.stabilization << ", ";
   const char *amg = options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd";
-  if (options_.linear.type == LinearSolverType::Direct)
+  if (options_.linear.type == LinearSolverType::Direct) {
     s << "direct saddle-point LU (Eigen)";
-  else if (method_ == MixedLinearMethod::BlockTriangular)
+  } else if (method_ == MixedLinearMethod::BlockTriangular) {
     s << "flexible GMRES on the saddle point, block-triangular preconditioner (BoomerAMG(" << amg
-      << "), " << (options_.compliance == ComplianceMass::Consistent ? "CG on M to " : "lumped M")
-      << (options_.compliance == ComplianceMass::Consistent
-              ? std::to_string(options_.preconditionerTolerance)
-              : std::string())
-      << ")";
-  else
+      << "), ";
+    if (options_.compliance == ComplianceMass::Consistent)
+      s << "CG on M to " << options_.preconditionerTolerance << ")";
+    else
+      s << "lumped M)";
+  } else {
     s << (options_.krylov == KrylovMethod::Cg ? "flexible CG" : "flexible GMRES")
       << (options_.compliance == ComplianceMass::Consistent ? " on matrix-free S_a" : " on S_a,L")
       << " + BoomerAMG(" << amg << ")";
+  }
   s << ", K12/M "
     << (form_ == MixedOperatorForm::Assembled         ? "assembled"
         : form_ == MixedOperatorForm::PartialAssembly ? "by partial assembly"

@@ -27,7 +27,8 @@ enum class MixedOperatorForm { Auto, Assembled, PartialAssembly, MatrixFree };
 ///                     divided by 1 - a), right preconditioned by [S~ 0; K12^T -M~]: one BoomerAMG
 ///                     V-cycle for S~ and a loose CG on M for M~ (solver/BlockTriangular.hpp, the
 ///                     nonlinear model's method).
-/// Auto (measured, docs/performance.md): resolveLinearMethod.
+/// Auto (measured, docs/performance.md): block-triangular for consistent M, Schur for lumped M
+/// (resolveLinearMethod, solver/MixedModel.hpp).
 enum class MixedLinearMethod { Auto, Schur, BlockTriangular };
 
 struct MixedOptions {
