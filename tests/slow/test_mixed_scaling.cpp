@@ -1,5 +1,6 @@
-// Slow: the default mixed solver (consistent M, default stabilization, flexible CG on the
-// matrix-free Schur complement, BoomerAMG as chosen by `preconditioner: auto`) keeps its Krylov
+// Slow: the default mixed solver (consistent M, default stabilization, block-triangular
+// preconditioned GMRES on the saddle point since issue 20, BoomerAMG as chosen by
+// `preconditioner: auto`) keeps its Krylov
 // iteration count nearly mesh independent: from about 1e4 to about 1e6 unknowns (5 per node) on the
 // DESIGN-NOTES strip, the count grows by less than 1.5x. Iteration counts only; the timings belong
 // to bench/bench_mixed_solver.cpp.
