@@ -36,9 +36,10 @@ struct MixedOptions {
   double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
   /// type (amg | direct), tolerance, max iterations and BoomerAMG settings of the outer solve.
   LinearSolverOptions linear;
-  KrylovMethod krylov = KrylovMethod::Cg; ///< outer method; GMRES when K11 makes S indefinite
+  /// Schur: the outer method; GMRES when K11 makes S indefinite (BlockTriangular: always GMRES).
+  KrylovMethod krylov = KrylovMethod::Cg;
   SchurPreconditioner preconditioner = SchurPreconditioner::Auto;
-  double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
+  double innerTolerance = 1e-10; ///< Schur: relative, inner CG on M (consistent M only)
   int innerMaxIterations = 500;
   MixedOperatorForm operators = MixedOperatorForm::Auto;
   MixedLinearMethod method = MixedLinearMethod::Auto;
