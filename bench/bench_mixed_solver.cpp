@@ -6,11 +6,18 @@
 //   lumped a=0    - flexible CG on the assembled lumped Schur complement S_L, AMG(S_L)
 //   lumped a>0    - same on S_a,L = (1-a) S_L + a Kd
 //   exact a       - flexible CG on the matrix-free consistent-M S_a (inner CG on M), AMG(S_a,L)
-//   exact-kd a    - same, AMG built on Kd instead (the default, `preconditioner: auto`)
+//   exact-kd a    - same, AMG built on Kd instead (`preconditioner: auto`, method schur)
+//   block-triangular a - flexible GMRES on the whole saddle point, block-triangular
+//                   preconditioner (AMG(Kd), CG on M to 1e-2): `method: block_triangular`
+//   lumped-block-triangular a - the same with lumped M (AMG(S_a,L), M~ = M_L)
 // Each solve runs once per case (real time; the counters carry the figures). Counters:
 // unknowns (5 per node mixed, 2 displacement), iterations, setup_s (assembly + AMG setup),
 // solve_s, inner (CG iterations on M per outer iteration), Munknowns/s (unknowns / solve time).
-// MIXCON_BENCH_MAX_UNKNOWNS caps the sizes (default 1.1e6).
+// MIXCON_BENCH_MAX_UNKNOWNS caps the sizes (default 1.1e6; the mixed unknowns, 5 per node, count).
+// All but the exact (AMG(S_L)) cases also run on the displacement model's largest meshes
+// (about 1e6 displacement unknowns, 2.5e6 mixed). MIXCON_BENCH_STRESS_TOLERANCE sets the
+// block-triangular preconditioner's CG tolerance on M (default 1e-2), MIXCON_BENCH_RESTART its
+// GMRES restart (default 30).
 #include <bench/BenchMain.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
@@ -26,7 +33,14 @@ using namespace mixcon;
 
 namespace {
 
-enum Method { Displacement = 0, Lumped = 1, Exact = 2, ExactKd = 3 };
+enum Method {
+  Displacement = 0,
+  Lumped = 1,
+  Exact = 2,
+  ExactKd = 3,
+  BlockTriangular = 4,
+  LumpedBlockTriangular = 5
+};
 
 double maxUnknowns() {
   const char *v = std::getenv("MIXCON_BENCH_MAX_UNKNOWNS");
@@ -70,9 +84,18 @@ void strip(benchmark::State &state) {
     MixedOptions o;
     o.linear = lo;
     o.stabilization = a;
-    o.compliance = method == Lumped ? ComplianceMass::Lumped : ComplianceMass::Consistent;
-    o.preconditioner =
-        method == ExactKd ? SchurPreconditioner::Stiffness : SchurPreconditioner::LumpedSchur;
+    const bool lumped = method == Lumped || method == LumpedBlockTriangular;
+    o.compliance = lumped ? ComplianceMass::Lumped : ComplianceMass::Consistent;
+    o.preconditioner = method == ExactKd || method == BlockTriangular
+                           ? SchurPreconditioner::Stiffness
+                           : SchurPreconditioner::LumpedSchur;
+    o.method = method == BlockTriangular || method == LumpedBlockTriangular
+                   ? MixedLinearMethod::BlockTriangular
+                   : MixedLinearMethod::Schur;
+    if (const char *t = std::getenv("MIXCON_BENCH_STRESS_TOLERANCE"))
+      o.preconditionerTolerance = std::atof(t);
+    if (const char *r = std::getenv("MIXCON_BENCH_RESTART"))
+      o.restart = std::atoi(r);
     static_cast<MixedModel &>(*model).setup(o, MPI_COMM_WORLD);
   }
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -98,12 +121,14 @@ void strip(benchmark::State &state) {
 
 void sizes(benchmark::internal::Benchmark *b, std::initializer_list<int> methods, int a) {
   for (int m : methods) {
-    // 2 unknowns per node for the displacement model: two more sizes reach 1e6 unknowns.
+    // 2 unknowns per node for the displacement model: two more sizes reach 1e6 unknowns. The
+    // default's competitors also run there (the comparison on the same mesh).
+    const bool sameMesh = m != Exact;
     for (int ny : {8, 16, 32, 64, 128, 224, 352})
-      if (ny < 352 || m == Displacement)
+      if (ny < 352 || sameMesh)
         b->Args({m, 4, ny, m == Displacement ? 0 : a});
     for (int ny : {4, 8, 16, 32, 64, 128, 200})
-      if (m != Lumped && (ny < 200 || m == Displacement)) // HRZ-lumped Quad8 is refused
+      if (m != Lumped && m != LumpedBlockTriangular && (ny < 200 || sameMesh)) // HRZ: refused
         b->Args({m, 8, ny, m == Displacement ? 0 : a});
   }
 }
@@ -133,5 +158,17 @@ BENCHMARK(strip)
       sizes(b, {ExactKd}, 5);
       sizes(b, {ExactKd}, 1);
     }) -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
+
+BENCHMARK(strip)
+    ->Name("strip/mixed-block-triangular")
+    ->Apply([](auto *b) {
+      sizes(b, {BlockTriangular}, 5);
+      sizes(b, {BlockTriangular}, 1);
+    }) -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
+
+BENCHMARK(strip)
+    ->Name("strip/mixed-lumped-block-triangular")
+    ->Apply([](auto *b) { sizes(b, {LumpedBlockTriangular}, 5); })
+        -> ArgNames({"method", "nodes", "ny", "a%"}) -> Iterations(1) -> Unit(benchmark::kSecond);
 
 int main(int argc, char **argv) { return mixcon::runBenchmarks(argc, argv); }

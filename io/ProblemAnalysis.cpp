@@ -105,16 +105,47 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "interpolation_max_elements", "nodal_coarsening", "method",
                  "stress_block_tolerance", "jacobian", "rigid_body_modes", "coarsest_size",
                  "reuse_hierarchy", "direct_fallback"});
-    for (const char *key : {"method", "stress_block_tolerance", "jacobian"})
-      if (s.has(key) && !nonlinearMixed)
-        s[key].fail(std::string(key) +
-                    " applies to the geometrically nonlinear mixed model's solver: amg only");
-    if (s.has("method"))
-      p.model.mixedNewton.method = s["method"].choice({"block_triangular", "schur"}) == "schur"
-                                       ? MixedNewtonSolver::Schur
-                                       : MixedNewtonSolver::BlockTriangular;
-    if (s.has("stress_block_tolerance"))
+    const bool mixed = p.model.formulation == Formulation::Mixed;
+    for (const char *key : {"method", "stress_block_tolerance"})
+      if (s.has(key) && !mixed)
+        s[key].fail(std::string(key) + " applies to the mixed model's solver: amg only");
+    if (s.has("jacobian") && !nonlinearMixed)
+      s["jacobian"].fail("jacobian applies to the geometrically nonlinear mixed model's solver: "
+                         "amg only");
+    if (s.has("method")) {
+      const bool schur = s["method"].choice({"block_triangular", "schur"}) == "schur";
+      p.model.mixedNewton.method =
+          schur ? MixedNewtonSolver::Schur : MixedNewtonSolver::BlockTriangular;
+      p.model.mixed.method = schur ? MixedLinearMethod::Schur : MixedLinearMethod::BlockTriangular;
+    }
+    if (s.has("stress_block_tolerance")) {
       p.model.mixedNewton.preconditionerTolerance = s["stress_block_tolerance"].positive();
+      p.model.mixed.preconditionerTolerance = p.model.mixedNewton.preconditionerTolerance;
+    }
+    if (mixed && !nonlinearMixed) {
+      // The linear model's Schur keys select its Schur method when none is named (files written
+      // before block_triangular became the default for consistent M keep their solve); with
+      // method: block_triangular they are refused, as is the block-triangular key with schur.
+      for (const char *key : {"krylov", "inner_tolerance"}) {
+        if (!s.has(key))
+          continue;
+        if (p.model.mixed.method == MixedLinearMethod::BlockTriangular ||
+            s.has("stress_block_tolerance"))
+          s[key].fail(std::string(key) +
+                      " applies to the linear mixed model's method: schur (block_triangular runs "
+                      "flexible GMRES on the saddle point, its CG on M to "
+                      "stress_block_tolerance)");
+        p.model.mixed.method = MixedLinearMethod::Schur;
+      }
+      if (s.has("stress_block_tolerance") && p.model.mixed.method == MixedLinearMethod::Schur)
+        s["stress_block_tolerance"].fail(
+            "stress_block_tolerance applies to method: block_triangular (the schur method's "
+            "inner CG on M runs to inner_tolerance)");
+      if (s.has("stress_block_tolerance") && p.model.mixed.compliance == ComplianceMass::Lumped)
+        s["stress_block_tolerance"].fail(
+            "stress_block_tolerance applies to compliance: consistent (the lumped M is inverted "
+            "node by node)");
+    }
     if (s.has("jacobian")) {
       // The matrix-free Jacobian serves the block-triangular GMRES without contact or follower
       // pressures (their contributions are assembled); refused where it would not be taken.

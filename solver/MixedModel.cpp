@@ -1,7 +1,10 @@
 // MixedModel: assembly of the mixed blocks, the direct saddle-point solve, the Schur-complement
-// Krylov solve (assembled lumped S_a, or matrix-free with consistent M), stress recovery.
+// Krylov solve (assembled lumped S_a, or matrix-free with consistent M), the block-triangular
+// preconditioned GMRES on the whole saddle point, stress recovery.
 #include <core/Transfer.hpp>
+#include <solver/BlockTriangular.hpp>
 #include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Rules.hpp>
 
@@ -19,6 +22,18 @@ namespace mixcon {
 namespace {
 double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// A Krylov solve's figures as the model reports them.
+LinearSolveStats statsOf(const KrylovStats &ks, double setupSeconds,
+                         std::chrono::steady_clock::time_point start) {
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.setupSeconds = setupSeconds;
+  s.solveSeconds = secondsSince(start);
+  return s;
 }
 
 } // namespace
@@ -67,6 +82,14 @@ MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType t
                                                             : MixedOperatorForm::Assembled;
 }
 
+// Measured rule: see the declaration (solver/MixedModel.hpp) and docs/performance.md.
+MixedLinearMethod resolveLinearMethod(MixedLinearMethod requested, ComplianceMass compliance) {
+  if (requested != MixedLinearMethod::Auto)
+    return requested;
+  return compliance == ComplianceMass::Consistent ? MixedLinearMethod::BlockTriangular
+                                                  : MixedLinearMethod::Schur;
+}
+
 void MixedModel::setInitialStress(const std::vector<double> &tau) {
   if (tau.size() != 3 * static_cast<std::size_t>(mesh_.numNodes()))
     throw std::invalid_argument("MixedModel::setInitialStress: expected 3 values per node");
@@ -88,13 +111,21 @@ std::string MixedModel::solverName() const {
   std::ostringstream s;
   s << "mixed " << (options_.compliance == ComplianceMass::Consistent ? "consistent" : "lumped")
     << " M, a = " << options_.stabilization << ", ";
-  if (options_.linear.type == LinearSolverType::Direct)
+  const char *amg = options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd";
+  if (options_.linear.type == LinearSolverType::Direct) {
     s << "direct saddle-point LU (Eigen)";
-  else
+  } else if (method_ == MixedLinearMethod::BlockTriangular) {
+    s << "flexible GMRES on the saddle point, block-triangular preconditioner (BoomerAMG(" << amg
+      << "), ";
+    if (options_.compliance == ComplianceMass::Consistent)
+      s << "CG on M to " << options_.preconditionerTolerance << ")";
+    else
+      s << "lumped M)";
+  } else {
     s << (options_.krylov == KrylovMethod::Cg ? "flexible CG" : "flexible GMRES")
       << (options_.compliance == ComplianceMass::Consistent ? " on matrix-free S_a" : " on S_a,L")
-      << " + BoomerAMG("
-      << (options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd") << ")";
+      << " + BoomerAMG(" << amg << ")";
+  }
   s << ", K12/M "
     << (form_ == MixedOperatorForm::Assembled         ? "assembled"
         : form_ == MixedOperatorForm::PartialAssembly ? "by partial assembly"
@@ -109,6 +140,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     throw InputError("mixed model: " + *why);
   checkRigidBodyModes(); // a singular system is refused before assembly, naming the free mode
   options_ = options;
+  method_ = resolveLinearMethod(options_.method, options_.compliance);
   if (options_.preconditioner == SchurPreconditioner::Auto)
     options_.preconditioner = options_.compliance == ComplianceMass::Lumped
                                   ? SchurPreconditioner::LumpedSchur
@@ -184,6 +216,31 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   amg_->setNearNullSpace(data_.mesh.coordinates);
   amg_->setup(precMatrix_);
   solverSetupSeconds_ = amg_->setupSeconds();
+  if (method_ == MixedLinearMethod::BlockTriangular)
+    setupBlockTriangular();
+}
+
+void MixedModel::setupBlockTriangular() {
+  using namespace fieldops;
+  const std::size_t nn = mesh_.numNodes();
+  constrained5_ = Kokkos::View<int *, Memory>("mixcon::mixed::constrained5", kMixed * nn);
+  constrainedDiagonal5_ = Kokkos::View<double *, Memory>("mixcon::mixed::diagC5", kMixed * nn);
+  scatter<int>(isConstrained_, kMixed, 0, kDisp, constrained5_, true);
+  scatter<double>(constrainedDiagonal_, kMixed, 0, kDisp, constrainedDiagonal5_, true);
+  // The stress-row scale from the diagonals of the AMG matrix and of M (the lumped blocks' stand
+  // for the consistent M's: the same order, and no assembled consistent M on every path).
+  DeviceVector da("mixcon::mixed::diagS", kDisp * nn), dm("mixcon::mixed::diagM", kStress * nn);
+  fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0);
+  const auto lumped = ops_.lumped;
+  Kokkos::parallel_for(
+      "mixcon::mixed::lumpedDiagonal", Kokkos::RangePolicy<Exec>(0, kStress * nn),
+      KOKKOS_LAMBDA(LocalIndex i) { dm(i) = lumped(i / kStress, i % kStress, i % kStress); });
+  stressRowScale_ = blockTriangularScale(ConstDeviceVector(da), ConstDeviceVector(dm));
+  splitU_ = DeviceVector("mixcon::mixed::splitU", kDisp * nn);
+  splitJu_ = DeviceVector("mixcon::mixed::splitJu", kDisp * nn);
+  splitS_ = DeviceVector("mixcon::mixed::splitS", kStress * nn);
+  splitJs_ = DeviceVector("mixcon::mixed::splitJs", kStress * nn);
+  Exec().fence();
 }
 
 void MixedModel::applyCouplingTransposeBlock(const ConstDeviceVector &u,
@@ -229,7 +286,7 @@ long MixedModel::solveCompliance(const ConstDeviceVector &r, const DeviceVector 
       [&](const ConstDeviceVector &x, const DeviceVector &y) {
         applyNodalBlocks(Exec(), ops_.lumpedInverse, x, y);
       },
-      r, s);
+      r, s, &complianceWork_);
   if (!st.converged)
     throw std::runtime_error("mixed model: the inner CG on the compliance mass did not converge "
                              "(relative residual " +
@@ -248,8 +305,70 @@ void MixedModel::applySchur(const ConstDeviceVector &u, const DeviceVector &y) {
 
 LinearSolveStats MixedModel::solve(double loadFactor) {
   innerIterations_ = operatorApplications_ = 0;
-  return options_.linear.type == LinearSolverType::Direct ? solveDirect(loadFactor)
-                                                          : solveSchur(loadFactor);
+  if (options_.linear.type == LinearSolverType::Direct)
+    return solveDirect(loadFactor);
+  return method_ == MixedLinearMethod::BlockTriangular ? solveBlockTriangular(loadFactor)
+                                                       : solveSchur(loadFactor);
+}
+
+void MixedModel::applySaddlePoint(const ConstDeviceVector &v, const DeviceVector &y) {
+  using namespace fieldops;
+  ++operatorApplications_;
+  gather(v, kMixed, 0, kDisp, splitU_);
+  gather(v, kMixed, kStressAt, kStress, splitS_);
+  const ConstDeviceVector u(splitU_), s(splitS_);
+  multiply(Exec(), stiffness_, u, splitJu_); // a Kd u + K11 u
+  applyCouplingBlock(1.0 - options_.stabilization, s, 1.0, splitJu_);
+  applyCouplingTransposeBlock(u, splitJs_);
+  if (options_.compliance == ComplianceMass::Lumped)
+    applyNodalBlocks(Exec(), ops_.lumped, s, workStress_);
+  else
+    applyComplianceBlock(s, workStress_);
+  axpby(-1.0, workStress_, 1.0, splitJs_);
+  scatter<double>(splitJu_, kMixed, 0, kDisp, y, false);
+  scatter<double>(splitJs_, kMixed, kStressAt, kStress, y, false);
+}
+
+LinearSolveStats MixedModel::solveBlockTriangular(double loadFactor) {
+  using namespace fieldops;
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t nn = mesh_.numNodes();
+  SaddlePointSystem system;
+  system.jacobian = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    applySaddlePoint(v, y);
+  };
+  system.schurPreconditioner = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    amg_->precondition(r, y);
+  };
+  system.coupling = [&](const ConstDeviceVector &v, const DeviceVector &w) {
+    applyCouplingTransposeBlock(v, w);
+  };
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) {
+    return solveCompliance(w, z, options_.preconditionerTolerance);
+  };
+  system.constrained = constrained5_;
+  system.constrainedDisplacement = isConstrained_;
+  system.constrainedDiagonal = constrainedDiagonal5_;
+  system.stressRowScale = stressRowScale_;
+  // f = [lambda F; 0], the prescribed rows reach lambda g.
+  DeviceVector f("mixcon::mixed::rhs5", kMixed * nn), target("mixcon::mixed::target5", kMixed * nn),
+      x(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::mixed::x5"), kMixed * nn);
+  scatter<double>(scaledCopy(load_, loadFactor), kMixed, 0, kDisp, f, false);
+  scatter<double>(scaledCopy(prescribed_, loadFactor), kMixed, 0, kDisp, target, false);
+  KrylovOptions ko;
+  ko.tolerance = options_.linear.tolerance;
+  ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
+  ko.maxIterations = options_.linear.maxIterations;
+  ko.restart = options_.restart;
+  long inner = 0;
+  const KrylovStats ks = blockTriangularSolve(system, ko, ConstDeviceVector(f),
+                                              ConstDeviceVector(target), x, inner, &outerWork_);
+  innerIterations_ = inner;
+  gather(x, kMixed, 0, kDisp, u_);
+  gather(x, kMixed, kStressAt, kStress, s_);
+  Exec().fence();
+
+  return statsOf(ks, solverSetupSeconds_, start);
 }
 
 LinearSolveStats MixedModel::solveSchur(double loadFactor) {
@@ -286,6 +405,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   KrylovOptions ko;
   ko.method = options_.krylov;
   ko.tolerance = options_.linear.tolerance;
+  ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
   ko.maxIterations = options_.linear.maxIterations;
   // Initial guess: the prescribed values (exact on constrained rows), zero elsewhere.
   Kokkos::deep_copy(u_, g);
@@ -297,13 +417,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   solveCompliance(ConstDeviceVector(workStressRhs_), s_, std::min(options_.innerTolerance, 1e-12));
   Exec().fence();
 
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.setupSeconds = solverSetupSeconds_;
-  s.solveSeconds = secondsSince(start);
-  return s;
+  return statsOf(ks, solverSetupSeconds_, start);
 }
 
 void MixedModel::setupDirect() {
@@ -425,6 +539,12 @@ std::vector<std::pair<std::string, std::size_t>> MixedModel::deviceViewBytes() c
   add("constrainedDiagonal", constrainedDiagonal_);
   add("workStressRhs", workStressRhs_);
   add("workStress", workStress_);
+  add("constrained5", constrained5_);
+  add("constrainedDiagonal5", constrainedDiagonal5_);
+  add("splitU", splitU_);
+  add("splitJu", splitJu_);
+  add("splitS", splitS_);
+  add("splitJs", splitJs_);
   add("graph.rowOffsets", ops_.graph.rowOffsets);
   add("graph.columns", ops_.graph.columns);
   add("graph.transpose", ops_.graph.transpose);

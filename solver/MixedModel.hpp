@@ -7,9 +7,12 @@
 // S = M^-1 K12^T u). M is the consistent compliance mass or its lumped 3x3 nodal blocks.
 // Solvers:
 //   direct - the full saddle-point system, sparse LU (small problems, reference in tests);
-//   amg    - Krylov on the Schur complement preconditioned by one BoomerAMG V-cycle on the
-//            assembled lumped S_a (or on Kd): with lumped M the operator is that assembled
-//            matrix; with consistent M it is applied matrix-free with an inner CG on M.
+//   amg    - method Schur: Krylov on the Schur complement preconditioned by one BoomerAMG
+//            V-cycle on the assembled lumped S_a (or on Kd): with lumped M the operator is that
+//            assembled matrix; with consistent M it is applied matrix-free with an inner CG on M;
+//            method BlockTriangular: flexible GMRES on the whole saddle point, right
+//            preconditioned by [S~ 0; K12^T -M~] (the same V-cycle, a loose CG on M;
+//            solver/BlockTriangular.hpp).
 // K12, K12^T and M are applied through the assembled node-block operators or element by element
 // (partial assembly or fully matrix-free, kernels/MixedMatrixFree.hpp; MixedOptions::operators).
 // Data flow: mesh -> kernels -> solver (this) -> io.
@@ -41,6 +44,14 @@ MixedElementData<DeviceSpace> withCompliance(const ElementData<DeviceSpace> &d,
 MixedOperatorForm resolveOperatorForm(MixedOperatorForm requested, ElementType type,
                                       LocalIndex numElements);
 
+/// The method of the iterative solve, Auto resolved by the rule measured with
+/// bench/bench_mixed_solver.cpp at about 1e6 unknowns (docs/performance.md, "The linear mixed
+/// solve (issue 20)", 2 threads, strip at about 1e6 displacement unknowns): consistent M ->
+/// BlockTriangular (0.33-0.64 of the Schur method's solve time, Quad4 and Quad8); lumped M ->
+/// Schur (its operator is then the assembled S_a,L: 17 iterations, 0.8-0.9 of the
+/// block-triangular time).
+MixedLinearMethod resolveLinearMethod(MixedLinearMethod requested, ComplianceMass compliance);
+
 class MixedModel final : public ModelBase {
 public:
   /// Throws InputError for an unsupported (displacement, stress) pairing or a material whose [C]
@@ -64,7 +75,10 @@ public:
   double assemblySeconds() const override { return assemblySeconds_; }
   double solverSetupSeconds() const override { return solverSetupSeconds_; }
   std::string solverName() const override;
-  /// Inner CG iterations on M in the Schur products of the last solve.
+  /// The iterative method (the options' choice, Auto resolved); after setup().
+  MixedLinearMethod method() const { return method_; }
+  /// Inner CG iterations on M in the last solve (Schur: in its products; BlockTriangular: in its
+  /// preconditioner).
   long innerIterations() const { return innerIterations_; }
   /// Operator applications in the last solve.
   long operatorApplications() const { return operatorApplications_; }
@@ -94,11 +108,16 @@ private:
   struct Direct;
   Kokkos::View<double *, Memory> initialStressOnDevice() const; ///< zero when none was given
   void setupDirect();
+  void setupBlockTriangular();
   /// s = M^-1 r to `tolerance` (consistent M: inner CG; lumped: nodal blocks); returns the
   /// inner iterations.
   long solveCompliance(const ConstDeviceVector &r, const DeviceVector &s, double tolerance);
   LinearSolveStats solveDirect(double loadFactor);
   LinearSolveStats solveSchur(double loadFactor);
+  LinearSolveStats solveBlockTriangular(double loadFactor);
+  /// y = J v for the saddle point with its stress rows divided by 1 - a,
+  ///   J = [a Kd + K11, (1-a) K12; K12^T, -M], v and y 5 per node (u, v, Sxx, Syy, Sxy).
+  void applySaddlePoint(const ConstDeviceVector &v, const DeviceVector &y);
   /// r = K12^T u, f = beta f + alpha K12 s and y = M x by the chosen operator form.
   void applyCouplingTransposeBlock(const ConstDeviceVector &u, const DeviceVector &r) const;
   void applyCouplingBlock(double alpha, const ConstDeviceVector &s, double beta,
@@ -111,12 +130,20 @@ private:
   MixedOperators<Memory> ops_;
   MixedMatrixFreeOperators<Memory> matrixFree_; ///< used unless form_ is Assembled
   MixedOperatorForm form_ = MixedOperatorForm::Assembled;
+  MixedLinearMethod method_ = MixedLinearMethod::Schur;
   CsrMatrix<Memory> stiffness_; ///< a Kd (+ K11) on the node graph, unconstrained
   CsrMatrix<Memory> precMatrix_;
   std::vector<double> initialStress_;
   Kokkos::View<double *, Memory> s_;
   Kokkos::View<double *, Memory> constrainedDiagonal_;
   DeviceVector workStressRhs_, workStress_; ///< K12^T u and M^-1 K12^T u inside applySchur
+  /// BlockTriangular: constraint flags and D_c on 5 unknowns per node, the stress-row scale, the
+  /// displacement and stress parts of v and J v inside applySaddlePoint.
+  Kokkos::View<int *, Memory> constrained5_;
+  Kokkos::View<double *, Memory> constrainedDiagonal5_;
+  double stressRowScale_ = 1.0;
+  DeviceVector splitU_, splitJu_, splitS_, splitJs_;
+  KrylovWorkspace outerWork_, complianceWork_; ///< Krylov vectors kept between solves
   std::unique_ptr<LinearSolver> amg_;
   std::unique_ptr<Direct> direct_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;

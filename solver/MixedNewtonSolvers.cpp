@@ -1,6 +1,7 @@
 // The iterative solves of the mixed model's Jacobian J = [A B; C -M] (solver: amg): flexible
 // GMRES right-preconditioned by the block lower-triangular [S~ 0; C -M~], or on the Schur
 // complement A + B M^-1 C; the block-Jacobi CG on the stress block M. Layer: solver.
+#include <solver/BlockTriangular.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/Krylov.hpp>
@@ -155,10 +156,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
       fieldDiagonal(stressBlock_, kStress, 0, kStress, dm, 1.0);
     else
       fieldDiagonal(tangent_, kMixed, kStressAt, kStress, dm, -1.0);
-    const double na = std::sqrt(dot(da, da)), nm = std::sqrt(dot(dm, dm));
-    // rms over kDisp and kStress entries per node: the norms' ratio times sqrt(kStress / kDisp)
-    const double perNode = std::sqrt(static_cast<double>(kStress) / kDisp);
-    stressRowScale_ = nm > 0.0 ? std::sqrt(na / nm * perNode) : 1.0;
+    stressRowScale_ = blockTriangularScale(ConstVec(da), ConstVec(dm));
     // C = J_tau,u on its own (6/25 of J's entries; the tau rows of J hold 15/25).
     if (couplingBlock_.numRows == 0) {
       couplingBlock_ = expandGraph<Memory>(graph_, kStress, kDisp);
@@ -168,57 +166,34 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
     if (!matrixFree_) // matrix-free: assembled on its own in evaluate()
       extractFieldBlock(tangent_, kMixed, kStressAt, kStress, 0, kDisp, couplingBlock_, 1.0);
   }
-  const double scale = stressRowScale_;
-  const auto work = [](const char *label, std::size_t n) {
-    return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
+  SaddlePointSystem system;
+  system.jacobian = [&](const ConstDeviceVector &v, const DeviceVector &y) { applyJacobian(v, y); };
+  system.schurPreconditioner = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    solver_->precondition(r, y);
   };
-  // Work vectors, each fully written before it is read.
-  Vec masked = work("mixcon::nonlinear::masked5", kMixed * nn),
-      r2 = work("mixcon::nonlinear::r2", kDisp * nn),
-      y2 = work("mixcon::nonlinear::y2", kDisp * nn),
-      w = work("mixcon::nonlinear::w", kStress * nn),
-      t = work("mixcon::nonlinear::t", kStress * nn),
-      z = work("mixcon::nonlinear::z", kStress * nn);
-  const auto flags = Kokkos::View<const int *, Memory>(constrained5_);
-  const auto flags2 = Kokkos::View<const int *, Memory>(isConstrained_);
-  const auto diag = ConstVec(precDiag5_);
-  // y = D (P J P + D_c) v, D scaling the stress rows.
-  const LinearMap op = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-    maskConstrained(Exec(), flags, v, masked);
-    applyJacobian(ConstVec(masked), y);
-    finishConstrained(Exec(), flags, diag, v, y);
-    scaleField(y, kMixed, kStressAt, kStress, scale);
+  system.coupling = [&](const ConstDeviceVector &v, const DeviceVector &w) {
+    multiply(Exec(), couplingBlock_, v, w);
   };
-  long inner = 0;
   const double precTol = mixedOptions_.preconditionerTolerance;
-  // y = P^-1 D^-1 r: y_u = S~^-1 r_u, y_tau = M~^-1 (C P y_u - r_tau / s).
-  const LinearMap prec = [&](const ConstDeviceVector &r, const DeviceVector &y) {
-    gather(r, kMixed, 0, kDisp, r2);
-    solver_->precondition(r2, y2);
-    scatter<double>(y2, kMixed, 0, kDisp, y, true);
-    maskConstrained(Exec(), flags2, ConstVec(y2), r2);
-    multiply(Exec(), couplingBlock_, ConstVec(r2), w);
-    gather(r, kMixed, kStressAt, kStress, t, 1.0 / scale);
-    axpby(-1.0, t, 1.0, w);
-    inner += solveStressBlock(w, z, precTol);
-    scatter<double>(z, kMixed, kStressAt, kStress, y, false);
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) {
+    return solveStressBlock(w, z, precTol);
   };
-  // b = D (P (-G - J g) + D_c g), g the remaining prescribed step.
-  Vec f = work("mixcon::nonlinear::negativeResidual", kMixed * nn),
-      jg = work("mixcon::nonlinear::jg", kMixed * nn),
-      b = work("mixcon::nonlinear::rhs5", kMixed * nn);
+  system.constrained = constrained5_;
+  system.constrainedDisplacement = isConstrained_;
+  system.constrainedDiagonal = precDiag5_;
+  system.stressRowScale = stressRowScale_;
+  // f = -G; the prescribed rows reach target_, the remaining prescribed step.
+  Vec f(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::nonlinear::negativeResidual"),
+        kMixed * nn);
   axpby(-1.0, g_, 0.0, f);
-  applyJacobian(ConstVec(target_), jg);
-  constrainedRhs(Exec(), flags, diag, ConstVec(f), ConstVec(target_), ConstVec(jg), b);
-  scaleField(b, kMixed, kStressAt, kStress, scale);
   KrylovOptions ko;
-  ko.method = KrylovMethod::Gmres;
   ko.tolerance = linearOptions_.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
   ko.maxIterations = linearOptions_.maxIterations;
   ko.restart = mixedOptions_.restart;
-  Kokkos::deep_copy(dx_, 0.0);
-  const KrylovStats ks = krylovSolve(ko, op, prec, ConstVec(b), dx_, &outerWork_);
+  long inner = 0;
+  const KrylovStats ks =
+      blockTriangularSolve(system, ko, ConstVec(f), ConstVec(target_), dx_, inner, &outerWork_);
   innerIterations_ = inner;
   LinearSolveStats s;
   s.iterations = ks.iterations;

@@ -20,16 +20,32 @@ enum class SchurPreconditioner { Auto, LumpedSchur, Stiffness };
 /// meshes of 1e4 elements or more, the assembled operators otherwise.
 enum class MixedOperatorForm { Auto, Assembled, PartialAssembly, MatrixFree };
 
+/// The iterative method of the solve (solver: amg; `solver: {method: ...}`):
+///   Schur           - Krylov on the displacement Schur complement S_a, each product with an
+///                     inner CG on M (consistent M) or the assembled S_a,L (lumped M);
+///   BlockTriangular - flexible GMRES on the whole saddle point [A B; K12^T -M] (stress rows
+///                     divided by 1 - a), right preconditioned by [S~ 0; K12^T -M~]: one BoomerAMG
+///                     V-cycle for S~ and a loose CG on M for M~ (solver/BlockTriangular.hpp, the
+///                     nonlinear model's method).
+/// Auto (measured, docs/performance.md): block-triangular for consistent M, Schur for lumped M
+/// (resolveLinearMethod, solver/MixedModel.hpp).
+enum class MixedLinearMethod { Auto, Schur, BlockTriangular };
+
 struct MixedOptions {
   ComplianceMass compliance = ComplianceMass::Consistent;
   double stabilization = 0.05; ///< a in [0, 1); 0 is the report's model
   /// type (amg | direct), tolerance, max iterations and BoomerAMG settings of the outer solve.
   LinearSolverOptions linear;
-  KrylovMethod krylov = KrylovMethod::Cg; ///< outer method; GMRES when K11 makes S indefinite
+  /// Schur: the outer method; GMRES when K11 makes S indefinite (BlockTriangular: always GMRES).
+  KrylovMethod krylov = KrylovMethod::Cg;
   SchurPreconditioner preconditioner = SchurPreconditioner::Auto;
-  double innerTolerance = 1e-10; ///< relative, inner CG on M (consistent M only)
+  double innerTolerance = 1e-10; ///< Schur: relative, inner CG on M (consistent M only)
   int innerMaxIterations = 500;
   MixedOperatorForm operators = MixedOperatorForm::Auto;
+  MixedLinearMethod method = MixedLinearMethod::Auto;
+  /// BlockTriangular: relative tolerance of the CG on M inside the preconditioner (consistent M).
+  double preconditionerTolerance = 1e-2;
+  int restart = 30; ///< BlockTriangular: GMRES restart (vectors of 5 unknowns per node)
 };
 
 } // namespace mixcon

@@ -300,7 +300,7 @@ std::vector<BadCase> badCases() {
        3},
       {"mixed_newton_method_on_displacement",
        replace(g, "solver: {type: direct}", "solver: {type: amg, method: schur}"),
-       "applies to the geometrically nonlinear mixed model's solver: amg only", 14},
+       "method applies to the mixed model's solver: amg only", 14},
       {"stress_update_on_current_form",
        replace(g, "formulation: displacement",
                "formulation: mixed, geometric_nonlinearity: true, stress_update: projected"),
@@ -404,6 +404,52 @@ TEST(Problem, ParsesMixedFormulation) {
   EXPECT_EQ(p.model.mixed.preconditioner, SchurPreconditioner::Stiffness);
   EXPECT_DOUBLE_EQ(p.model.mixed.innerTolerance, 1e-9);
   EXPECT_EQ(p.solver.type, LinearSolverType::Amg);
+}
+
+TEST(Problem, LinearMixedMethodKeysAndTheirRefusals) {
+  const std::string y = replace(kGood, "formulation: displacement", "formulation: mixed");
+  const auto parse = [&](const std::string &solver) {
+    return parseProblem(replace(y, "solver: {type: direct}", solver), "mixed.yaml", "");
+  };
+  EXPECT_EQ(parse("solver: {type: amg}").model.mixed.method, MixedLinearMethod::Auto);
+  Problem p = parse("solver: {type: amg, method: block_triangular, stress_block_tolerance: 1e-3}");
+  EXPECT_EQ(p.model.mixed.method, MixedLinearMethod::BlockTriangular);
+  EXPECT_DOUBLE_EQ(p.model.mixed.preconditionerTolerance, 1e-3);
+  EXPECT_EQ(parse("solver: {type: amg, method: schur}").model.mixed.method,
+            MixedLinearMethod::Schur);
+  // The Schur method's own keys select it when no method is named.
+  p = parse("solver: {type: amg, krylov: gmres}");
+  EXPECT_EQ(p.model.mixed.method, MixedLinearMethod::Schur);
+  EXPECT_EQ(parse("solver: {type: amg, inner_tolerance: 1e-9}").model.mixed.method,
+            MixedLinearMethod::Schur);
+  const auto refused = [&](const std::string &solver, const std::string &model,
+                           const std::string &part) {
+    try {
+      // (Quad4: lumped M is refused on Quad8 before the solver section is read.)
+      parseProblem(replace(replace(replace(y, "formulation: mixed", model), "element: quad8",
+                                   "element: quad4"),
+                           "solver: {type: direct}", solver),
+                   "mixed.yaml", "");
+      ADD_FAILURE() << "no error for " << solver;
+    } catch (const InputError &e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind("mixed.yaml:", 0), 0u) << msg;
+      EXPECT_NE(msg.find(part), std::string::npos) << msg;
+    }
+  };
+  const std::string mixed = "formulation: mixed";
+  refused("solver: {type: amg, method: block_triangular, krylov: cg}", mixed,
+          "krylov applies to the linear mixed model's method: schur");
+  refused("solver: {type: amg, method: block_triangular, inner_tolerance: 1e-9}", mixed,
+          "inner_tolerance applies to the linear mixed model's method: schur");
+  refused("solver: {type: amg, stress_block_tolerance: 1e-3, krylov: gmres}", mixed,
+          "krylov applies to the linear mixed model's method: schur");
+  refused("solver: {type: amg, method: schur, stress_block_tolerance: 1e-3}", mixed,
+          "stress_block_tolerance applies to method: block_triangular");
+  refused("solver: {type: amg, stress_block_tolerance: 1e-3}",
+          "formulation: mixed, compliance: lumped",
+          "stress_block_tolerance applies to compliance: consistent");
+  refused("solver: {type: amg, method: bramble}", mixed, "method");
 }
 
 TEST(Problem, ParsesNonlinearMixedSolver) {
