@@ -60,8 +60,10 @@ double residual(const LinearMap &a, const ConstDeviceVector &b, const DeviceVect
 /// The backward-error test of KrylovOptions::backwardErrorFloor: ||r|| small against
 /// ||A|| ||x|| + ||b|| (operatorNorm 0: never).
 bool atFloor(double rnorm, double operatorNorm, const ConstDeviceVector &x, double bnorm) {
-  return operatorNorm > 0.0 &&
-         rnorm <= kBackwardErrorFloor * (operatorNorm * std::sqrt(dot(x, x)) + bnorm);
+  if (!(operatorNorm > 0.0))
+    return false;
+  const double ax = operatorNorm * std::sqrt(dot(x, x));
+  return ax <= kGrowthLimit * bnorm && rnorm <= kBackwardErrorFloor * (ax + bnorm);
 }
 
 /// ||A w|| / ||w|| for w of pseudo-random signs (an estimate of ||A||, from below).

@@ -74,7 +74,12 @@ struct LinearSolverOptions {
 /// backward error ||b - A x|| / (||A|| ||x|| + ||b||) at most this. Slender parts need it: a strip
 /// of L/h = 100 cannot get below ||r|| / ||b|| = 4e-7, one of L/h = 1000 below 4e-3, by any
 /// solver (backward error 4e-17: the exact solution in double precision; cond(A) ~ (L/h)^4).
+/// Only while ||A|| ||x|| <= kGrowthLimit ||b||: a singular system (a floating body) solved
+/// anyway has a tiny backward error too, but an x of 1e16 ||b|| / ||A||; the L/h = 100 strip
+/// has 1e10, L/h = 300 about 1e12 (L/h = 1000, 1e14, is past double precision: loosen the
+/// tolerance there).
 inline constexpr double kBackwardErrorFloor = 1e-14;
+inline constexpr double kGrowthLimit = 1e13;
 
 struct LinearSolveStats {
   int iterations = 0;

@@ -85,11 +85,11 @@ TEST(SlenderStrip, RigidBodyModesWithAShortHierarchyConvergeWhereTheDefaultAmgSt
 }
 
 TEST(SlenderStrip, AccuracyFloorIsAcceptedByTheBackwardError) {
-  // At L/h = 1000 no solver reaches ||r|| / ||b|| = 1e-8 (4e-3 measured, backward error 4e-17):
-  // the direct solve is accepted through the backward error, not the relative residual.
+  // At L/h = 300 no solver reaches ||r|| / ||b|| = 1e-8 (the floor grows as (L/h)^4): the
+  // direct solve is accepted through the backward error, not the relative residual.
   LinearSolverOptions direct;
   direct.type = LinearSolverType::Direct;
-  const StripResult r = solveSlenderStrip(1000.0, direct);
+  const StripResult r = solveSlenderStrip(300.0, direct);
   EXPECT_TRUE(r.stats.converged);
   EXPECT_GT(r.stats.relativeResidual, 100.0 * direct.tolerance);
 }
@@ -219,12 +219,12 @@ TEST(AmgReuse, KeepsTheHierarchyForTheSamePatternAndStillSolves) {
 }
 
 TEST(KrylovFloor, StopsAtTheBackwardErrorFloor) {
-  // A diagonal operator of condition 1e18: CG reaches the floor long before ||r|| <= 1e-20 ||b||.
+  // A diagonal operator of condition 1e12: CG reaches the floor, never ||r|| <= 1e-30 ||b||.
   const int n = 64;
   Kokkos::View<double *, Memory> diag("diag", n), b("b", n), x("x", n);
   Kokkos::parallel_for(
       "diag", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
-        diag(i) = std::pow(10.0, 18.0 * i / (n - 1));
+        diag(i) = std::pow(10.0, 12.0 * i / (n - 1));
         b(i) = 1.0;
       });
   const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
