@@ -277,8 +277,11 @@ public:
     // The escalation ladder: a stronger AMG, then the direct solver.
     while (!direct_ && !s.converged) {
       std::string step;
-      if (!strengthen(step))
+      if (!strengthen(step)) {
+        if (!step.empty())
+          note += (note.empty() ? "" : "; ") + step;
         break;
+      }
       if (!note.empty())
         note += "; ";
       note += step;
@@ -341,9 +344,16 @@ public:
       note = o.str();
       return true;
     }
-    if (ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns) {
-      direct_ = std::make_unique<DirectSolver>(comm_, options_.symmetric, options_.tolerance);
-      direct_->setup(matrix_);
+    if (!fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns) {
+      auto direct = std::make_unique<DirectSolver>(comm_, options_.symmetric, options_.tolerance);
+      try {
+        direct->setup(matrix_);
+      } catch (const std::runtime_error &e) { // singular: the AMG's answer stands, with why
+        fallbackRefused_ = true;
+        note = std::string("no fall back to the direct solver: ") + e.what();
+        return false;
+      }
+      direct_ = std::move(direct);
       release();
       o << "the AMG did not converge: falling back to the direct solver (" << dofs_.numGlobal
         << " unknowns)";
@@ -602,7 +612,7 @@ private:
 
   bool canStrengthen() const {
     return nextCoarsest() > coarsest_ ||
-           (ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns);
+           (!fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns);
   }
 
   /// The rigid-body rotations of the positions as BoomerAMG interpolation vectors (the
@@ -703,9 +713,10 @@ private:
   std::vector<HYPRE_IJVector> rotationVectors_;          ///< owned by this solver
   std::vector<HYPRE_ParVector> rotations_;               ///< their ParCSR views, for hypre
   std::unique_ptr<LinearSolver> direct_;                 ///< the direct fall back, once taken
-  bool kept_ = false;       ///< the hierarchy was built on an earlier matrix
-  bool rebuild_ = false;    ///< the kept hierarchy slowed down: build afresh at the next setup
-  int freshIterations_ = 1; ///< iterations of the last solve with a fresh hierarchy
+  bool fallbackRefused_ = false; ///< the direct solver found the matrix singular
+  bool kept_ = false;            ///< the hierarchy was built on an earlier matrix
+  bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
+  int freshIterations_ = 1;      ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;
   double normInf_ = 0.0;

@@ -101,6 +101,8 @@ TEST(Solver, ReportsNonConvergence) {
   LinearSolverOptions o;
   o.maxIterations = 2;
   o.tolerance = 1e-14;
+  o.escalationCoarsestSizes.clear(); // no ladder, no direct fall back: the AMG alone reports
+  o.directFallbackUnknowns = 0;
   model.setup(o, MPI_COMM_WORLD);
   const auto s = model.solve(1.0);
   EXPECT_FALSE(s.converged);
