@@ -24,28 +24,7 @@ trap 'rm -rf "$work"' EXIT
 src_version=13.2.0-4
 tarball=trilinos_13.2.0.orig.tar.gz
 
-if [ ! -f "$cache/$tarball" ] || [ ! -f "$cache/trilinos_${src_version}.dsc" ]; then
-  # A private apt configuration that adds bookworm's source index without touching the system's.
-  lists="$work/lists"; mkdir -p "$lists/partial"
-  uri=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/debian.sources 2>/dev/null || true)
-  [ -n "$uri" ] || uri=http://deb.debian.org/debian
-  keyring=/usr/share/keyrings/debian-archive-keyring.gpg
-  echo "deb-src [signed-by=$keyring] $uri bookworm main" > "$work/sources.list"
-  o=(-o "Dir::Etc::SourceList=$work/sources.list" -o "Dir::Etc::SourceParts=/dev/null"
-     -o "Dir::State::Lists=$lists")
-  apt-get "${o[@]}" update -q
-  (cd "$cache" && apt-get "${o[@]}" source --download-only "trilinos=$src_version")
-fi
-
-# Verify the tarball against the checksum the (signed) .dsc lists.
-want=$(awk -v f="$tarball" '/^Checksums-Sha256:/{s=1; next} /^[A-Z]/{s=0} s && $3==f {print $1}' \
-  "$cache/trilinos_${src_version}.dsc")
-have=$(sha256sum "$cache/$tarball" | awk '{print $1}')
-if [ -z "$want" ] || [ "$want" != "$have" ]; then
-  echo "mixcon: checksum mismatch for $tarball (want '$want', have '$have')" >&2
-  rm -f "$cache/$tarball"
-  exit 1
-fi
+bash "$(dirname "${BASH_SOURCE[0]}")/fetch-debian-source.sh" "$cache" "$work" trilinos "$src_version" "$tarball"
 
 tar -C "$work" -xzf "$cache/$tarball" --wildcards '*/packages/kokkos/*'
 srcdir=$(ls -d "$work"/*/packages/kokkos)
