@@ -610,6 +610,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     const auto stepStart = clock::now();
     const double lambda = p.loadFactors[k];
     const LinearSolveStats s = model.solve(lambda);
+    if (log && !s.note.empty())
+      *log << "    load factor " << lambda << ": " << s.note << "\n";
     StepRecord r;
     r.step = k + 1;
     r.loadFactor = lambda;

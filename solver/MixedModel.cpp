@@ -307,8 +307,24 @@ LinearSolveStats MixedModel::solve(double loadFactor) {
   innerIterations_ = operatorApplications_ = 0;
   if (options_.linear.type == LinearSolverType::Direct)
     return solveDirect(loadFactor);
-  return method_ == MixedLinearMethod::BlockTriangular ? solveBlockTriangular(loadFactor)
-                                                       : solveSchur(loadFactor);
+  const auto once = [&] {
+    return method_ == MixedLinearMethod::BlockTriangular ? solveBlockTriangular(loadFactor)
+                                                         : solveSchur(loadFactor);
+  };
+  // The AMG is a preconditioner here: while the method around it fails, the AMG's escalation
+  // ladder (a larger coarsest level, then the direct solve of the preconditioner matrix) is
+  // climbed step by step, each step reported.
+  LinearSolveStats s = once();
+  std::string note, step;
+  int iterations = s.iterations;
+  while (!s.converged && amg_->strengthen(step)) {
+    note += (note.empty() ? "" : "; ") + step;
+    s = once();
+    iterations += s.iterations;
+  }
+  s.iterations = iterations;
+  s.note = note;
+  return s;
 }
 
 void MixedModel::applySaddlePoint(const ConstDeviceVector &v, const DeviceVector &y) {
