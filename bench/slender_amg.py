@@ -1,0 +1,206 @@
+#!/usr/bin/python3
+"""Evidence for issue 20 (AMG for slender structures, hierarchy reuse), run through `mixcon run`.
+
+  linear     PCG/GMRES iterations of linear strips of L/h = 10, 100, 1000, 10000 (Quad8, 2 elements
+             through the depth h = 1, square elements, clamped left end, transverse traction on the
+             top edge, E = 1e4, nu = 0.3, plane stress), displacement and linear mixed model, for
+             four solver settings: old AMG (no rigid-body modes, coarsest 9, no direct fall back),
+             the default, coarsest_size 500 and 2000 (with the rigid-body modes).
+  nonlinear  examples/cantilever/slender_{displacement,mixed}.yaml at divisions [200, 2] with
+             solver amg and direct (and the mixed one with stabilization 0.05): Newton and linear
+             iterations, wall time, the solver's notes, tip deflection w/L against the elastica.
+  reuse      reuse_hierarchy true against false on runs with many corrections, alternated.
+
+Every run writes its problem file under --out and runs the binary; the step lines ("linear its",
+"residual") and the solver notes (any stdout/stderr line that mentions the AMG, a rebuild or the
+direct solver) are parsed. Prints markdown tables.
+Usage: /usr/bin/python3 bench/slender_amg.py {linear,nonlinear,reuse} [--mixcon build/apps/mixcon]
+       [--out out/slender_amg] [--lh 10 100 1000 10000] [--rounds 3] [--timeout 600]
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import time
+
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+SETTINGS = [
+    ("(a) old AMG", {"rigid_body_modes": False, "direct_fallback": False, "coarsest_size": 9}),
+    ("(b) default", {}),
+    ("(c) coarsest 500", {"coarsest_size": 500}),
+    ("(d) coarsest 2000", {"coarsest_size": 2000}),
+]
+
+STEP = re.compile(r"^step (\d+)/(\d+).*?iterations (\d+)\s+cuts (\d+)\s+linear its (\d+)\s+"
+                  r"residual (\S+)\s+(\S+)")
+NOTE = re.compile(r"AMG|rebuilt|direct|fall", re.I)
+
+
+def run(binary, problem, out, timeout, hdf5=False):
+    """Runs mixcon on a problem dict; returns a dict of what the run printed and wrote."""
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "problem.yaml")
+    problem = dict(problem)
+    problem["output"] = {"directory": os.path.join(out, "res"), "hdf5": hdf5}
+    with open(path, "w") as f:
+        yaml.safe_dump(problem, f, sort_keys=False)
+    t0 = time.perf_counter()
+    try:
+        p = subprocess.run([binary, "run", path], capture_output=True, text=True, timeout=timeout)
+        rc, text = p.returncode, p.stdout + p.stderr
+    except subprocess.TimeoutExpired as e:
+        rc, text = "timeout", (e.stdout or b"").decode() if isinstance(e.stdout, bytes) else ""
+    wall = time.perf_counter() - t0
+    steps = [m.groups() for m in map(STEP.match, text.splitlines()) if m]
+    notes = [l.strip() for l in text.splitlines() if NOTE.search(l) and l.startswith("    ")]
+    summary = {}
+    try:
+        with open(os.path.join(out, "res", "summary.json")) as f:
+            summary = json.load(f)
+    except (OSError, ValueError):
+        pass
+    return {"rc": rc, "wall": wall, "text": text, "steps": steps, "notes": notes,
+            "summary": summary}
+
+
+def strip(lh, formulation, solver):
+    return {
+        "title": f"strip L/h = {lh}",
+        "mesh": {"generator": {"type": "rectangle", "size": [float(lh), 1.0], "origin": [0, 0],
+                               "divisions": [2 * lh, 2], "element": "quad8"}},
+        "model": {"formulation": formulation, "analysis": "plane_stress", "thickness": 1.0},
+        "materials": [{"region": "body", "type": "isotropic", "E": 1.0e4, "nu": 0.3}],
+        "boundary_conditions": [{"boundary": "left", "ux": 0, "uy": 0}],
+        "loads": [{"boundary": "top", "traction": [0, -1.0e-3]}],
+        "solver": dict({"type": "amg", "max_iterations": 3000}, **solver),
+    }
+
+
+def short(note):
+    m = re.search(r"coarsest level of up to (\d+)", note)
+    if m:
+        return f"->{m.group(1)}"
+    if "falling back to the direct" in note:
+        return "->direct"
+    return note
+
+
+def linear(args):
+    print("| model | L/h | unknowns | setting | linear its | converged | residual | s | ladder |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for formulation in args.models:
+        for lh in args.lh:
+            for name, s in SETTINGS:
+                out = os.path.join(args.out, "linear", f"{formulation}_{lh}_{name[1]}")
+                r = run(args.mixcon, strip(lh, formulation, s), out, args.timeout)
+                m = re.search(r"(\d+) unknowns", r["text"])
+                st = r["steps"][-1] if r["steps"] else None
+                its = st[4] if st else "-"
+                conv = st[6] if st else f"rc {r['rc']}"
+                res = st[5] if st else "-"
+                ladder = " ".join(short(n) for n in r["notes"]) or "none"
+                print(f"| {formulation} | {lh} | {m.group(1) if m else '?'} | {name} | {its} | "
+                      f"{conv} (rc {r['rc']}) | {res} | {r['wall']:.2f} | {ladder} |", flush=True)
+
+
+def tip(out, length):
+    """Tip deflection w/L at the last written step: mean -u_y of the nodes at x = L."""
+    import h5py  # only here: the linear tables need no HDF5 reader
+    import numpy as np
+    d = os.path.join(out, "res", "results.d")
+    try:
+        xy = h5py.File(os.path.join(d, "mesh.h5"), "r")["mesh/nodes"][:]
+        f = h5py.File(os.path.join(d, sorted(x for x in os.listdir(d) if x.startswith("step"))[-1]), "r")
+        last = max(f["steps"].keys(), key=int)
+        u = f[f"steps/{last}/displacement"][:]
+    except (OSError, IndexError, KeyError, ValueError):
+        return None
+    at = np.abs(xy[:, 0] - xy[:, 0].max()) < 1e-9
+    return -u[at, 1].mean() / length
+
+
+def example(name):
+    with open(os.path.join(ROOT, "examples", name)) as f:
+        return yaml.safe_load(f)
+
+
+def totals(r):
+    st = r["summary"].get("steps", [])
+    return (sum(x.get("iterations", 0) for x in st), sum(x.get("linear_iterations", 0) for x in st),
+            sum(x.get("setup_seconds", 0) for x in st), st[-1]["load_factor"] if st else 0)
+
+
+def nonlinear(args):
+    print("| file | solver | converged (rc) | last load factor | Newton its | linear its | wall s "
+          "| w/L (elastica 0.70020) | solver notes |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    cases = [("slender_displacement.yaml", {"type": "amg"}, None),
+             ("slender_displacement.yaml", {"type": "direct"}, None),
+             ("slender_mixed.yaml", {"type": "amg"}, None),
+             ("slender_mixed.yaml", {"type": "direct"}, None),
+             ("slender_mixed.yaml", {"type": "amg"}, 0.05),
+             ("slender_mixed.yaml", {"type": "direct"}, 0.05)]
+    for name, solver, stab in cases:
+        p = example("cantilever/" + name)
+        p["mesh"]["generator"]["divisions"] = [200, 2]
+        p["solver"] = solver
+        if stab is not None:
+            p["model"]["stabilization"] = stab
+        label = f"{name[:-5]}_{solver['type']}" + (f"_stab{stab}" if stab is not None else "")
+        out = os.path.join(args.out, "nonlinear", label)
+        r = run(args.mixcon, p, out, args.timeout, hdf5=True)
+        newton, lin, _, lam = totals(r)
+        w = tip(out, p["mesh"]["generator"]["size"][0])
+        notes = "; ".join(sorted(set(re.sub(r"load factor \S+, iteration \d+: ", "", n)
+                                     for n in r["notes"])))
+        print(f"| {name}" + (f" stabilization {stab}" if stab is not None else "") +
+              f" | {solver['type']} | {r['summary'].get('converged')} ({r['rc']}) | {lam} | {newton} "
+              f"| {lin} | {r['wall']:.2f} | {w if w is None else f'{w:.5f}'} | {notes or 'none'} |",
+              flush=True)
+
+
+def reuse(args):
+    cases = [("hertz/hertz_refined.yaml", None), ("cantilever/report_displacement.yaml", None),
+             ("elastic_contact/hertz_two_body.yaml", None)]
+    print("| file (solver amg) | reuse_hierarchy | converged | Newton/contact corrections | linear its "
+          "| setup s (sum) | wall s | rounds |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, _ in cases:
+        rows = {True: [], False: []}
+        for k in range(args.rounds):
+            for flag in (True, False):
+                p = example(name)
+                p["solver"] = {"type": "amg", "reuse_hierarchy": flag}
+                out = os.path.join(args.out, "reuse", f"{os.path.basename(name)[:-5]}_{flag}")
+                r = run(args.mixcon, p, out, args.timeout)
+                rows[flag].append((r, totals(r)))
+        for flag in (True, False):
+            rs = rows[flag]
+            med = lambda xs: statistics.median(xs)
+            print(f"| {name} | {flag} | {all(r['rc'] == 0 for r, _ in rs)} | "
+                  f"{'/'.join(sorted(set(str(t[0]) for _, t in rs)))} | "
+                  f"{'/'.join(sorted(set(str(t[1]) for _, t in rs)))} | "
+                  f"{med([t[2] for _, t in rs]):.3f} | {med([r['wall'] for r, _ in rs]):.2f} "
+                  f"(min {min(r['wall'] for r, _ in rs):.2f}) | {len(rs)} |", flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("what", choices=["linear", "nonlinear", "reuse"])
+    ap.add_argument("--mixcon", default=os.path.join(ROOT, "build", "apps", "mixcon"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "slender_amg"))
+    ap.add_argument("--lh", type=int, nargs="+", default=[10, 100, 1000, 10000])
+    ap.add_argument("--models", nargs="+", default=["displacement", "mixed"])
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--timeout", type=float, default=600)
+    args = ap.parse_args()
+    {"linear": linear, "nonlinear": nonlinear, "reuse": reuse}[args.what](args)
+
+
+if __name__ == "__main__":
+    main()
