@@ -275,19 +275,8 @@ public:
       total += s.iterations;
     }
     // The escalation ladder: a stronger AMG, then the direct solver.
-    while (!direct_ && !s.converged) {
-      std::string step;
-      if (!strengthen(step)) {
-        if (!step.empty())
-          note += (note.empty() ? "" : "; ") + step;
-        break;
-      }
-      if (!note.empty())
-        note += "; ";
-      note += step;
-      s = direct_ ? direct_->solve(b, x) : iterate(b, x);
-      total += s.iterations;
-    }
+    s = climbLadder(
+        *this, s, [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); }, note, total);
     if (!direct_ && kept_ && s.iterations > options_.reuseIterationGrowth * freshIterations_)
       rebuild_ = true; // the next setup builds a fresh hierarchy
     // Converged, but slowly: the next hierarchies take the next step of the ladder.
@@ -295,9 +284,9 @@ public:
         nextCoarsest() > coarsest_) {
       coarsest_ = nextCoarsest();
       rebuild_ = true;
-      note += std::string(note.empty() ? "" : "; ") + "AMG took " + std::to_string(s.iterations) +
-              " iterations: the next hierarchies stop at " + std::to_string(coarsest_) +
-              " unknowns";
+      appendNote(note, "AMG took " + std::to_string(s.iterations) +
+                           " iterations: the next hierarchies stop at " +
+                           std::to_string(coarsest_) + " unknowns");
     }
     if (!direct_ && !kept_)
       freshIterations_ = std::max(s.iterations, 1);
@@ -344,7 +333,7 @@ public:
       note = o.str();
       return true;
     }
-    if (!fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns) {
+    if (directFallbackAllowed()) {
       auto direct = std::make_unique<DirectSolver>(comm_, options_.symmetric, options_.tolerance);
       try {
         direct->setup(matrix_);
@@ -610,10 +599,12 @@ private:
     return coarsest_;
   }
 
-  bool canStrengthen() const {
-    return nextCoarsest() > coarsest_ ||
-           (!fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns);
+  /// One rank, few enough unknowns, and no singular matrix found by an earlier attempt.
+  bool directFallbackAllowed() const {
+    return !fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns;
   }
+
+  bool canStrengthen() const { return nextCoarsest() > coarsest_ || directFallbackAllowed(); }
 
   /// The rigid-body rotations of the positions as BoomerAMG interpolation vectors (the
   /// translations are the constants the systems AMG interpolates anyway): in 2D (-y, x), in 3D
@@ -732,6 +723,28 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
   if (options.type == LinearSolverType::Direct)
     return std::make_unique<DirectSolver>(comm, options.symmetric, options.tolerance);
   return std::make_unique<HypreAmgSolver>(options, dofs, comm);
+}
+
+void appendNote(std::string &note, const std::string &more) {
+  if (!note.empty())
+    note += "; ";
+  note += more;
+}
+
+LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
+                             const std::function<LinearSolveStats()> &attempt, std::string &note,
+                             int &total) {
+  while (!s.converged) {
+    std::string step;
+    const bool stronger = solver.strengthen(step);
+    if (!step.empty())
+      appendNote(note, step);
+    if (!stronger)
+      break;
+    s = attempt();
+    total += s.iterations;
+  }
+  return s;
 }
 
 std::string hypreVersion() {

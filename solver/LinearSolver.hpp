@@ -7,6 +7,7 @@
 #include <kernels/SparseMatrix.hpp>
 #include <solver/DofMap.hpp>
 
+#include <functional>
 #include <memory>
 #include <mpi.h>
 #include <string>
@@ -135,6 +136,17 @@ public:
 /// std::runtime_error for a matrix singular to working precision (a zero pivot).
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &options,
                                                const DofMap &dofs, MPI_Comm comm);
+
+/// Appends `more` to a LinearSolveStats::note, "; "-separated.
+void appendNote(std::string &note, const std::string &more);
+
+/// The escalation ladder around a solve whose method only calls precondition() (or the AMG's own
+/// Krylov solve): while `s`, the last attempt, has not converged and solver.strengthen() takes a
+/// step, `attempt` runs again. Returns the last attempt; every step taken, or why none was left,
+/// is appended to `note`, and `total` accumulates the iterations of the attempts after `s`.
+LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
+                             const std::function<LinearSolveStats()> &attempt, std::string &note,
+                             int &total);
 
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();

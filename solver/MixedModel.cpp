@@ -315,13 +315,9 @@ LinearSolveStats MixedModel::solve(double loadFactor) {
   // ladder (a larger coarsest level, then the direct solve of the preconditioner matrix) is
   // climbed step by step, each step reported.
   LinearSolveStats s = once();
-  std::string note, step;
+  std::string note;
   int iterations = s.iterations;
-  while (!s.converged && amg_->strengthen(step)) {
-    note += (note.empty() ? "" : "; ") + step;
-    s = once();
-    iterations += s.iterations;
-  }
+  s = climbLadder(*amg_, s, once, note, iterations);
   s.iterations = iterations;
   s.note = note;
   return s;

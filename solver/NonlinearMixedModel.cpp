@@ -129,13 +129,9 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
   LinearSolveStats s = once();
   // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
   // escalation ladder (a larger coarsest level, then the direct solver) is taken step by step.
-  std::string note, step;
+  std::string note;
   int iterations = s.iterations;
-  while (!s.converged && solver_->strengthen(step)) {
-    note += (note.empty() ? "" : "; ") + step;
-    s = once();
-    iterations += s.iterations;
-  }
+  s = climbLadder(*solver_, s, once, note, iterations);
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kMixed) * mesh_.numNodes();
@@ -145,10 +141,10 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
     o.type = LinearSolverType::Direct;
     o.symmetric = false;
     jacobianDirect_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kMixed), comm_);
-    note += std::string(note.empty() ? "" : "; ") + "the iterative solve did not converge " +
-            "(relative residual " + std::to_string(s.relativeResidual) +
-            "): falling back to the direct LU of the Jacobian (" + std::to_string(unknowns) +
-            " unknowns)";
+    appendNote(note, "the iterative solve did not converge (relative residual " +
+                         std::to_string(s.relativeResidual) +
+                         "): falling back to the direct LU of the Jacobian (" +
+                         std::to_string(unknowns) + " unknowns)");
     s = direct();
     iterations += s.iterations;
   }
