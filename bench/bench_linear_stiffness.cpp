@@ -76,7 +76,7 @@ constexpr double stiffnessFlops(int n, int quadraturePoints) {
 
 template <class Exec> void elementMatrices(benchmark::State &state) {
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
-  dispatchElement(typeOf(state), [&](auto elem) {
+  dispatchPlaneElement(typeOf(state), "this 2D benchmark", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     Kokkos::View<double ***, Memory> ke("ke", s.mesh.numElements(), nd, nd);
@@ -142,7 +142,7 @@ void mixedElementMatrices(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
   const MixedElementData<Memory> md = mixedData(s);
-  dispatchElement(typeOf(state), [&](auto elem) {
+  dispatchPlaneElement(typeOf(state), "this 2D benchmark", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int n = Elem::kNumNodes;
     const LocalIndex ne = s.mesh.numElements();
@@ -208,7 +208,7 @@ void geometricElementMatrices(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
   const NodalStressField<Memory> field{s.data.mesh, nodalStress(s.mesh)};
-  dispatchElement(typeOf(state), [&](auto elem) {
+  dispatchPlaneElement(typeOf(state), "this 2D benchmark", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     const LocalIndex ne = s.mesh.numElements();
@@ -256,7 +256,7 @@ void assembleCsr(benchmark::State &state) {
   const NodeGraph g = buildNodeGraph(s.mesh);
   auto a = expandGraph<Memory>(g, 2);
   const auto map = elementScatterMap<Memory>(s.mesh, g);
-  dispatchElement(typeOf(state), [&](auto elem) {
+  dispatchPlaneElement(typeOf(state), "this 2D benchmark", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     for (auto _ : state) {

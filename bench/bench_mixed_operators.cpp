@@ -86,7 +86,7 @@ const Problem &problem(ElementType type, int n) {
   p->graph = buildNodeGraph(p->mesh);
   p->dgraph = toDevice<Memory>(p->graph);
   p->map = elementScatterMap<Memory>(p->mesh, p->graph);
-  dispatchElement(type, [&](auto elem) {
+  dispatchPlaneElement(type, "this 2D benchmark", [&](auto elem) {
     p->assembled = assembleMixedOperators<decltype(elem)>(Exec(), p->data, p->dgraph, p->map);
   });
   p->partial = makeMixedMatrixFree(Exec(), p->data, p->mesh, true, MixedScatter::Colored);
@@ -254,7 +254,7 @@ void setup(benchmark::State &state) {
   const ElementType type = typeOf(state);
   const Problem &p = problem(type, static_cast<int>(state.range(1)));
   for (auto _ : state) {
-    dispatchElement(type, [&](auto elem) {
+    dispatchPlaneElement(type, "this 2D benchmark", [&](auto elem) {
       using Elem = decltype(elem);
       if (method == Assembled)
         benchmark::DoNotOptimize(assembleMixedOperators<Elem>(Exec(), p.data, p.dgraph, p.map));

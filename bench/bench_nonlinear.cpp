@@ -62,7 +62,7 @@ void linearBaseline(benchmark::State &state) {
   const NodeGraph g = buildNodeGraph(mesh);
   auto a = expandGraph<Memory>(g, 2);
   const auto map = elementScatterMap<Memory>(mesh, g);
-  dispatchElement(mesh.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh.elementType, "this 2D benchmark", [&](auto elem) {
     using Elem = decltype(elem);
     for (auto _ : state) {
       Timer t;

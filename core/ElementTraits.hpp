@@ -16,7 +16,7 @@
 namespace mixcon {
 
 /// Runtime tag used on the host to choose the compile-time traits once (switch, then template).
-enum class ElementType { Quad4, Quad8 };
+enum class ElementType { Quad4, Quad8, Hex8 };
 
 namespace detail {
 // Gauss-Legendre abscissae and weights on [-1, 1].
@@ -63,8 +63,15 @@ struct Quad4 {
     xi = detail::cornerXi(a);
     eta = detail::cornerEta(a);
   }
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    nodeNatural(a, xi[0], xi[1]);
+  }
   /// Local node k (0..kNodesPerEdge-1) of edge e; edge e runs from corner e to corner e+1.
   KOKKOS_INLINE_FUNCTION static int edgeNode(int e, int k) { return k == 0 ? e : (e + 1) % 4; }
+  /// The dimension-generic boundary API: the sides of a 2D element are its edges.
+  static constexpr int kNumSides = kNumEdges;
+  static constexpr int kNodesPerSide = kNodesPerEdge;
+  KOKKOS_INLINE_FUNCTION static int sideNode(int s, int k) { return edgeNode(s, k); }
   /// Quadrature point q of the element rule (tensor Gauss), natural coordinates and weight.
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double &xi, double &eta, double &w) {
     double wx, we;
@@ -132,10 +139,17 @@ struct Quad8 {
       eta = me[a - 4];
     }
   }
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    nodeNatural(a, xi[0], xi[1]);
+  }
   /// Edge e: corner e, corner e+1, mid-side 4+e (the order of a 3-node Gmsh line).
   KOKKOS_INLINE_FUNCTION static int edgeNode(int e, int k) {
     return k == 0 ? e : (k == 1 ? (e + 1) % 4 : 4 + e);
   }
+  /// The dimension-generic boundary API: the sides of a 2D element are its edges.
+  static constexpr int kNumSides = kNumEdges;
+  static constexpr int kNodesPerSide = kNodesPerEdge;
+  KOKKOS_INLINE_FUNCTION static int sideNode(int s, int k) { return edgeNode(s, k); }
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double &xi, double &eta, double &w) {
     double wx, we;
     detail::gauss1d(kGaussOrder, q % kGaussOrder, xi, wx);
@@ -154,15 +168,28 @@ struct Quad8 {
 
 /// 8-node trilinear hexahedron, 2x2x2 Gauss quadrature. Node order as Gmsh and VTK: the bottom
 /// face (zeta = -1) counter-clockwise from (-1,-1,-1), nodes 0..3, then the top face (zeta = +1)
-/// in the same order, nodes 4..7. A 3D element of the kernels and their tests; not an
-/// ElementType of the program yet (dispatchElement knows only the 2D elements).
+/// in the same order, nodes 4..7. Faces (the sides of the boundary API) are 4-node quadrilaterals
+/// whose nodes run counter-clockwise seen from outside, so that dx/ds x dx/dt of the face's
+/// bilinear map points out of the element: 0 (zeta = -1), 1 (zeta = +1), 2 (eta = -1), 3 (xi = +1),
+/// 4 (eta = +1), 5 (xi = -1).
 struct Hex8 {
+  static constexpr ElementType kType = ElementType::Hex8;
   static constexpr int kDim = 3;
   using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
   static constexpr int kNumNodes = 8;
   static constexpr int kGaussOrder = 2;
   static constexpr int kNumQp = 8;
+  static constexpr int kNumSides = 6;
+  static constexpr int kNodesPerSide = 4;
+  static constexpr int kNumSideQp = 4; ///< 2x2 Gauss on a face
   static constexpr const char *kName = "hex8";
+
+  /// Local node k (0..3) of face f (see the struct's comment for the numbering).
+  KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
+    constexpr int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                 {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    return faces[f][k];
+  }
 
   /// Natural coordinates of node a.
   KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
@@ -239,10 +266,24 @@ KOKKOS_INLINE_FUNCTION double physicalGradients(const double (&xe)[Elem::kNumNod
   return det;
 }
 
+/// det(d x / d xi) of the isoparametric map at a point, any dimension: coordinates xe[a][i] of
+/// the element's nodes, natural derivatives dn[a][j] of its shape functions there.
+template <class Elem>
+KOKKOS_INLINE_FUNCTION double jacobianDeterminant(const double (&xe)[Elem::kNumNodes][Elem::kDim],
+                                                  const double (&dn)[Elem::kNumNodes][Elem::kDim]) {
+  Mat<Elem::kDim, Elem::kDim> jac{};
+  for (int a = 0; a < Elem::kNumNodes; ++a)
+    for (int i = 0; i < Elem::kDim; ++i)
+      for (int j = 0; j < Elem::kDim; ++j)
+        jac.m[i][j] += xe[a][i] * dn[a][j];
+  return determinant(jac);
+}
+
 /// Field layout (unknowns per node, field offsets) of an element's dimension.
 template <class Elem> using LayoutOf = typename Elem::Layout;
 
-/// Calls f(ElemTraits{}) with the traits matching a runtime element type (host-side dispatch).
+/// Calls f(ElemTraits{}) with the traits matching a runtime element type (host-side dispatch),
+/// for code written for every dimension (f is instantiated with the 2D and the 3D elements).
 /// Throws std::invalid_argument for a value that names no element type (never falls back).
 template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
   switch (type) {
@@ -250,9 +291,33 @@ template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
     return f(Quad4{});
   case ElementType::Quad8:
     return f(Quad8{});
+  case ElementType::Hex8:
+    return f(Hex8{});
   }
   throw std::invalid_argument("dispatchElement: unknown ElementType value " +
                               std::to_string(static_cast<int>(type)));
+}
+
+/// The name of an element type (its traits' kName).
+inline std::string elementName(ElementType type) {
+  return dispatchElement(type, [](auto elem) { return std::string(decltype(elem)::kName); });
+}
+
+/// dispatchElement for code that exists in 2D only (the nonlinear and mixed models, contact, the
+/// plane-geometry helpers): f is instantiated with the quadrilaterals alone. A 3D element type
+/// throws std::invalid_argument naming `what` (the problem reader refuses such input first, with
+/// its file and line; this is the guard of the C++ API).
+template <class F> decltype(auto) dispatchPlaneElement(ElementType type, const char *what, F &&f) {
+  switch (type) {
+  case ElementType::Quad4:
+    return f(Quad4{});
+  case ElementType::Quad8:
+    return f(Quad8{});
+  case ElementType::Hex8:
+    break;
+  }
+  throw std::invalid_argument(std::string(what) + " is 2D only so far (issue 17); element type " +
+                              std::to_string(static_cast<int>(type)) + " is not a quadrilateral");
 }
 
 } // namespace mixcon

@@ -4,7 +4,8 @@
 namespace mixcon {
 
 MassLumping massLumping(ElementType type) {
-  return dispatchElement(type, [](auto elem) { return MixedTraits<decltype(elem)>::kLumping; });
+  return dispatchPlaneElement(type, "the mixed pairing",
+                              [](auto elem) { return MixedTraits<decltype(elem)>::kLumping; });
 }
 
 void checkMixedPairing(ElementType displacement, ElementType stress) {

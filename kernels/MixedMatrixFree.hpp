@@ -283,7 +283,7 @@ void complianceKernel(const ExecSpace &exec, const MixedMatrixFreeOperators<Memo
 /// Runs f(Elem, Stored, Atomic) for the operators' element type, geometry source and scatter.
 template <class MemorySpace, class F>
 void dispatchMatrixFree(const MixedMatrixFreeOperators<MemorySpace> &op, F &&f) {
-  dispatchElement(op.type, [&](auto elem) {
+  dispatchPlaneElement(op.type, "the matrix-free mixed operators", [&](auto elem) {
     const bool atomic = op.scatter == MixedScatter::Atomic;
     if (op.partialAssembly && atomic)
       f(elem, std::true_type{}, std::true_type{});
@@ -385,8 +385,9 @@ makeMixedMatrixFree(const ExecSpace &exec, const MixedElementData<MemorySpace> &
     op.scatter = MixedScatter::Atomic;
   const ElementType type = mesh.elementType;
   if (partialAssembly)
-    dispatchElement(
-        type, [&](auto elem) { op.geometry = precomputeMixedGeometry<decltype(elem)>(exec, d); });
+    dispatchPlaneElement(type, "the matrix-free mixed operators", [&](auto elem) {
+      op.geometry = precomputeMixedGeometry<decltype(elem)>(exec, d);
+    });
   return op;
 }
 

@@ -7,18 +7,22 @@
 
 namespace mixcon {
 
-LocalIndex Mesh::edgeNode(const BoundaryEdge &e, int k) const {
-  const int local =
-      elementType == ElementType::Quad8 ? Quad8::edgeNode(e.edge, k) : Quad4::edgeNode(e.edge, k);
-  return node(e.element, local);
+LocalIndex Mesh::sideNode(const BoundaryEdge &e, int k) const {
+  return node(e.element, dispatchElement(elementType, [&](auto elem) {
+                return decltype(elem)::sideNode(e.edge, k);
+              }));
+}
+
+int Mesh::nodesPerSide() const {
+  return dispatchElement(elementType, [](auto elem) { return decltype(elem)::kNodesPerSide; });
 }
 
 std::vector<LocalIndex> Mesh::nodesOf(const std::string &name) const {
   std::vector<LocalIndex> nodes;
   if (auto b = boundaries.find(name); b != boundaries.end()) {
     for (const auto &e : b->second)
-      for (int k = 0; k < nodesPerEdge(); ++k)
-        nodes.push_back(edgeNode(e, k));
+      for (int k = 0; k < nodesPerSide(); ++k)
+        nodes.push_back(sideNode(e, k));
   } else if (auto s = nodeSets.find(name); s != nodeSets.end()) {
     nodes = s->second;
   } else {
@@ -79,8 +83,9 @@ template <class Elem> double signedAreaOf(const Mesh &mesh, LocalIndex e) {
 } // namespace
 
 double signedArea(const Mesh &mesh, LocalIndex element) {
-  return dispatchElement(mesh.elementType,
-                         [&](auto elem) { return signedAreaOf<decltype(elem)>(mesh, element); });
+  return dispatchPlaneElement(mesh.elementType, "this mesh function", [&](auto elem) {
+    return signedAreaOf<decltype(elem)>(mesh, element);
+  });
 }
 
 LocalIndex orientCounterClockwise(Mesh &mesh) {
@@ -166,7 +171,7 @@ struct Box {
 
 bool naturalCoordinates(const Mesh &mesh, LocalIndex element, double x, double y, double &xi,
                         double &eta) {
-  return dispatchElement(mesh.elementType, [&](auto elem) {
+  return dispatchPlaneElement(mesh.elementType, "this mesh function", [&](auto elem) {
     return naturalCoordinatesOf<decltype(elem)>(mesh, element, x, y, xi, eta);
   });
 }
@@ -276,30 +281,30 @@ constexpr double kJacobianOverflow = 1e308;
 
 template <class Elem> Kokkos::MinLoc<double, LocalIndex>::value_type minJacobian(const Mesh &mesh) {
   using Exec = Kokkos::DefaultExecutionSpace;
-  const auto dev = toDevice<Exec::memory_space>(mesh);
+  const auto dev = toDevice<Exec::memory_space, Elem::kDim>(mesh);
   using Reducer = Kokkos::MinLoc<double, LocalIndex>;
   typename Reducer::value_type result;
   Kokkos::parallel_reduce(
       "mixcon::mesh::minJacobian", Kokkos::RangePolicy<Exec>(0, mesh.numElements()),
       KOKKOS_LAMBDA(LocalIndex e, typename Reducer::value_type & acc) {
-        double xe[Elem::kNumNodes][2];
-        for (int a = 0; a < Elem::kNumNodes; ++a) {
-          xe[a][0] = dev.coordinates(dev.connectivity(e, a), 0);
-          xe[a][1] = dev.coordinates(dev.connectivity(e, a), 1);
-        }
+        constexpr int dim = Elem::kDim;
+        double xe[Elem::kNumNodes][dim];
+        for (int a = 0; a < Elem::kNumNodes; ++a)
+          for (int i = 0; i < dim; ++i)
+            xe[a][i] = dev.coordinates(dev.connectivity(e, a), i);
         // Sample the quadrature points and the nodes: a Quad8 can fold at a corner while
         // its Gauss points stay positive.
         for (int q = 0; q < Elem::kNumQp + Elem::kNumNodes; ++q) {
-          double xi, eta, w;
+          double xi[dim], w;
           if (q < Elem::kNumQp)
-            Elem::quadraturePoint(q, xi, eta, w);
+            Elem::quadraturePoint(q, xi, w);
           else
-            Elem::nodeNatural(q - Elem::kNumQp, xi, eta);
-          double n[Elem::kNumNodes], dn[Elem::kNumNodes][2], dndx[Elem::kNumNodes][2];
-          Elem::shape(xi, eta, n, dn);
+            Elem::nodeNatural(q - Elem::kNumQp, xi);
+          double n[Elem::kNumNodes], dn[Elem::kNumNodes][dim];
+          Elem::shape(xi, n, dn);
           // A determinant that overflows (or is NaN) counts as the worst: it is reported, and the
           // reduction always ends on an element.
-          const double raw = physicalGradients<Elem>(xe, dn, dndx);
+          const double raw = jacobianDeterminant<Elem>(xe, dn);
           const double det =
               raw > -kJacobianOverflow && raw < kJacobianOverflow ? raw : -kJacobianOverflow;
           if (det < acc.val) {
@@ -317,7 +322,8 @@ using namespace mesh_detail;
 void validateMesh(const Mesh &mesh) {
   if (mesh.numElements() == 0)
     throw InputError(mesh.source + ": mesh has no elements");
-  const int expected = mesh.elementType == ElementType::Quad8 ? 8 : 4;
+  const int expected =
+      dispatchElement(mesh.elementType, [](auto elem) { return decltype(elem)::kNumNodes; });
   if (mesh.nodesPerElement != expected)
     throw InputError(mesh.source + ": inconsistent nodes per element");
   for (LocalIndex e = 0; e < mesh.numElements(); ++e)
@@ -328,29 +334,34 @@ void validateMesh(const Mesh &mesh) {
                          " references a node that does not exist");
     }
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
-    if (!std::isfinite(mesh.x(n)) || !std::isfinite(mesh.y(n)))
-      throw InputError(mesh.source + ": node " + std::to_string(mesh.nodeId(n)) +
-                       " has a coordinate that is not a finite number");
+    for (int i = 0; i < mesh.dim(); ++i)
+      if (!std::isfinite(mesh.coordinate(n, i)))
+        throw InputError(mesh.source + ": node " + std::to_string(mesh.nodeId(n)) +
+                         " has a coordinate that is not a finite number");
   const auto r = dispatchElement(mesh.elementType,
                                  [&](auto elem) { return minJacobian<decltype(elem)>(mesh); });
   if (r.val <= -kJacobianOverflow)
     throw InputError(mesh.source + ": element " + std::to_string(mesh.elementId(r.loc)) +
                      ": its Jacobian determinant is not a finite number in double precision "
                      "(coordinates too large: give the model in other units)");
-  // Relative threshold: the Jacobian scales with the element area.
-  double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
-  for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
-    xmin = std::min(xmin, mesh.x(n));
-    xmax = std::max(xmax, mesh.x(n));
-    ymin = std::min(ymin, mesh.y(n));
-    ymax = std::max(ymax, mesh.y(n));
+  // Relative threshold: the Jacobian scales with the element area (volume in 3D).
+  double scale = 1.0 / mesh.numElements();
+  for (int i = 0; i < mesh.dim(); ++i) {
+    double lo = 1e300, hi = -1e300;
+    for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
+      lo = std::min(lo, mesh.coordinate(n, i));
+      hi = std::max(hi, mesh.coordinate(n, i));
+    }
+    scale *= hi - lo;
   }
-  const double scale = (xmax - xmin) * (ymax - ymin) / mesh.numElements();
   if (!(r.val > 1e-12 * scale)) {
     std::ostringstream msg;
     msg << mesh.source << ": element " << mesh.elementIds[r.loc]
-        << " has a non-positive Jacobian determinant (" << r.val
-        << "): it is inverted, degenerate or its nodes are not counter-clockwise (nodes";
+        << " has a non-positive Jacobian determinant (" << r.val << "): it is inverted, degenerate "
+        << (mesh.dim() == 2 ? "or its nodes are not counter-clockwise"
+                            : "or its nodes are not in Gmsh's order (the first face "
+                              "counter-clockwise seen from inside the element)")
+        << " (nodes";
     for (int a = 0; a < mesh.nodesPerElement; ++a)
       msg << " " << mesh.nodeIds[mesh.node(r.loc, a)];
     msg << ")";

@@ -20,14 +20,19 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/// An element edge on a boundary: element index and local edge number (see ElementTraits edgeNode).
-/// Taking the edge from the element keeps its orientation: the outward normal is on its right.
+/// An element side on a boundary: element index and local side number (ElementTraits sideNode): an
+/// edge of a 2D element, a face of a 3D one. Taking the side from the element keeps its
+/// orientation: in 2D the outward normal is on the edge's right, in 3D the face's nodes run
+/// counter-clockwise seen from outside.
 struct BoundaryEdge {
   LocalIndex element;
-  int edge;
+  int edge; ///< local side number (edge in 2D, face in 3D)
 };
+using BoundarySide = BoundaryEdge; ///< the dimension-generic name
 
-/// Spatial dimension of an element type (its traits' kDim): 2 for the quadrilaterals.
+/// Spatial dimension of an element type (its traits' kDim): 2 for the quadrilaterals, 3 for the
+/// solids.
+
 inline int spatialDimension(ElementType type) {
   return dispatchElement(type, [](auto elem) { return decltype(elem)::kDim; });
 }
@@ -36,10 +41,11 @@ struct Mesh {
   ElementType elementType = ElementType::Quad4;
   int nodesPerElement = 4;
   std::vector<double> coordinates;      ///< dim() * numNodes, interleaved x, y (, z)
-  std::vector<LocalIndex> connectivity; ///< nodesPerElement * numElements, counter-clockwise
+  std::vector<LocalIndex> connectivity; ///< nodesPerElement * numElements (2D: counter-clockwise)
   std::vector<int> elementRegion;       ///< index into regionNames per element
   std::vector<std::string> regionNames;
-  std::map<std::string, std::vector<BoundaryEdge>> boundaries;
+  std::map<std::string, std::vector<BoundaryEdge>>
+      boundaries; ///< element sides (2D edges, 3D faces)
   std::map<std::string, std::vector<LocalIndex>> nodeSets;
   std::vector<long> nodeIds;    ///< external (file) id of each node, for messages
   std::vector<long> elementIds; ///< external (file) id of each element, for messages
@@ -63,9 +69,13 @@ struct Mesh {
   }
   double x(LocalIndex n) const { return coordinate(n, 0); }
   double y(LocalIndex n) const { return coordinate(n, 1); }
-  /// Local node k of edge `edge` of `element`.
-  LocalIndex edgeNode(const BoundaryEdge &e, int k) const;
-  int nodesPerEdge() const { return elementType == ElementType::Quad8 ? 3 : 2; }
+  double z(LocalIndex n) const { return coordinate(n, 2); } ///< 3D meshes only
+  /// Local node k of the boundary side `e` (an edge in 2D, a face in 3D) and the nodes per side.
+  LocalIndex sideNode(const BoundaryEdge &e, int k) const;
+  int nodesPerSide() const;
+  /// The 2D names of sideNode and nodesPerSide (the sides of a quadrilateral are its edges).
+  LocalIndex edgeNode(const BoundaryEdge &e, int k) const { return sideNode(e, k); }
+  int nodesPerEdge() const { return nodesPerSide(); }
   /// Sorted unique nodes of a boundary or node set; throws InputError for an unknown name.
   std::vector<LocalIndex> nodesOf(const std::string &name) const;
   bool hasBoundary(const std::string &name) const { return boundaries.count(name) != 0; }

@@ -160,7 +160,7 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
   if (form_ != MixedOperatorForm::Assembled)
     matrixFree_ =
         makeMixedMatrixFree(Exec(), mixed_, mesh_, form_ == MixedOperatorForm::PartialAssembly);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh_.elementType, "the mixed model", [&](auto elem) {
     using Elem = decltype(elem);
     ops_ = assembleBlocks ? assembleMixedOperators<Elem>(Exec(), mixed_, dgraph, map)
                           : assembleLumpedCompliance<Elem>(Exec(), mixed_, mesh_.numNodes());
@@ -194,14 +194,14 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     precMatrix_ = expandGraph<Memory>(g2, 2);
     const auto map2 = elementScatterMap<Memory>(mesh_, g2);
     assembleLumpedSchur(Exec(), ops_, 1.0 - a, precMatrix_);
-    dispatchElement(mesh_.elementType, [&](auto elem) {
+    dispatchPlaneElement(mesh_.elementType, "the mixed model", [&](auto elem) {
       using Elem = decltype(elem);
       if (a > 0.0)
         assembleLinearStiffness<Elem>(Exec(), data_, map2, precMatrix_, a);
     });
   } else {
     precMatrix_ = expandGraph<Memory>(graph_, 2);
-    dispatchElement(mesh_.elementType, [&](auto elem) {
+    dispatchPlaneElement(mesh_.elementType, "the mixed model", [&](auto elem) {
       assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, precMatrix_);
     });
   }
@@ -445,7 +445,7 @@ void MixedModel::setupDirect() {
   Kokkos::View<double ***, Memory> k12("k12", ne, nu, ns), k22("k22", ne, ns, ns),
       k22l("k22l", ne, ns, ns), kd("kd", ne, nu, nu), kg("kg", ne, nu, nu);
   const auto tau = initialStressOnDevice();
-  dispatchElement(mesh_.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh_.elementType, "the mixed model", [&](auto elem) {
     using Elem = decltype(elem);
     computeMixedElementMatrices<Elem>(Exec(), mixed_, k12, k22, k22l);
     computeLinearStiffness<Elem>(Exec(), data_, kd);

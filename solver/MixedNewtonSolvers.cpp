@@ -28,7 +28,7 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   d.mesh.coordinates = positions_; // also the AMG's rigid-body modes
   movedCoordinates(base, x_, kMixed, d.mesh.coordinates);
   Kokkos::deep_copy(precMatrix_.values, 0.0);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh_.elementType, "the nonlinear mixed model", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);
   });
   Vec zero("mixcon::nonlinear::zero", precDiag_.extent(0)),

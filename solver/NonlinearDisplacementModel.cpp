@@ -66,33 +66,35 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   LocalIndex inverted = -1;
   double fint = 0.0;
   const bool report = tangent && tangentKind_ == TangentKind::Report;
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    if (small_) {
-      if (linearStiffness_.numRows == 0) {
-        linearStiffness_ = cloneValues(tangent_);
-        Kokkos::deep_copy(linearStiffness_.values, 0.0);
-        assembleLinearStiffness<Elem>(Exec(), data_, map_, linearStiffness_);
-      }
-      multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
-      if (tangent)
-        Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
-    } else {
-      inverted =
-          law_ == ElasticLaw::SaintVenantKirchhoff
-              ? assembleNonlinear<kDisp, Elem>(
-                    Exec(), data_.mesh, SvkKernel<Elem, Memory>{data_, ConstVec(u_)}, map_, a, g_)
-              : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
-    }
-    if (report && !small_)
-      assembleReportTangent<Elem>();
-    fint = strideNorm(g_, 1, 0, 1, {}, 0);
-    addDisplacementVector(g_, kDisp, -lambda, load_);
-    if (follower_.edges.extent(0) > 0)
-      assembleFollowerPressure<kDisp, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
-                                            ConstVec(follower_.pressure), lambda, data_.thickness,
-                                            map_, a, g_);
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear displacement model", [&](auto elem) {
+        using Elem = decltype(elem);
+        if (small_) {
+          if (linearStiffness_.numRows == 0) {
+            linearStiffness_ = cloneValues(tangent_);
+            Kokkos::deep_copy(linearStiffness_.values, 0.0);
+            assembleLinearStiffness<Elem>(Exec(), data_, map_, linearStiffness_);
+          }
+          multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
+          if (tangent)
+            Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
+        } else {
+          inverted =
+              law_ == ElasticLaw::SaintVenantKirchhoff
+                  ? assembleNonlinear<kDisp, Elem>(Exec(), data_.mesh,
+                                                   SvkKernel<Elem, Memory>{data_, ConstVec(u_)},
+                                                   map_, a, g_)
+                  : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
+        }
+        if (report && !small_)
+          assembleReportTangent<Elem>();
+        fint = strideNorm(g_, 1, 0, 1, {}, 0);
+        addDisplacementVector(g_, kDisp, -lambda, load_);
+        if (follower_.edges.extent(0) > 0)
+          assembleFollowerPressure<kDisp, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
+                                                ConstVec(follower_.pressure), lambda,
+                                                data_.thickness, map_, a, g_);
+      });
   return finishEvaluate(lambda, tangent, inverted, fint, g_, kDisp, isConstrained_,
                         data_.mesh.coordinates, u_, start);
 }
@@ -148,14 +150,16 @@ void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
 
 std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
   Kokkos::View<double *[kStress], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    if (small_)
-      recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_}, s);
-    else
-      recoverNodalStress<Elem>(Exec(), data_.mesh,
-                               AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear displacement model", [&](auto elem) {
+        using Elem = decltype(elem);
+        if (small_)
+          recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_},
+                                   s);
+        else
+          recoverNodalStress<Elem>(Exec(), data_.mesh,
+                                   AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
+      });
   auto h = copyToHost(s);
   return std::vector<double>(h.data(), h.data() + h.size());
 }

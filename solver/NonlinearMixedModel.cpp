@@ -178,40 +178,42 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
     Kokkos::deep_copy(jacobianState_, x_);
     Kokkos::deep_copy(couplingBlock_.values, 0.0);
     Kokkos::deep_copy(stressBlock_.values, 0.0);
-    dispatchElement(mesh_.elementType, [&](auto elem) {
-      using Elem = decltype(elem);
-      if (form_ == MixedForm::Current)
-        assembleMixedStressRows<Elem>(
-            Exec(), reference_.mesh, reference_.thickness,
-            MixedCurrentLaw<Memory>{reference_.material, reference_.stiffness,
-                                    reference_.compliance, stabilization_},
-            ConstVec(x_), ConstVec(), map_, couplingBlock_, stressBlock_);
-      else
-        assembleMixedStressRows<Elem>(
-            Exec(), current_.mesh, current_.thickness,
-            MixedIncrementLaw<Memory>{current_.material, current_.stiffness, current_.compliance,
-                                      stabilization_},
-            ConstVec(x_), ConstVec(tau_), map_, couplingBlock_, stressBlock_);
-    });
+    dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model",
+                         [&](auto elem) {
+                           using Elem = decltype(elem);
+                           if (form_ == MixedForm::Current)
+                             assembleMixedStressRows<Elem>(
+                                 Exec(), reference_.mesh, reference_.thickness,
+                                 MixedCurrentLaw<Memory>{reference_.material, reference_.stiffness,
+                                                         reference_.compliance, stabilization_},
+                                 ConstVec(x_), ConstVec(), map_, couplingBlock_, stressBlock_);
+                           else
+                             assembleMixedStressRows<Elem>(
+                                 Exec(), current_.mesh, current_.thickness,
+                                 MixedIncrementLaw<Memory>{current_.material, current_.stiffness,
+                                                           current_.compliance, stabilization_},
+                                 ConstVec(x_), ConstVec(tau_), map_, couplingBlock_, stressBlock_);
+                         });
   }
   LocalIndex inverted = -1;
   double fint = 0.0;
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    const bool current = form_ == MixedForm::Current;
-    if (current)
-      inverted =
-          assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_, map_, a, g_);
-    else
-      inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
-                                              stabilization_, map_, a, g_);
-    fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
-    addDisplacementVector(g_, kMixed, -lambda, load_);
-    if (follower_.edges.extent(0) > 0)
-      assembleFollowerPressure<kMixed, Elem>(
-          Exec(), current ? reference_.mesh : current_.mesh, ConstVec(x_), follower_.edges,
-          ConstVec(follower_.pressure), lambda, data_.thickness, map_, a, g_);
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
+        using Elem = decltype(elem);
+        const bool current = form_ == MixedForm::Current;
+        if (current)
+          inverted = assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_,
+                                                map_, a, g_);
+        else
+          inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
+                                                  stabilization_, map_, a, g_);
+        fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
+        addDisplacementVector(g_, kMixed, -lambda, load_);
+        if (follower_.edges.extent(0) > 0)
+          assembleFollowerPressure<kMixed, Elem>(
+              Exec(), current ? reference_.mesh : current_.mesh, ConstVec(x_), follower_.edges,
+              ConstVec(follower_.pressure), lambda, data_.thickness, map_, a, g_);
+      });
   return finishEvaluate(lambda, tangent, inverted, fint, g_, kMixed, constrained5_,
                         form_ == MixedForm::Current ? reference_.mesh.coordinates
                                                     : current_.mesh.coordinates,
@@ -224,14 +226,15 @@ void NonlinearMixedModel::applyJacobian(const ConstVec &v, const Vec &y) const {
     return;
   }
   const ConstVec state(jacobianState_);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    if (form_ == MixedForm::Current)
-      applyMixedCurrentJacobian<Elem>(Exec(), reference_, state, stabilization_, v, y, colors_);
-    else
-      applyMixedIncrementJacobian<Elem>(Exec(), current_, ConstVec(tau_), state, stabilization_, v,
-                                        y, colors_);
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
+        using Elem = decltype(elem);
+        if (form_ == MixedForm::Current)
+          applyMixedCurrentJacobian<Elem>(Exec(), reference_, state, stabilization_, v, y, colors_);
+        else
+          applyMixedIncrementJacobian<Elem>(Exec(), current_, ConstVec(tau_), state, stabilization_,
+                                            v, y, colors_);
+      });
 }
 
 LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) {
@@ -269,15 +272,17 @@ void NonlinearMixedModel::commit() {
   Vec load;
   if (stressUpdate_ == StressUpdate::Projected) {
     load = Vec("mixcon::nonlinear::projectionLoad", tau_.extent(0));
-    dispatchElement(mesh_.elementType, [&](auto elem) {
-      using Elem = decltype(elem);
-      pushForwardProjectionLoad<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), load);
-    });
+    dispatchPlaneElement(
+        mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
+          using Elem = decltype(elem);
+          pushForwardProjectionLoad<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), load);
+        });
   } else {
-    dispatchElement(mesh_.elementType, [&](auto elem) {
-      using Elem = decltype(elem);
-      pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
-    });
+    dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model",
+                         [&](auto elem) {
+                           using Elem = decltype(elem);
+                           pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
+                         });
   }
   movedCoordinates(current_.mesh.coordinates, x_, kMixed, current_.mesh.coordinates);
   Vec increment("mixcon::nonlinear::increment", committed_.extent(0));
@@ -294,10 +299,11 @@ void NonlinearMixedModel::projectStress(const Vec &load) {
   if (mass_.numRows == 0)
     mass_ = expandGraph<Memory>(graph_, 1);
   Kokkos::deep_copy(mass_.values, 0.0);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
+        using Elem = decltype(elem);
+        assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
+      });
   const LocalIndex nn = mesh_.numNodes();
   Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
       t("mixcon::nonlinear::projected", nn);
@@ -387,15 +393,16 @@ Kokkos::View<double *, Memory> NonlinearMixedModel::stressOnly() const {
 
 std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
   std::vector<double> out;
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    using Elem = decltype(elem);
-    const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpInterpolated", ne,
-                                                Elem::kNumQp);
-    interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
-    auto h = copyToHost(sq);
-    out.assign(h.data(), h.data() + h.size());
-  });
+  dispatchPlaneElement(
+      mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
+        using Elem = decltype(elem);
+        const LocalIndex ne = mesh_.numElements();
+        Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpInterpolated", ne,
+                                                    Elem::kNumQp);
+        interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
+        auto h = copyToHost(sq);
+        out.assign(h.data(), h.data() + h.size());
+      });
   return out;
 }
 

@@ -90,7 +90,7 @@ void NonlinearModel::setStiffnessScale(
   // RMS diagonal of K^L on the reference configuration, on the model's own pattern: the force a
   // unit displacement of one node produces.
   auto k = expandGraph<Memory>(graph, kDisp);
-  dispatchElement(mesh_.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear model", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
   });
   Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
@@ -133,7 +133,7 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
                                           std::vector<double> &stress, int &pointsPerElement,
                                           std::vector<double> &gradient,
                                           std::vector<double> &currentCoordinates) const {
-  dispatchElement(mesh_.elementType, [&](auto elem) {
+  dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear model", [&](auto elem) {
     using Elem = decltype(elem);
     const LocalIndex ne = mesh_.numElements();
     Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);

@@ -123,7 +123,7 @@ Eigen::VectorXd displacementForce(const Fixture &f, const Eigen::VectorXd &u, co
   Kokkos::View<double *, Memory> g("g", u.size());
   const Kokkos::View<const double *, Memory> du = toView(u);
   LocalIndex inverted = -2;
-  dispatchElement(f.mesh.elementType, [&](auto elem) {
+  dispatchPlaneElement(f.mesh.elementType, "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     inverted = law == ElasticLaw::Almansi
                    ? assembleAlmansi<Elem>(Exec(), f.data, du, map, a, g)
@@ -185,7 +185,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST_P(ElementDriverTest, ElementStiffnessMatchesHostReference) {
   const auto [type, analysis] = GetParam();
   const Fixture f = makeDriverFixture(type, analysis);
-  dispatchElement(type, [&](auto elem) {
+  dispatchPlaneElement(type, "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     const LocalIndex ne = f.mesh.numElements();
@@ -215,7 +215,7 @@ TEST_P(ElementDriverTest, AssembledStiffnessMatchesDenseReference) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   auto a = expandGraph<Memory>(g, 2);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
-  dispatchElement(type, [&](auto elem) {
+  dispatchPlaneElement(type, "this 2D test", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), f.data, map, a, 0.5);
   });
   const Eigen::MatrixXd dense = 0.5 * denseReference(f);
@@ -229,7 +229,7 @@ TEST_P(ElementDriverTest, ResidualAndPointStressMatchHostReference) {
   const Eigen::VectorXd u = randomVector(n, 11);
   const auto du = toView(u);
   Kokkos::View<double *, Memory> fi("fi", n);
-  dispatchElement(type, [&](auto elem) {
+  dispatchPlaneElement(type, "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     assembleInternalForce<Elem>(Exec(), f.data, Kokkos::View<const double *, Memory>(du), fi);
     // Stress at the quadrature points against C B u of the host reference.

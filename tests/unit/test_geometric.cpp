@@ -87,7 +87,8 @@ TEST_P(GeometricTest, StiffnessAndStressForceMatchReferenceAndAreTheEnergyTangen
   Kokkos::View<double ***, Memory> kg("kg", ne, 2 * n, 2 * n);
   Kokkos::View<double *, Memory> force("force", 2 * nn);
   withDeviceField(field, fx, [&](const auto &f) {
-    dispatchElement(type, [&](auto elem) { runKernels<decltype(elem)>(fx, f, kg, force); });
+    dispatchPlaneElement(type, "this 2D test",
+                         [&](auto elem) { runKernels<decltype(elem)>(fx, f, kg, force); });
   });
   auto hg = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), kg);
   Eigen::VectorXd fref = Eigen::VectorXd::Zero(2 * nn);

@@ -56,7 +56,7 @@ INSTANTIATE_TEST_SUITE_P(Elements, KernelTest, test::bothElements(), test::eleme
 
 TEST_P(KernelTest, ElementStiffnessMatchesHostReference) {
   const Fixture f = makeFixture(GetParam());
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     const auto h = kernelElementMatrices<Elem>(f);
@@ -73,7 +73,7 @@ TEST_P(KernelTest, ElementStiffnessMatchesHostReference) {
 
 TEST_P(KernelTest, ElementStiffnessHasExactlyThreeRigidBodyModes) {
   const Fixture f = makeFixture(GetParam());
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     const auto h = kernelElementMatrices<Elem>(f);
@@ -97,7 +97,7 @@ TEST_P(KernelTest, AssembledMatrixMatchesDenseReferenceAssembly) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   auto a = expandGraph<Memory>(g, 2);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), f.data, map, a);
   });
   const int n = 2 * f.mesh.numNodes();
@@ -145,7 +145,7 @@ TEST_P(KernelTest, AssembledMatrixMatchesDenseReferenceAssembly) {
 TEST_P(KernelTest, BodyForceAndInternalForceMatchReference) {
   const Fixture f = makeFixture(GetParam());
   const int n = 2 * f.mesh.numNodes();
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     // Body force f = (x + 2y, 3 - x) at the quadrature points.
     Kokkos::View<double **[2], Memory> xq("xq", f.mesh.numElements(), Elem::kNumQp);
@@ -210,7 +210,7 @@ TEST_P(KernelTest, EdgeLoadsIntegrateTractionAndPressure) {
   const auto &edges = mesh.boundaries.at("inner");
   const auto batch = uniformEdgeLoads<Memory>(edges, 0.25, -0.5, p);
   Kokkos::View<double *, Memory> rhs("rhs", 2 * mesh.numNodes());
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     assembleEdgeLoads<decltype(elem)>(Exec(), dev, batch.edges, batch.load, t, rhs);
   });
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), rhs);
@@ -239,7 +239,7 @@ TEST_P(KernelTest, StressRecoveryIsExactForLinearDisplacement) {
   Kokkos::deep_copy(u, hu);
   const double eps[3] = {1e-3, 4e-4, 1.5e-3};
   Kokkos::View<double *[3], Memory> nodal("nodal", f.mesh.numNodes());
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     using Elem = decltype(elem);
     Kokkos::View<double **[3], Memory> gp("gp", f.mesh.numElements(), Elem::kNumQp);
     gaussPointStress<Elem>(Exec(), f.data, Kokkos::View<const double *, Memory>(u), gp);
@@ -255,7 +255,7 @@ TEST_P(KernelTest, StressRecoveryIsExactForLinearDisplacement) {
   // Single material, so that the nodal average of a constant stress is that stress.
   ElementData<Memory> one = f.data;
   one.material = Kokkos::View<int *, Memory>("zero", f.mesh.numElements());
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     nodalStressRecovery<decltype(elem)>(Exec(), one, Kokkos::View<const double *, Memory>(u),
                                         nodal);
   });

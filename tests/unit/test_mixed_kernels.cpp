@@ -69,7 +69,7 @@ DenseBlocks denseBlocks(const Fixture &f) {
 MixedOperators<Memory> kernelOperators(const Fixture &f, const MixedElementData<Memory> &d) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
-  return dispatchElement(f.mesh.elementType, [&](auto elem) {
+  return dispatchPlaneElement(f.mesh.elementType, "this 2D test", [&](auto elem) {
     return assembleMixedOperators<decltype(elem)>(Exec(), d, toDevice<Memory>(g), map);
   });
 }
@@ -85,7 +85,7 @@ TEST_P(MixedKernelTest, ElementBlocksMatchHostReference) {
   const int n = f.mesh.nodesPerElement, ne = f.mesh.numElements();
   Kokkos::View<double ***, Memory> k12("k12", ne, 2 * n, 3 * n), k22("k22", ne, 3 * n, 3 * n),
       k22l("k22l", ne, 3 * n, 3 * n);
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     computeMixedElementMatrices<decltype(elem)>(Exec(), d, k12, k22, k22l);
   });
   auto h12 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), k12);
@@ -154,7 +154,7 @@ TEST_P(MixedKernelTest, AssembledStabilizedLumpedSchurMatchesDenseProduct) {
   auto s = expandGraph<Memory>(g2, 2);
   assembleLumpedSchur(Exec(), ops, 1.0 - a, s);
   const auto map2 = elementScatterMap<Memory>(f.mesh, g2);
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), f.data, map2, s, a);
   });
   const Eigen::MatrixXd expected =
@@ -172,7 +172,7 @@ TEST_P(MixedKernelTest, StressForceIsCouplingTimesNodalStress) {
   const int nn = f.mesh.numNodes();
   const Eigen::VectorXd s = 100.0 * randomVector(3 * nn, 5);
   Kokkos::View<double *, Memory> fnl("fnl", 2 * nn);
-  dispatchElement(GetParam(), [&](auto elem) {
+  dispatchPlaneElement(GetParam(), "this 2D test", [&](auto elem) {
     assembleMixedStressForce<decltype(elem)>(Exec(), f.data, ConstDeviceVector(toView(s)), fnl);
   });
   EXPECT_LT(relativeError(toEigen(fnl), denseBlocks(f).k12 * s), 1e-12);

@@ -36,7 +36,7 @@ Fixture threeMaterialFixture(ElementType type, int nx, int ny) {
 MixedOperators<Memory> assembled(const Fixture &f, const MixedElementData<Memory> &d) {
   const NodeGraph g = buildNodeGraph(f.mesh);
   const auto map = elementScatterMap<Memory>(f.mesh, g);
-  return dispatchElement(f.mesh.elementType, [&](auto elem) {
+  return dispatchPlaneElement(f.mesh.elementType, "this 2D test", [&](auto elem) {
     return assembleMixedOperators<decltype(elem)>(Exec(), d, toDevice<Memory>(g), map);
   });
 }
