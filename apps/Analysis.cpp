@@ -32,29 +32,37 @@ void applyConditions(const Problem &p, ModelBase &model, NonlinearModel *nonline
         model.prescribe(n, 0, *bc.ux);
       if (bc.uy)
         model.prescribe(n, 1, *bc.uy);
+      if (bc.uz)
+        model.prescribe(n, 2, *bc.uz);
     }
   for (const auto &l : p.loads) {
     switch (l.kind) {
     case LoadKind::Traction:
-      model.addEdgeLoad(p.mesh.boundaries.at(l.target), l.vector[0], l.vector[1], 0.0);
+      model.addSideLoad(p.mesh.boundaries.at(l.target), l.vector, 0.0);
       break;
     case LoadKind::Pressure:
       if (nonlinear && l.follower)
         nonlinear->addFollowerPressure(p.mesh.boundaries.at(l.target), l.pressure);
       else
-        model.addEdgeLoad(p.mesh.boundaries.at(l.target), 0.0, 0.0, l.pressure);
+        model.addSideLoad(p.mesh.boundaries.at(l.target), {0.0, 0.0, 0.0}, l.pressure);
       break;
     case LoadKind::Force:
       for (LocalIndex n : p.mesh.nodesOf(l.target))
-        model.addNodalForce(n, l.vector[0], l.vector[1]);
+        model.addNodalForce(n, l.vector);
       break;
     case LoadKind::BodyForce: {
       const int region = p.mesh.regionIndex(l.target);
       const auto f = l.vector;
       const Mesh &mesh = p.mesh;
-      model.addBodyForce([&mesh, region, f](double, double, LocalIndex e) {
-        return mesh.elementRegion[e] == region ? f : std::array<double, 2>{0.0, 0.0};
-      });
+      if (mesh.dim() == 3)
+        model.addBodyForce3D([&mesh, region, f](double, double, double, LocalIndex e) {
+          return mesh.elementRegion[e] == region ? f : std::array<double, 3>{0.0, 0.0, 0.0};
+        });
+      else
+        model.addBodyForce([&mesh, region, f](double, double, LocalIndex e) {
+          return mesh.elementRegion[e] == region ? std::array<double, 2>{f[0], f[1]}
+                                                 : std::array<double, 2>{0.0, 0.0};
+        });
       break;
     }
     }
@@ -104,7 +112,7 @@ std::vector<double> boundaryShares(const Mesh &mesh, const std::vector<BoundaryE
 std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   std::ostringstream s;
   s << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
-    << " " << (p.mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") << " elements, "
+    << " " << elementTypeName(p.mesh.elementType) << " elements, " << p.mesh.dim() << "D "
     << (mixed ? "mixed model, " : "displacement model, ")
     << (p.model.geometricNonlinearity ? "geometrically nonlinear, " : "")
     << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained()
@@ -554,10 +562,12 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
 
   // Materials per element through regions.
   std::vector<PlaneMatrix> stiffness;
+  std::vector<SolidMatrix> solidStiffness;
   std::vector<int> materialOfRegion(p.mesh.regionNames.size(), -1);
   for (const auto &m : p.materials) {
     materialOfRegion[p.mesh.regionIndex(m.region)] = static_cast<int>(stiffness.size());
     stiffness.push_back(m.stiffness);
+    solidStiffness.push_back(m.solid);
   }
   std::vector<int> elementMaterial(p.mesh.numElements());
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
@@ -579,8 +589,11 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
                                               p.model.stressElement.value_or(p.mesh.elementType));
     base = mixedModel.get();
   } else {
-    displacementModel = std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial,
-                                                                  stiffness, p.model.thickness);
+    displacementModel =
+        p.mesh.dim() == 3
+            ? std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial, solidStiffness)
+            : std::make_unique<LinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
+                                                        p.model.thickness);
     base = displacementModel.get();
   }
   ModelBase &model = *base;
@@ -625,8 +638,11 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     StepFields f;
     f.displacement = model.displacementHost();
     f.stress = model.nodalStressHost();
-    f.stressSource = mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
-                           : "2x2 Gauss-point stresses extrapolated to the nodes and averaged";
+    f.stressSource =
+        mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
+              : (p.mesh.dim() == 3
+                     ? "2x2x2 Gauss-point stresses extrapolated to the nodes and averaged"
+                     : "2x2 Gauss-point stresses extrapolated to the nodes and averaged");
     f.gaussStressSource = "C eps(u) from the displacements";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);

@@ -145,13 +145,15 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
   } else if (p.verification.type == "cantilever") {
     const auto &s = p.verification;
     const auto nodes = mesh.nodesOf(s.tipNodeSet);
+    const int dim = mesh.dim();
     double tip = 0.0;
     for (LocalIndex n : nodes)
-      tip += u[2 * n + 1];
+      tip += u[dim * static_cast<std::size_t>(n) + 1];
     tip /= static_cast<double>(nodes.size());
-    const double ref =
-        timoshenkoTipDeflection(loadFactor * s.load, s.length, s.height, p.model.thickness,
-                                mat.youngs, mat.poisson, planeStrain);
+    // 3D: a rectangular section of `width` (z) x `height` (y), neither plane stress nor strain.
+    const double ref = timoshenkoTipDeflection(loadFactor * s.load, s.length, s.height,
+                                               dim == 3 ? s.width : p.model.thickness, mat.youngs,
+                                               mat.poisson, dim == 2 && planeStrain);
     v.title = "Cantilever tip deflection vs Timoshenko beam theory (kappa = 5/6)";
     add("tip deflection (mean over '" + s.tipNodeSet + "')", tip, ref, std::abs(ref));
   }

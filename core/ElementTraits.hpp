@@ -181,7 +181,7 @@ struct Hex8 {
   static constexpr int kNumQp = 8;
   static constexpr int kNumSides = 6;
   static constexpr int kNodesPerSide = 4;
-  static constexpr int kNumSideQp = 4; ///< 2x2 Gauss on a face
+  using Side = Quad4; ///< a face: the bilinear quadrilateral of its 4 nodes (and its 2x2 rule)
   static constexpr const char *kName = "hex8";
 
   /// Local node k (0..3) of face f (see the struct's comment for the numbering).
@@ -299,7 +299,7 @@ template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
 }
 
 /// The name of an element type (its traits' kName).
-inline std::string elementName(ElementType type) {
+inline std::string elementTypeName(ElementType type) {
   return dispatchElement(type, [](auto elem) { return std::string(decltype(elem)::kName); });
 }
 

@@ -74,6 +74,11 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   p.mesh = detail::readMesh(top.required("mesh"), baseDirectory);
   if (top.has("model"))
     p.model = detail::readModel(top["model"], p.mesh.elementType);
+  if (p.mesh.dim() == 3) // 3D runs so far: the linear displacement model (issue 17, step by step)
+    for (const char *key : {"contact", "hybrid"})
+      if (top.has(key))
+        top[key].fail(std::string(key) + " is 2D only so far; 3D meshes run the linear "
+                                         "displacement model (issue 17)");
   detail::readMaterials(top, p);
 
   const YamlItem bcs = top.required("boundary_conditions");
@@ -81,7 +86,13 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
     bcs.requireSequence();
   for (std::size_t i = 0; i < bcs.node.size(); ++i) {
     const YamlItem b = bcs.at(i);
-    b.allowOnly({"boundary", "node_set", "ux", "uy"});
+    const int dim = p.mesh.dim();
+    if (dim == 2 && b.has("uz"))
+      b["uz"].fail("uz applies to 3D meshes; this mesh is 2D");
+    if (dim == 3)
+      b.allowOnly({"boundary", "node_set", "ux", "uy", "uz"});
+    else
+      b.allowOnly({"boundary", "node_set", "ux", "uy"});
     if (b.has("boundary") == b.has("node_set"))
       b.fail("give exactly one of 'boundary' or 'node_set'");
     DirichletSpec d;
@@ -93,8 +104,11 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
       d.ux = b["ux"].number();
     if (b.has("uy"))
       d.uy = b["uy"].number();
-    if (!d.ux && !d.uy)
-      b.fail("a boundary condition needs 'ux' and/or 'uy'");
+    if (b.has("uz"))
+      d.uz = b["uz"].number();
+    if (!d.ux && !d.uy && !d.uz)
+      b.fail(dim == 2 ? "a boundary condition needs 'ux' and/or 'uy'"
+                      : "a boundary condition needs one or more of 'ux', 'uy', 'uz'");
     p.dirichlet.push_back(d);
   }
   if (p.dirichlet.empty())
@@ -122,7 +136,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
         checkNotEmpty(p.mesh, t, s.target);
         if (l.has("traction")) {
           s.kind = LoadKind::Traction;
-          s.vector = l["traction"].pair();
+          s.vector = l["traction"].vector(p.mesh.dim());
         } else {
           s.kind = LoadKind::Pressure;
           s.pressure = l["pressure"].number();
@@ -132,7 +146,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
         s.target = t.string();
         checkTarget(p.mesh, t, s.target);
         s.kind = LoadKind::Force;
-        s.vector = l["force"].pair();
+        s.vector = l["force"].vector(p.mesh.dim());
       } else {
         const YamlItem t = l.required("region");
         s.target = t.string();
@@ -144,7 +158,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
                  "' is empty (no elements): the body force would act on "
                  "nothing");
         s.kind = LoadKind::BodyForce;
-        s.vector = l["body_force"].pair();
+        s.vector = l["body_force"].vector(p.mesh.dim());
       }
       if (l.has("follower")) {
         if (s.kind != LoadKind::Pressure)

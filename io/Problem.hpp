@@ -39,7 +39,8 @@ struct ModelSpec {
 struct MaterialSpec {
   std::string region;
   std::string type;      ///< isotropic | orthotropic | anisotropic
-  PlaneMatrix stiffness; ///< [C] in global axes for the model's plane analysis
+  PlaneMatrix stiffness; ///< 2D: [C] in global axes for the model's plane analysis
+  SolidMatrix solid{};   ///< 3D: the 6 x 6 Voigt [C] in global axes
   double youngs = 0.0;   ///< isotropic only (for verification); 0 otherwise
   double poisson = 0.0;  ///< isotropic only
   int line = 0;
@@ -48,7 +49,7 @@ struct MaterialSpec {
 /// Prescribed displacement components on a boundary or node set (scaled by the load factor).
 struct DirichletSpec {
   std::string target;
-  std::optional<double> ux, uy;
+  std::optional<double> ux, uy, uz; ///< uz: 3D meshes only
   int line = 0;
 };
 
@@ -56,8 +57,8 @@ enum class LoadKind { Traction, Pressure, Force, BodyForce };
 
 struct LoadSpec {
   LoadKind kind = LoadKind::Traction;
-  std::string target; ///< boundary, node set or region
-  std::array<double, 2> vector{0.0, 0.0};
+  std::string target;                          ///< boundary, node set or region
+  std::array<double, 3> vector{0.0, 0.0, 0.0}; ///< traction, force, body force (2D: z = 0)
   double pressure = 0.0;
   /// Pressure only, geometrically nonlinear analyses: normal to the deformed boundary (default)
   /// or a dead load on the reference geometry.
@@ -86,6 +87,7 @@ struct VerificationSpec {
   std::string type; ///< empty: none; lame_cylinder | cantilever
   double innerRadius = 0, outerRadius = 0, innerPressure = 0, outerPressure = 0;
   double length = 0, height = 0, load = 0;
+  double width = 0; ///< cantilever in 3D: the section's width (2D: the model's thickness)
   std::string tipNodeSet;
   double tolerance = 0.02;
 };

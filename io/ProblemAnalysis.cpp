@@ -236,6 +236,8 @@ void readVerification(const YamlItem &v, Problem &p) {
   s.type = v.required("type").choice({"lame_cylinder", "cantilever"});
   if (v.has("tolerance"))
     s.tolerance = v["tolerance"].positive();
+  if (s.type == "lame_cylinder" && p.mesh.dim() == 3)
+    v["type"].fail("lame_cylinder is the 2D closed form (plane stress or strain); this mesh is 3D");
   if (s.type == "lame_cylinder") {
     v.allowOnly(
         {"type", "tolerance", "inner_radius", "outer_radius", "inner_pressure", "outer_pressure"});
@@ -244,9 +246,14 @@ void readVerification(const YamlItem &v, Problem &p) {
     s.innerPressure = v.required("inner_pressure").number();
     s.outerPressure = v.has("outer_pressure") ? v["outer_pressure"].number() : 0.0;
   } else {
-    v.allowOnly({"type", "tolerance", "length", "height", "load", "tip"});
+    if (p.mesh.dim() == 3)
+      v.allowOnly({"type", "tolerance", "length", "height", "width", "load", "tip"});
+    else
+      v.allowOnly({"type", "tolerance", "length", "height", "load", "tip"});
     s.length = v.required("length").positive();
     s.height = v.required("height").positive();
+    if (p.mesh.dim() == 3) // 2D: the width is the model's thickness
+      s.width = v.required("width").positive();
     s.load = v.required("load").number();
     s.tipNodeSet = v.required("tip").string();
     checkTarget(p.mesh, v["tip"], s.tipNodeSet);

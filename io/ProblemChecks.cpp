@@ -76,16 +76,19 @@ void checkDuplicateKeys(const YAML::Node &root, const std::string &file) {
 
 void checkDirichletConflicts(const Mesh &mesh, const std::vector<DirichletSpec> &dirichlet,
                              const std::string &file, std::vector<std::string> &warnings) {
-  const char *names[2] = {"ux", "uy"};
+  const char *names[3] = {"ux", "uy", "uz"};
+  const auto component = [](const DirichletSpec &d, int c) -> const std::optional<double> & {
+    return c == 0 ? d.ux : (c == 1 ? d.uy : d.uz);
+  };
   auto entry = [&](std::size_t k) {
     return "boundary_conditions[" + std::to_string(k) + "] (line " +
            std::to_string(dirichlet[k].line) + ", on '" + dirichlet[k].target + "')";
   };
-  for (int c = 0; c < 2; ++c) {
+  for (int c = 0; c < mesh.dim(); ++c) {
     std::map<LocalIndex, std::size_t> owner; // node -> first entry prescribing component c
     std::set<std::pair<std::size_t, std::size_t>> warned;
     for (std::size_t k = 0; k < dirichlet.size(); ++k) {
-      const auto &value = c == 0 ? dirichlet[k].ux : dirichlet[k].uy;
+      const auto &value = component(dirichlet[k], c);
       if (!value)
         continue;
       for (LocalIndex n : mesh.nodesOf(dirichlet[k].target)) {
@@ -93,7 +96,7 @@ void checkDirichletConflicts(const Mesh &mesh, const std::vector<DirichletSpec> 
         if (inserted)
           continue;
         const std::size_t j = it->second;
-        const double other = *(c == 0 ? dirichlet[j].ux : dirichlet[j].uy);
+        const double other = *component(dirichlet[j], c);
         if (other != *value)
           throw InputError(file + ":" + std::to_string(dirichlet[k].line) + ": " + entry(k) +
                            " prescribes " + names[c] + " = " + formatValue(*value) + " at node " +

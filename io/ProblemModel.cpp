@@ -18,6 +18,18 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
     s.formulation = m["formulation"].choice({"displacement", "mixed"}) == "mixed"
                         ? Formulation::Mixed
                         : Formulation::Displacement;
+  if (spatialDimension(meshElement) == 3) {
+    // 3D runs so far: the linear displacement model (issue 17, step by step).
+    const char *so = " is 2D only so far; 3D meshes run the linear displacement model (issue 17)";
+    if (s.formulation == Formulation::Mixed)
+      m["formulation"].fail(std::string("the mixed model") + so);
+    if (m.has("geometric_nonlinearity") && m["geometric_nonlinearity"].boolean())
+      m["geometric_nonlinearity"].fail(std::string("geometric nonlinearity") + so);
+    for (const char *key : {"analysis", "thickness"})
+      if (m.has(key))
+        m[key].fail(std::string(key) + " applies to 2D meshes (plane stress or strain of a "
+                                       "slice); this mesh is 3D");
+  }
   for (const char *key : {"compliance", "stabilization", "stress_element", "operators"})
     if (m.has(key) && s.formulation != Formulation::Mixed)
       m[key].fail(std::string(key) + " applies to formulation: mixed only");
@@ -93,12 +105,106 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   return s;
 }
 
-MaterialSpec readMaterial(const YamlItem &m, PlaneAnalysis analysis) {
+namespace {
+
+/// The orientation of a 3D material's axes: `axes: [[a1], [a2]]` (material axis 1, and a vector in
+/// the 1-2 plane: axis 2 is its part normal to a1, axis 3 = a1 x a2), or `angles: [a, b, c]`
+/// (degrees: R = Rz(a) Ry(b) Rx(c), rotations about the global axes), or neither (the global axes).
+Rotation readOrientation(const YamlItem &m) {
+  if (m.has("axes") && m.has("angles"))
+    m["angles"].fail("give the material axes by 'axes' or by 'angles', not both");
+  if (m.has("angles")) {
+    const auto a = m["angles"].vector(3);
+    const double r = M_PI / 180.0;
+    return matmul(rotationAboutZ(a[0] * r),
+                  matmul(rotationAboutY(a[1] * r), rotationAboutX(a[2] * r)));
+  }
+  if (!m.has("axes"))
+    return identity<3>();
+  const YamlItem axes = m["axes"];
+  if (!axes.node.IsSequence() || axes.node.size() != 2)
+    axes.fail("expected two vectors [[x, y, z], [x, y, z]]: material axis 1 and a vector in the "
+              "1-2 plane");
+  const auto a1 = axes.at(0).vector(3), a2 = axes.at(1).vector(3);
+  const auto norm = [](const std::array<double, 3> &v) {
+    return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  };
+  const double n1 = norm(a1);
+  if (!(n1 > 0.0) || !std::isfinite(n1))
+    axes.at(0).fail("material axis 1 must be a non-zero vector");
+  std::array<double, 3> e1{a1[0] / n1, a1[1] / n1, a1[2] / n1};
+  const double d = e1[0] * a2[0] + e1[1] * a2[1] + e1[2] * a2[2];
+  std::array<double, 3> e2{a2[0] - d * e1[0], a2[1] - d * e1[1], a2[2] - d * e1[2]};
+  const double n2 = norm(e2);
+  if (!(n2 > 1e-8 * norm(a2)) || !std::isfinite(n2))
+    axes.at(1).fail("the second vector must not be parallel to material axis 1");
+  for (double &c : e2)
+    c /= n2;
+  const std::array<double, 3> e3{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0]};
+  Rotation r{};
+  for (int i = 0; i < 3; ++i) { // columns: the material axes in global components
+    r.m[i][0] = e1[i];
+    r.m[i][1] = e2[i];
+    r.m[i][2] = e3[i];
+  }
+  return r;
+}
+
+/// A material of a 3D mesh: the 6 x 6 stiffness in global axes.
+MaterialSpec readSolidMaterial(const YamlItem &m, MaterialSpec s) {
+  if (s.type == "isotropic") {
+    m.allowOnly({"region", "type", "E", "nu"});
+    s.youngs = m.required("E").positive();
+    s.poisson = m.required("nu").number();
+    if (!(s.poisson > -1.0 && s.poisson < 0.5))
+      m["nu"].fail("Poisson's ratio must lie in (-1, 0.5)");
+    s.solid = IsotropicMaterial{s.youngs, s.poisson}.stiffness();
+  } else if (s.type == "orthotropic") {
+    m.allowOnly({"region", "type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23",
+                 "axes", "angles"});
+    OrthotropicConstants k{};
+    k.e1 = m.required("E1").positive();
+    k.e2 = m.required("E2").positive();
+    k.e3 = m.required("E3").positive();
+    k.g12 = m.required("G12").positive();
+    k.g13 = m.required("G13").positive();
+    k.g23 = m.required("G23").positive();
+    k.nu12 = m.required("nu12").number();
+    k.nu13 = m.required("nu13").number();
+    k.nu23 = m.required("nu23").number();
+    s.solid = OrthotropicMaterial{k, readOrientation(m)}.stiffness();
+  } else {
+    std::vector<const char *> keys{"region", "type", "axes", "angles"};
+    static const char *const kNames[21] = {"C11", "C12", "C13", "C14", "C15", "C16", "C22",
+                                           "C23", "C24", "C25", "C26", "C33", "C34", "C35",
+                                           "C36", "C44", "C45", "C46", "C55", "C56", "C66"};
+    keys.insert(keys.end(), std::begin(kNames), std::end(kNames));
+    m.allowOnly(keys);
+    AnisotropicConstants k{};
+    for (int i = 0; i < 21; ++i) { // the diagonal is required, couplings default to 0
+      const std::string name = kNames[i];
+      const bool diagonal = name[1] == name[2];
+      k.c[i] = diagonal ? m.required(kNames[i]).number()
+                        : (m.has(kNames[i]) ? m[kNames[i]].number() : 0.0);
+    }
+    s.solid = AnisotropicMaterial{k, readOrientation(m)}.stiffness();
+  }
+  if (!isSymmetricPositiveDefinite(s.solid))
+    m.fail("the material's constitutive matrix is not positive definite (check the constants)");
+  return s;
+}
+
+} // namespace
+
+MaterialSpec readMaterial(const YamlItem &m, PlaneAnalysis analysis, int dim) {
   MaterialSpec s;
   s.line = m.line();
   m.requireMap();
   s.region = m.required("region").string();
   s.type = m.required("type").choice({"isotropic", "orthotropic", "anisotropic"});
+  if (dim == 3)
+    return readSolidMaterial(m, s);
   const double deg = m.has("angle") ? m["angle"].number() : 0.0;
   const double theta = deg * M_PI / 180.0;
   if (s.type == "isotropic") {
@@ -148,7 +254,7 @@ void readMaterials(const YamlItem &top, Problem &p) {
     mats.requireSequence();
   for (std::size_t i = 0; i < mats.node.size(); ++i) {
     const YamlItem m = mats.at(i);
-    MaterialSpec s = readMaterial(m, p.model.analysis);
+    MaterialSpec s = readMaterial(m, p.model.analysis, p.mesh.dim());
     if (p.mesh.regionIndex(s.region) < 0) {
       std::string known;
       for (const auto &r : p.mesh.regionNames)

@@ -14,6 +14,7 @@
 #include <initializer_list>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace mixcon::detail {
 
@@ -55,6 +56,9 @@ struct YamlItem {
   }
   /// Rejects keys outside `allowed` (typos must not be silently ignored).
   void allowOnly(std::initializer_list<const char *> allowed) const {
+    allowOnly(std::vector<const char *>(allowed));
+  }
+  void allowOnly(const std::vector<const char *> &allowed) const {
     requireMap();
     for (auto it = node.begin(); it != node.end(); ++it) {
       if (!it->first.IsScalar())
@@ -114,6 +118,13 @@ struct YamlItem {
     if (!node.IsSequence() || node.size() != 2)
       fail("expected a list of two numbers [x, y]");
     return {at(0).number(), at(1).number()};
+  }
+  /// A list of `dim` numbers (2: [x, y], 3: [x, y, z]) as three components (z = 0 in 2D).
+  std::array<double, 3> vector(int dim) const {
+    if (!node.IsSequence() || static_cast<int>(node.size()) != dim)
+      fail(dim == 2 ? "expected a list of two numbers [x, y]"
+                    : "expected a list of three numbers [x, y, z] (the mesh is 3D)");
+    return {at(0).number(), at(1).number(), dim == 3 ? at(2).number() : 0.0};
   }
   std::array<int, 2> intPair() const {
     if (!node.IsSequence() || node.size() != 2)

@@ -15,29 +15,33 @@
 
 namespace mixcon {
 
-/// What every element kernel reads: geometry, per-element material index, material table.
-/// Views are owned by the caller (shallow copies, reference counted).
-template <class MemorySpace> struct ElementData {
-  MeshView<MemorySpace> mesh;
-  Kokkos::View<int *, MemorySpace> material;          ///< per element, index into stiffness
-  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness; ///< plane [C] per material, global axes
+/// What every element kernel reads: geometry, per-element material index, material table (the
+/// Voigt stiffness [C] in global axes: the plane PlaneMatrix in 2D, the SolidMatrix in 3D).
+/// Views are owned by the caller (shallow copies, reference counted). `thickness` is the 2D
+/// out-of-plane thickness t of Eq. (25); 1 in 3D.
+template <class MemorySpace, int Dim = 2> struct ElementData {
+  static constexpr int kDim = Dim;
+  using Stiffness = Mat<Voigt<Dim>::kSize, Voigt<Dim>::kSize>;
+  MeshView<MemorySpace, Dim> mesh;
+  Kokkos::View<int *, MemorySpace> material;        ///< per element, index into stiffness
+  Kokkos::View<Stiffness *, MemorySpace> stiffness; ///< [C] per material, global axes
   double thickness = 1.0;
 };
 
 /// The point law of the linear model for the element driver (kernels/ElementDriver.hpp):
-/// element e's LinearElasticPoint with its material's plane stiffness [C].
-template <class MemorySpace> struct LinearElasticLaw {
+/// element e's LinearElasticPoint with its material's Voigt stiffness [C].
+template <class MemorySpace, int Dim = 2> struct LinearElasticLaw {
   Kokkos::View<int *, MemorySpace> material;
-  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
-  KOKKOS_INLINE_FUNCTION LinearElasticPoint<2> at(LocalIndex e) const {
-    return LinearElasticPoint<2>{stiffness(material(e))};
+  Kokkos::View<typename ElementData<MemorySpace, Dim>::Stiffness *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION LinearElasticPoint<Dim> at(LocalIndex e) const {
+    return LinearElasticPoint<Dim>{stiffness(material(e))};
   }
 };
 
 /// The linear law of the element data's materials.
-template <class MemorySpace>
-LinearElasticLaw<MemorySpace> linearElasticLaw(const ElementData<MemorySpace> &d) {
-  return LinearElasticLaw<MemorySpace>{d.material, d.stiffness};
+template <class MemorySpace, int Dim>
+LinearElasticLaw<MemorySpace, Dim> linearElasticLaw(const ElementData<MemorySpace, Dim> &d) {
+  return LinearElasticLaw<MemorySpace, Dim>{d.material, d.stiffness};
 }
 
 namespace detail {
@@ -107,62 +111,59 @@ scatterElementMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
 /// pass, no element-matrix storage; `a.values` must be zeroed by the caller beforehand if a fresh
 /// matrix is wanted. (The element driver's assembleElementStiffness with the linear point law.)
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
-void assembleLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+void assembleLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                              const Map &map, const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
   assembleElementStiffness<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), map, a, scale);
 }
 
-/// Physical coordinates of every quadrature point of the element rule: xq(e, q, 0..1).
+/// Physical coordinates of every quadrature point of the element rule: xq(e, q, 0..Dim-1).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
-void quadraturePointCoordinates(const ExecSpace &exec, const MeshView<MemorySpace> &m,
-                                const Kokkos::View<double **[2], P...> &xq) {
+void quadraturePointCoordinates(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &m,
+                                const Kokkos::View<double * * [Elem::kDim], P...> &xq) {
   Kokkos::parallel_for(
       "mixcon::kernels::quadraturePoints",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, m.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        double xe[Elem::kNumNodes][2];
-        detail::gatherCoordinates<Elem>(m, e, xe);
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+        double xe[n][dim];
+        detail::gatherElementCoordinates<Elem>(m, e, xe);
         for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sh[Elem::kNumNodes], dn[Elem::kNumNodes][2];
-          Elem::quadraturePoint(q, xi, eta, w);
-          Elem::shape(xi, eta, sh, dn);
-          double x = 0.0, y = 0.0;
-          for (int a = 0; a < Elem::kNumNodes; ++a) {
-            x += sh[a] * xe[a][0];
-            y += sh[a] * xe[a][1];
+          double sh[n], dn[n][dim];
+          detail::referencePoint<Elem>(q, sh, dn);
+          for (int i = 0; i < dim; ++i) {
+            double x = 0.0;
+            for (int a = 0; a < n; ++a)
+              x += sh[a] * xe[a][i];
+            xq(e, q, i) = x;
           }
-          xq(e, q, 0) = x;
-          xq(e, q, 1) = y;
         }
       });
 }
 
-/// Adds F^L = t int Psi^T f dA (Eq. (25)) to rhs (2 dofs per node), with the body force per unit
-/// volume given at the element quadrature points: f(e, q, 0..1).
+/// Adds F^L = t int Psi^T f dA (Eq. (25); 3D: int Psi^T f dV) to rhs (Dim dofs per node), with
+/// the body force per unit volume given at the element quadrature points: f(e, q, 0..Dim-1).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
-void assembleBodyForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,
-                       const Kokkos::View<const double **[2], P...> &f,
+void assembleBodyForce(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
+                       const Kokkos::View<const double * * [Elem::kDim], P...> &f,
                        const Kokkos::View<double *, MemorySpace> &rhs) {
   Kokkos::parallel_for(
       "mixcon::kernels::bodyForce", Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double xe[n][2], fe[n][2] = {};
-        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+        double xe[n][dim], fe[n][dim] = {};
+        detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
         for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sh[n], dn[n][2], g[n][2];
-          Elem::quadraturePoint(q, xi, eta, w);
-          Elem::shape(xi, eta, sh, dn);
-          const double s = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
-          for (int a = 0; a < n; ++a) {
-            fe[a][0] += sh[a] * f(e, q, 0) * s;
-            fe[a][1] += sh[a] * f(e, q, 1) * s;
-          }
+          double sh[n], dn[n][dim];
+          const double w = detail::referencePoint<Elem>(q, sh, dn);
+          const double s = d.thickness * w * jacobianDeterminant<Elem>(xe, dn);
+          for (int a = 0; a < n; ++a)
+            for (int i = 0; i < dim; ++i)
+              fe[a][i] += sh[a] * f(e, q, i) * s;
         }
         for (int a = 0; a < n; ++a) {
           const LocalIndex node = d.mesh.connectivity(e, a);
-          Kokkos::atomic_add(&rhs(2 * node), fe[a][0]);
-          Kokkos::atomic_add(&rhs(2 * node + 1), fe[a][1]);
+          for (int i = 0; i < dim; ++i)
+            Kokkos::atomic_add(&rhs(dim * node + i), fe[a][i]);
         }
       });
 }
@@ -240,10 +241,89 @@ EdgeLoadBatch<MemorySpace> uniformEdgeLoads(const std::vector<BoundaryEdge> &edg
   return b;
 }
 
+/// Adds boundary loads on the faces of 3D elements to rhs (3 dofs per node): faces(k) =
+/// (element, local face: Elem::sideNode), load(k) = (t_x, t_y, t_z, p): a traction per unit area
+/// plus a pressure p acting against the outward normal (positive p pushes into the body), both on
+/// the reference geometry. The face is integrated with its own element (Elem::Side: the 4-node
+/// quadrilateral of a Hex8 face) and rule; dx/ds x dx/dt is the outward normal times the area
+/// element because the face's nodes run counter-clockwise seen from outside.
+template <class Elem, class ExecSpace, class MemorySpace>
+void assembleFaceLoads(const ExecSpace &exec, const MeshView<MemorySpace, 3> &m,
+                       const Kokkos::View<LocalIndex *[2], MemorySpace> &faces,
+                       const Kokkos::View<double *[4], MemorySpace> &load,
+                       const Kokkos::View<double *, MemorySpace> &rhs) {
+  static_assert(Elem::kDim == 3, "assembleFaceLoads is the 3D boundary load (2D: edge loads)");
+  using Side = typename Elem::Side;
+  static_assert(Side::kNumNodes == Elem::kNodesPerSide, "a face is its Side element");
+  Kokkos::parallel_for(
+      "mixcon::kernels::faceLoads", Kokkos::RangePolicy<ExecSpace>(exec, 0, faces.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) {
+        constexpr int nf = Side::kNumNodes;
+        const LocalIndex e = faces(k, 0);
+        const int face = faces(k, 1);
+        LocalIndex nodes[nf];
+        double xf[nf][3], fe[nf][3] = {};
+        for (int a = 0; a < nf; ++a) {
+          nodes[a] = m.connectivity(e, Elem::sideNode(face, a));
+          for (int i = 0; i < 3; ++i)
+            xf[a][i] = m.coordinates(nodes[a], i);
+        }
+        for (int q = 0; q < Side::kNumQp; ++q) {
+          double st[2], w, sh[nf], ds[nf][2];
+          Side::quadraturePoint(q, st, w);
+          Side::shape(st, sh, ds);
+          double t1[3] = {}, t2[3] = {}; // dx/ds, dx/dt
+          for (int a = 0; a < nf; ++a)
+            for (int i = 0; i < 3; ++i) {
+              t1[i] += ds[a][0] * xf[a][i];
+              t2[i] += ds[a][1] * xf[a][i];
+            }
+          const double na[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2],
+                                t1[0] * t2[1] - t1[1] * t2[0]};
+          const double area = detail::sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
+          for (int i = 0; i < 3; ++i) {
+            const double f = load(k, i) * area - load(k, 3) * na[i];
+            for (int a = 0; a < nf; ++a)
+              fe[a][i] += sh[a] * f * w;
+          }
+        }
+        for (int a = 0; a < nf; ++a)
+          for (int i = 0; i < 3; ++i)
+            Kokkos::atomic_add(&rhs(3 * nodes[a] + i), fe[a][i]);
+      });
+}
+
+/// Device inputs of assembleFaceLoads for one load (t_x, t_y, t_z, p) shared by a list of faces.
+template <class MemorySpace> struct FaceLoadBatch {
+  Kokkos::View<LocalIndex *[2], MemorySpace> faces;
+  Kokkos::View<double *[4], MemorySpace> load;
+};
+
+/// Copies `faces` and the uniform load (traction, pressure) to `MemorySpace`.
+template <class MemorySpace>
+FaceLoadBatch<MemorySpace> uniformFaceLoads(const std::vector<BoundaryEdge> &faces,
+                                            const double (&traction)[3], double pressure) {
+  FaceLoadBatch<MemorySpace> b{
+      Kokkos::View<LocalIndex *[2], MemorySpace>("mixcon::kernels::faces", faces.size()),
+      Kokkos::View<double *[4], MemorySpace>("mixcon::kernels::faceLoads", faces.size())};
+  auto hf = Kokkos::create_mirror_view(b.faces);
+  auto hl = Kokkos::create_mirror_view(b.load);
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    hf(k, 0) = faces[k].element;
+    hf(k, 1) = faces[k].edge;
+    for (int i = 0; i < 3; ++i)
+      hl(k, i) = traction[i];
+    hl(k, 3) = pressure;
+  }
+  Kokkos::deep_copy(b.faces, hf);
+  Kokkos::deep_copy(b.load, hl);
+  return b;
+}
+
 /// Internal force f = K^L u = t int B^T C eps(u) dA assembled element by element (matrix free),
 /// added to f: the element driver's residual with the linear point law.
 template <class Elem, class ExecSpace, class MemorySpace>
-void assembleInternalForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+void assembleInternalForce(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                            const Kokkos::View<const double *, MemorySpace> &u,
                            const Kokkos::View<double *, MemorySpace> &f) {
   assembleElementResidual<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), u, f);
@@ -272,12 +352,13 @@ KOKKOS_INLINE_FUNCTION void stressAt(const ElementData<MemorySpace> &d,
 }
 } // namespace detail
 
-/// Cauchy stress (xx, yy, xy) of the linear model at every quadrature point of the element rule
-/// (the element driver's quadraturePointStress with the linear point law).
+/// Cauchy stress (Voigt<Dim> order: xx, yy, xy; 3D xx, yy, zz, yz, xz, xy) of the linear model at
+/// every quadrature point of the element rule (the element driver's quadraturePointStress with
+/// the linear point law).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
-void gaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+void gaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                       const Kokkos::View<const double *, MemorySpace> &u,
-                      const Kokkos::View<double **[3], P...> &stress) {
+                      const Kokkos::View<double * * [Voigt<Elem::kDim>::kSize], P...> &stress) {
   quadraturePointStress<Elem>(exec, d.mesh, linearElasticLaw(d), u, stress);
 }
 
@@ -344,6 +425,64 @@ void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &
                          const Kokkos::View<const double *, MemorySpace> &u,
                          const Kokkos::View<double *[3], MemorySpace> &nodal) {
   recoverNodalStress<Elem>(exec, d.mesh, LinearPointStress<Elem, MemorySpace>{d, u}, nodal);
+}
+
+/// Nodal stresses of the linear model in 3D: C eps(u) at the 2 x 2 x 2 Gauss points (+-1/sqrt(3)
+/// in each natural direction) extrapolated trilinearly to every element node, then averaged over
+/// the elements sharing the node (the 3D form of recoverNodalStress). `nodal` (N x 6, Voigt<3>
+/// order) is overwritten.
+template <class Elem, class ExecSpace, class MemorySpace>
+void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace, 3> &d,
+                              const Kokkos::View<const double *, MemorySpace> &u,
+                              const Kokkos::View<double *[6], MemorySpace> &nodal) {
+  static_assert(Elem::kDim == 3, "solidNodalStressRecovery is the 3D recovery");
+  constexpr int kCorners = 8, kS = 6;
+  const LocalIndex nn = nodal.extent(0);
+  Kokkos::View<double *, MemorySpace> count("mixcon::kernels::stressCount", nn);
+  Kokkos::deep_copy(exec, nodal, 0.0);
+  const auto law = linearElasticLaw(d);
+  Kokkos::parallel_for(
+      "mixcon::kernels::solidNodalStressRecovery",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int n = Elem::kNumNodes;
+        constexpr double g = 0.57735026918962576451; // 1/sqrt(3)
+        double xe[n][3], ue[n][3], sg[kCorners][kS];
+        detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
+        detail::gatherElementDisplacements<Elem>(d.mesh, u, e, ue);
+        const auto point = law.at(e);
+        // Corner c of the Gauss cube: sign of direction i is bit i of c.
+        for (int c = 0; c < kCorners; ++c) {
+          const double xi[3] = {(c & 1) ? g : -g, (c & 2) ? g : -g, (c & 4) ? g : -g};
+          double sh[n], dn[n][3], gr[n][3];
+          Elem::shape(xi, sh, dn);
+          detail::pointGeometry<Elem>(xe, dn, gr);
+          const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
+          for (int k = 0; k < kS; ++k)
+            sg[c][k] = sig.v[k];
+        }
+        for (int a = 0; a < n; ++a) {
+          double xa[3];
+          Elem::nodeNatural(a, xa);
+          const LocalIndex node = d.mesh.connectivity(e, a);
+          for (int k = 0; k < kS; ++k) {
+            double v = 0.0;
+            for (int c = 0; c < kCorners; ++c)
+              v += 0.125 * (1.0 + xa[0] / g * ((c & 1) ? 1.0 : -1.0)) *
+                   (1.0 + xa[1] / g * ((c & 2) ? 1.0 : -1.0)) *
+                   (1.0 + xa[2] / g * ((c & 4) ? 1.0 : -1.0)) * sg[c][k];
+            Kokkos::atomic_add(&nodal(node, k), v);
+          }
+          Kokkos::atomic_add(&count(node), 1.0);
+        }
+      });
+  Kokkos::parallel_for(
+      "mixcon::kernels::solidNodalStressAverage", Kokkos::RangePolicy<ExecSpace>(exec, 0, nn),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        if (count(i) > 0.0)
+          for (int k = 0; k < kS; ++k)
+            nodal(i, k) /= count(i);
+      });
 }
 
 } // namespace mixcon

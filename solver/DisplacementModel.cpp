@@ -14,7 +14,8 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
     stiffness_ = expandGraph<Memory>(graph_, dofs_.dofsPerNode);
     const auto map = elementScatterMap<Memory>(mesh_, graph_);
     dispatchElement(mesh_.elementType, [&](auto elem) {
-      assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, stiffness_);
+      using Elem = decltype(elem);
+      assembleLinearStiffness<Elem>(Exec(), elementData<Elem::kDim>(), map, stiffness_);
     });
   }
   commitStaged();
@@ -27,7 +28,10 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
   assemblySeconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solver_ = makeLinearSolver(options, dofs_, comm);
-  solver_->setNearNullSpace(data_.mesh.coordinates);
+  if (dim() == 2)
+    solver_->setNearNullSpace(data_.mesh.coordinates);
+  else
+    solver_->setNearNullSpace(solid_.mesh.coordinates);
   solver_->setup(constrained_);
 }
 
@@ -36,24 +40,30 @@ LinearSolveStats LinearDisplacementModel::solve(double loadFactor) {
 }
 
 std::vector<double> LinearDisplacementModel::nodalStressHost() const {
-  constexpr int kStress = ModelLayout::kNumStresses;
-  Kokkos::View<double *[kStress], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
-  dispatchElement(mesh_.elementType, [&](auto elem) {
-    nodalStressRecovery<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), s);
+  return dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int kStress = Voigt<Elem::kDim>::kSize;
+    Kokkos::View<double *[kStress], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
+    const Kokkos::View<const double *, Memory> u(u_);
+    if constexpr (Elem::kDim == 2)
+      nodalStressRecovery<Elem>(Exec(), data_, u, s);
+    else
+      solidNodalStressRecovery<Elem>(Exec(), solid_, u, s);
+    auto h = copyToHost(s);
+    std::vector<double> out(kStress * static_cast<std::size_t>(mesh_.numNodes()));
+    for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
+      for (int c = 0; c < kStress; ++c)
+        out[kStress * n + c] = h(n, c);
+    return out;
   });
-  auto h = copyToHost(s);
-  std::vector<double> out(kStress * static_cast<std::size_t>(mesh_.numNodes()));
-  for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
-    for (int c = 0; c < kStress; ++c)
-      out[kStress * n + c] = h(n, c);
-  return out;
 }
 
 std::vector<double> LinearDisplacementModel::reactionHost(double loadFactor) const {
   Kokkos::View<double *, Memory> f("mixcon::model::internalForce", u_.extent(0));
   dispatchElement(mesh_.elementType, [&](auto elem) {
-    assembleInternalForce<decltype(elem)>(Exec(), data_, Kokkos::View<const double *, Memory>(u_),
-                                          f);
+    using Elem = decltype(elem);
+    assembleInternalForce<Elem>(Exec(), elementData<Elem::kDim>(),
+                                Kokkos::View<const double *, Memory>(u_), f);
   });
   return reactionFrom(f, loadFactor);
 }

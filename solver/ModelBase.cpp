@@ -12,21 +12,34 @@ namespace mixcon {
 
 ModelBase::ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
                      const std::vector<PlaneMatrix> &stiffness, double thickness)
-    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), ModelLayout::kDisplacementUnknowns)) {
-  data_.mesh = toDevice<Memory, kModelDim>(mesh);
-  data_.thickness = thickness;
-  data_.material =
-      Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh.numElements());
-  data_.stiffness =
-      Kokkos::View<PlaneMatrix *, Memory>("mixcon::model::stiffness", stiffness.size());
-  auto hm = hostMirror(data_.material);
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), mesh.dim())) {
+  initialize(data_, elementMaterial, stiffness, thickness);
+}
+
+ModelBase::ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                     const std::vector<SolidMatrix> &stiffness)
+    : mesh_(mesh), dofs_(DofMap::serial(mesh.numNodes(), mesh.dim())) {
+  initialize(solid_, elementMaterial, stiffness, 1.0);
+}
+
+template <int Dim, class Stiffness>
+void ModelBase::initialize(ElementData<Memory, Dim> &data, const std::vector<int> &elementMaterial,
+                           const std::vector<Stiffness> &stiffness, double thickness) {
+  static_assert(std::is_same_v<Stiffness, typename ElementData<Memory, Dim>::Stiffness>,
+                "the material stiffness of the mesh's dimension");
+  data.mesh = toDevice<Memory, Dim>(mesh_); // throws when the mesh is not of dimension Dim
+  data.thickness = thickness;
+  data.material =
+      Kokkos::View<int *, Memory>("mixcon::model::elementMaterial", mesh_.numElements());
+  data.stiffness = Kokkos::View<Stiffness *, Memory>("mixcon::model::stiffness", stiffness.size());
+  auto hm = hostMirror(data.material);
+  for (LocalIndex e = 0; e < mesh_.numElements(); ++e)
     hm(e) = elementMaterial.at(e);
-  copyToDevice(data_.material, hm);
-  auto hs = hostMirror(data_.stiffness);
+  copyToDevice(data.material, hm);
+  auto hs = hostMirror(data.stiffness);
   for (std::size_t i = 0; i < stiffness.size(); ++i)
     hs(i) = stiffness[i];
-  copyToDevice(data_.stiffness, hs);
+  copyToDevice(data.stiffness, hs);
 
   const LocalIndex n = dofs_.numOwned();
   load_ = Kokkos::View<double *, Memory>("mixcon::model::load", n);
@@ -38,41 +51,73 @@ ModelBase::ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
   prescribedHost_.assign(n, 0.0);
 }
 
-void ModelBase::addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx, double ty,
-                            double pressure) {
-  if (edges.empty())
+void ModelBase::addSideLoad(const std::vector<BoundaryEdge> &sides,
+                            const std::array<double, 3> &traction, double pressure) {
+  if (sides.empty())
     return;
-  const auto batch = uniformEdgeLoads<Memory>(edges, tx, ty, pressure);
   dispatchElement(mesh_.elementType, [&](auto elem) {
-    assembleEdgeLoads<decltype(elem)>(Exec(), data_.mesh, batch.edges, batch.load, data_.thickness,
-                                      load_);
+    using Elem = decltype(elem);
+    if constexpr (Elem::kDim == 2) {
+      const auto batch = uniformEdgeLoads<Memory>(sides, traction[0], traction[1], pressure);
+      assembleEdgeLoads<Elem>(Exec(), data_.mesh, batch.edges, batch.load, data_.thickness, load_);
+    } else {
+      const double t[3] = {traction[0], traction[1], traction[2]};
+      const auto batch = uniformFaceLoads<Memory>(sides, t, pressure);
+      assembleFaceLoads<Elem>(Exec(), solid_.mesh, batch.faces, batch.load, load_);
+    }
   });
 }
 
-void ModelBase::addNodalForce(LocalIndex node, double fx, double fy) {
-  stagedNodalForce_[dofs_.dof(node, 0)] += fx;
-  stagedNodalForce_[dofs_.dof(node, 1)] += fy;
+void ModelBase::addNodalForce(LocalIndex node, const std::array<double, 3> &force) {
+  for (int c = 0; c < dim(); ++c)
+    stagedNodalForce_[dofs_.dof(node, c)] += force[c];
 }
 
-// 2D-only: the force function takes (x, y) and returns two components.
+namespace {
+/// Adds the body force f(x, e) (x: the quadrature point, Dim coordinates) of every quadrature
+/// point to `load`.
+template <class Elem, class Memory, class F>
+void addBodyForceOf(const ElementData<Memory, Elem::kDim> &data, const F &f,
+                    const Kokkos::View<double *, Memory> &load) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  constexpr int dim = Elem::kDim;
+  const LocalIndex ne = data.material.extent(0);
+  Kokkos::View<double **[dim], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+  quadraturePointCoordinates<Elem>(Exec(), data.mesh, xq);
+  auto hx = copyToHost(xq);
+  Kokkos::View<double **[dim], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
+  auto hf = hostMirror(fq);
+  for (LocalIndex e = 0; e < ne; ++e)
+    for (int q = 0; q < Elem::kNumQp; ++q) {
+      double x[dim];
+      for (int i = 0; i < dim; ++i)
+        x[i] = hx(e, q, i);
+      const auto v = f(x, e);
+      for (int i = 0; i < dim; ++i)
+        hf(e, q, i) = v[i];
+    }
+  copyToDevice(fq, hf);
+  assembleBodyForce<Elem>(Exec(), data, Kokkos::View<const double **[dim], Memory>(fq), load);
+}
+} // namespace
+
 void ModelBase::addBodyForce(
     const std::function<std::array<double, 2>(double, double, LocalIndex)> &f) {
+  dispatchPlaneElement(mesh_.elementType, "addBodyForce (x, y)", [&](auto elem) {
+    addBodyForceOf<decltype(elem)>(
+        data_, [&](const double(&x)[2], LocalIndex e) { return f(x[0], x[1], e); }, load_);
+  });
+}
+
+void ModelBase::addBodyForce3D(
+    const std::function<std::array<double, 3>(double, double, double, LocalIndex)> &f) {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[2], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
-    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    auto hx = copyToHost(xq);
-    Kokkos::View<double **[2], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
-    auto hf = hostMirror(fq);
-    for (LocalIndex e = 0; e < ne; ++e)
-      for (int q = 0; q < Elem::kNumQp; ++q) {
-        const auto v = f(hx(e, q, 0), hx(e, q, 1), e);
-        hf(e, q, 0) = v[0];
-        hf(e, q, 1) = v[1];
-      }
-    copyToDevice(fq, hf);
-    assembleBodyForce<Elem>(Exec(), data_, Kokkos::View<const double **[2], Memory>(fq), load_);
+    if constexpr (Elem::kDim == 3)
+      addBodyForceOf<Elem>(
+          solid_, [&](const double(&x)[3], LocalIndex e) { return f(x[0], x[1], x[2], e); }, load_);
+    else
+      throw std::invalid_argument("addBodyForce3D: the mesh '" + mesh_.source + "' is 2D");
   });
 }
 
@@ -103,52 +148,67 @@ LocalIndex ModelBase::numConstrained() const {
 void ModelBase::checkRigidBodyModes() const {
   // Bodies: the nodes connected through elements (a node in no element is refused by
   // validateMesh).
+  const int dim = mesh_.dim();
+  const int numModes = dim == 2 ? 3 : 6; // translations, then rotations
   const LocalIndex nn = mesh_.numNodes();
   const std::vector<LocalIndex> bodyOf = connectedComponents(mesh_);
-  // Per body, the rigid-body modes t_x = (1, 0), t_y = (0, 1), r = (-y', x') in coordinates
-  // centred on the body and scaled by its size; a prescribed component c at a node is one row of
-  // C (its value under each mode). C^T C is singular exactly when a combination of the modes moves
-  // no prescribed component. 2D-only: three rigid modes of a plane body (3D has six).
+  // Per body, the rigid-body modes in coordinates p centred on the body and scaled by its size:
+  // the translations t_c = e_c and the rotations (2D: r = (-y', x'); 3D: r_k = e_k x p). A
+  // prescribed component c at a node is one row of C (its value under each mode). C^T C is
+  // singular exactly when a combination of the modes moves no prescribed component.
   struct Body {
-    double sum[2] = {0, 0}, lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    double sum[3] = {0, 0, 0}, lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     LocalIndex count = 0, first = -1;
-    bool anyX = false, anyY = false;
-    Eigen::Matrix3d gram = Eigen::Matrix3d::Zero();
+    bool any[3] = {false, false, false};
+    Eigen::MatrixXd gram;
+    double size() const { return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300}); }
   };
   std::vector<Body> bodies;
   for (LocalIndex n = 0; n < nn; ++n) {
     if (bodyOf[n] == static_cast<LocalIndex>(bodies.size())) { // its first node
       bodies.emplace_back();
       bodies.back().first = n;
+      bodies.back().gram = Eigen::MatrixXd::Zero(numModes, numModes);
+      if (dim == 2)
+        bodies.back().lo[2] = bodies.back().hi[2] = 0.0;
     }
     Body &b = bodies[bodyOf[n]];
-    const double xy[2] = {mesh_.x(n), mesh_.y(n)};
-    for (int c = 0; c < 2; ++c) {
-      b.sum[c] += xy[c];
-      b.lo[c] = std::min(b.lo[c], xy[c]);
-      b.hi[c] = std::max(b.hi[c], xy[c]);
+    for (int c = 0; c < dim; ++c) {
+      const double x = mesh_.coordinate(n, c);
+      b.sum[c] += x;
+      b.lo[c] = std::min(b.lo[c], x);
+      b.hi[c] = std::max(b.hi[c], x);
     }
     ++b.count;
   }
   for (LocalIndex n = 0; n < nn; ++n) {
     Body &b = bodies[bodyOf[n]];
-    const double size = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], 1e-300});
-    const double x = (mesh_.x(n) - b.sum[0] / b.count) / size;
-    const double y = (mesh_.y(n) - b.sum[1] / b.count) / size;
-    for (int c = 0; c < 2; ++c)
+    double p[3] = {0, 0, 0};
+    for (int c = 0; c < dim; ++c)
+      p[c] = (mesh_.coordinate(n, c) - b.sum[c] / b.count) / b.size();
+    for (int c = 0; c < dim; ++c)
       if (constrainedHost_[dofs_.dof(n, c)]) {
-        const Eigen::Vector3d row =
-            c == 0 ? Eigen::Vector3d(1.0, 0.0, -y) : Eigen::Vector3d(0.0, 1.0, x);
+        Eigen::VectorXd row = Eigen::VectorXd::Zero(numModes);
+        row(c) = 1.0;
+        if (dim == 2) {
+          row(2) = c == 0 ? -p[1] : p[0];
+        } else {
+          // Component c of e_k x p for k = 0, 1, 2.
+          row(3) = c == 0 ? 0.0 : (c == 1 ? -p[2] : p[1]);
+          row(4) = c == 0 ? p[2] : (c == 1 ? 0.0 : -p[0]);
+          row(5) = c == 0 ? -p[1] : (c == 1 ? p[0] : 0.0);
+        }
         b.gram += row * row.transpose();
-        (c == 0 ? b.anyX : b.anyY) = true;
+        b.any[c] = true;
       }
   }
+  static const char *const kAxis[3] = {"x", "y", "z"};
   for (const Body &b : bodies) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.gram);
-    const Eigen::Vector3d lambda = eig.eigenvalues(); // ascending
-    const double scale = std::max(lambda(2), 1.0);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(b.gram);
+    const Eigen::VectorXd lambda = eig.eigenvalues(); // ascending
+    const double scale = std::max(lambda(numModes - 1), 1.0);
     int free = 0;
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < numModes; ++k)
       free += lambda(k) <= 1e-10 * scale;
     if (free == 0)
       continue;
@@ -160,22 +220,33 @@ void ModelBase::checkRigidBodyModes() const {
       m << "the body that contains node " << mesh_.nodeIds[b.first];
     m << " free to ";
     std::vector<std::string> modes;
-    if (!b.anyX)
-      modes.push_back("translate in x (no ux is prescribed on it)");
-    if (!b.anyY)
-      modes.push_back("translate in y (no uy is prescribed on it)");
-    if (free > static_cast<int>(modes.size())) {
-      const double size = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], 1e-300});
-      const Eigen::Vector3d v = eig.eigenvectors().col(0); // the free combination
+    int translations = 0;
+    for (int c = 0; c < dim; ++c)
+      if (!b.any[c]) {
+        modes.push_back(std::string("translate in ") + kAxis[c] + " (no u" + kAxis[c] +
+                        " is prescribed on it)");
+        ++translations;
+      }
+    if (free > translations) {
+      const double size = b.size();
+      const Eigen::VectorXd v = eig.eigenvectors().col(0); // the free combination
       std::ostringstream r;
-      if (free == 1 && std::fabs(v(2)) > 1e-6) {
+      if (dim == 2 && free == 1 && std::fabs(v(2)) > 1e-6) {
         // v(0) t_x + v(1) t_y + v(2) r is a rotation about (x0', y0') = (-v(1), v(0)) / v(2)
         // (rounding below 1e-9 of the body's size printed as 0)
         const auto snap = [size](double t) { return std::fabs(t) < 1e-9 * size ? 0.0 : t; };
         r << "rotate about (" << snap(b.sum[0] / b.count - size * v(1) / v(2)) << ", "
           << snap(b.sum[1] / b.count + size * v(0) / v(2)) << ")";
+      } else if (dim == 3 && free == 1 && v.tail(3).norm() > 1e-6) {
+        const Eigen::Vector3d axis = v.tail(3).normalized();
+        const auto snap = [](double t) { return std::fabs(t) < 1e-9 ? 0.0 : t; };
+        r << "rotate about an axis along (" << snap(axis(0)) << ", " << snap(axis(1)) << ", "
+          << snap(axis(2)) << ")";
       } else if (free == 1) {
-        r << "translate along (" << v(0) << ", " << v(1) << ")";
+        r << "translate along (" << v(0) << ", " << v(1);
+        if (dim == 3)
+          r << ", " << v(2);
+        r << ")";
       } else {
         r << "rotate";
       }
@@ -184,8 +255,11 @@ void ModelBase::checkRigidBodyModes() const {
     for (std::size_t k = 0; k < modes.size(); ++k)
       m << (k == 0 ? "" : k + 1 == modes.size() ? " and to " : ", to ") << modes[k];
     m << ": its stiffness matrix is singular (a rigid-body mode without stiffness). Hold it by "
-         "displacement conditions that stop every translation and the rotation (e.g. ux and uy "
-         "at one node and one more component at a node away from it)";
+         "displacement conditions that stop every translation and "
+      << (dim == 2 ? "the rotation (e.g. ux and uy at one node and one more component at a node "
+                     "away from it)"
+                   : "the three rotations (e.g. ux, uy and uz at one node and components at two "
+                     "more nodes not on a line with it)");
     throw InputError(m.str());
   }
 }
@@ -264,12 +338,13 @@ void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vect
                                      int &pointsPerElement) const {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
+    constexpr int kDim = Elem::kDim, kStress = Voigt<kDim>::kSize;
+    const auto &data = elementData<kDim>();
     const LocalIndex ne = mesh_.numElements();
-    constexpr int kDim = ModelLayout::kDim, kStress = ModelLayout::kNumStresses;
     Kokkos::View<double **[kDim], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
     Kokkos::View<double **[kStress], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
-    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    gaussPointStress<Elem>(Exec(), data_, Kokkos::View<const double *, Memory>(u_), sq);
+    quadraturePointCoordinates<Elem>(Exec(), data.mesh, xq);
+    gaussPointStress<Elem>(Exec(), data, Kokkos::View<const double *, Memory>(u_), sq);
     auto hx = copyToHost(xq);
     auto hs = copyToHost(sq);
     pointsPerElement = Elem::kNumQp;

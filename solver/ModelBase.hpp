@@ -22,28 +22,46 @@ public:
   using Memory = DeviceSpace;
 
   /// `elementMaterial[e]` indexes `stiffness` (plane [C] in global axes); thickness t of Eq. (25).
+  /// A 2D mesh (quadrilaterals).
   ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
             const std::vector<PlaneMatrix> &stiffness, double thickness);
+  /// A 3D mesh (solids): `stiffness` is the 6 x 6 Voigt [C] of each material in global axes.
+  ModelBase(const Mesh &mesh, const std::vector<int> &elementMaterial,
+            const std::vector<SolidMatrix> &stiffness);
   virtual ~ModelBase() = default;
   ModelBase(const ModelBase &) = delete;
   ModelBase &operator=(const ModelBase &) = delete;
 
   const DofMap &dofs() const { return dofs_; }
   const Mesh &mesh() const { return mesh_; }
+  int dim() const { return mesh_.dim(); } ///< spatial dimension: displacement unknowns per node
 
   /// Reference loads (all scaled by the load factor at solve time). Nodal forces and prescribed
   /// values are staged on the host and copied to the device once, in setup().
-  void addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx, double ty, double pressure);
-  void addNodalForce(LocalIndex node, double fx, double fy);
+  /// A traction (per unit area, components beyond dim() ignored) and a pressure (positive into
+  /// the body) on boundary sides: element edges in 2D (times the thickness), faces in 3D.
+  void addSideLoad(const std::vector<BoundaryEdge> &sides, const std::array<double, 3> &traction,
+                   double pressure);
+  /// The 2D form of addSideLoad.
+  void addEdgeLoad(const std::vector<BoundaryEdge> &edges, double tx, double ty, double pressure) {
+    addSideLoad(edges, {tx, ty, 0.0}, pressure);
+  }
+  /// A force at a node (components beyond dim() ignored).
+  void addNodalForce(LocalIndex node, const std::array<double, 3> &force);
+  void addNodalForce(LocalIndex node, double fx, double fy) { addNodalForce(node, {fx, fy, 0.0}); }
   /// Body force per unit volume, evaluated on the host at each quadrature point (x, y, element).
+  /// 2D meshes.
   void addBodyForce(const std::function<std::array<double, 2>(double, double, LocalIndex)> &f);
-  /// Prescribes component `comp` (0: x, 1: y) of `node` (reference value, scaled too).
+  /// The same in 3D: f(x, y, z, element).
+  void
+  addBodyForce3D(const std::function<std::array<double, 3>(double, double, double, LocalIndex)> &f);
+  /// Prescribes component `comp` (0: x, 1: y, 2: z) of `node` (reference value, scaled too).
   void prescribe(LocalIndex node, int comp, double value);
   LocalIndex numConstrained() const;
   /// Throws InputError naming the mode when the prescribed components leave a body (a part of the
-  /// mesh connected through elements) free to move as a rigid body: a translation in x or y or a
-  /// rotation, whose stiffness is zero, so that the system is singular. The linear models call
-  /// it in setup(); the contact models do not (a body may rest on obstacles).
+  /// mesh connected through elements) free to move as a rigid body: a translation or a rotation
+  /// (three modes in 2D, six in 3D), whose stiffness is zero, so that the system is singular. The
+  /// linear models call it in setup(); the contact models do not (a body may rest on obstacles).
   void checkRigidBodyModes() const;
   /// Replaces the reference values of components prescribed before setup() (e.g. measured
   /// displacements that change from step to step) and copies them to the device.
@@ -63,13 +81,13 @@ public:
   Kokkos::View<double *, Memory> displacement() const { return u_; }
   /// Host copies for output.
   std::vector<double> displacementHost() const;
-  /// Nodal stresses N x 3 (displacement model: recovered from Gauss points; mixed model: the
-  /// stress unknowns themselves).
+  /// Nodal stresses N x 3 in 2D, N x 6 in 3D (Voigt<Dim> order; displacement model: recovered
+  /// from Gauss points; mixed model: the stress unknowns themselves).
   virtual std::vector<double> nodalStressHost() const = 0;
   /// Stresses C eps(u) at the quadrature points, computed from the displacements.
   virtual void gaussPointStressHost(std::vector<double> &coordinates, std::vector<double> &stress,
                                     int &pointsPerElement) const;
-  /// Reactions (internal force - lambda F, N x 2): support forces at constrained nodes, ~0
+  /// Reactions (internal force - lambda F, N x dim()): support forces at constrained nodes, ~0
   /// elsewhere.
   virtual std::vector<double> reactionHost(double loadFactor) const = 0;
 
@@ -89,15 +107,29 @@ protected:
   std::vector<double> reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
                                    double loadFactor) const;
 
+  /// The element data of dimension Dim (the one of the mesh; the other is empty).
+  template <int Dim> const ElementData<Memory, Dim> &elementData() const {
+    if constexpr (Dim == 2)
+      return data_;
+    else
+      return solid_;
+  }
+
   Mesh const &mesh_;
   DofMap dofs_;
-  ElementData<Memory> data_;
+  ElementData<Memory> data_;            ///< 2D meshes (the 2D-only models use it directly)
+  ElementData<Memory, 3> solid_;        ///< 3D meshes
   Kokkos::View<double *, Memory> load_; ///< reference external load F
   Kokkos::View<double *, Memory> u_;
   Kokkos::View<int *, Memory> isConstrained_;
   Kokkos::View<double *, Memory> prescribed_;
 
 private:
+  /// Element data of dimension Dim and the per-unknown vectors (the constructors' common part).
+  template <int Dim, class Stiffness>
+  void initialize(ElementData<Memory, Dim> &data, const std::vector<int> &elementMaterial,
+                  const std::vector<Stiffness> &stiffness, double thickness);
+
   std::vector<double> stagedNodalForce_; ///< host, added to load_ by commitStaged()
   std::vector<int> constrainedHost_;     ///< host staging of isConstrained_
   std::vector<double> prescribedHost_;   ///< host staging of prescribed_
