@@ -1,9 +1,11 @@
-// Structured generators built from mapped patches that are merged at coincident nodes.
+// Structured generators: the 2D ones built from mapped patches that are merged at coincident
+// nodes, the Hex8 box as a tensor grid. Layer: mesh.
 #include <mesh/Generators.hpp>
 
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -40,6 +42,10 @@ double graded(int i, int n, double ratio) {
 
 /// Builds the mesh of several patches, merging nodes that coincide within a tolerance.
 Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::string source) {
+  if (type != ElementType::Quad4 && type != ElementType::Quad8)
+    throw GeneratorError("mesh " + source + ": element type " + elementName(type) +
+                         " is not a quadrilateral (this generator is 2D; the box generator makes "
+                         "hex8 meshes)");
   Mesh mesh;
   mesh.elementType = type;
   mesh.nodesPerElement = type == ElementType::Quad8 ? 8 : 4;
@@ -141,7 +147,122 @@ void requirePositive(const char *what, double v, const std::string &gen) {
     throw GeneratorError("mesh generator " + gen + ": " + what + " must be positive");
 }
 
+/// Index of the node of `candidates` closest to p (the first one of equal distances).
+LocalIndex closestNode3(const Mesh &mesh, const std::vector<LocalIndex> &candidates,
+                        const std::array<double, 3> &p) {
+  LocalIndex best = candidates.front();
+  double bestD = std::numeric_limits<double>::infinity();
+  for (LocalIndex n : candidates) {
+    const double dx = mesh.x(n) - p[0], dy = mesh.y(n) - p[1], dz = mesh.z(n) - p[2];
+    const double d = dx * dx + dy * dy + dz * dz;
+    if (d < bestD) {
+      bestD = d;
+      best = n;
+    }
+  }
+  return best;
+}
+
 } // namespace
+
+Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementType type, double x0,
+             double y0, double z0, double gx, double gy, double gz) {
+  const std::string gen = "box";
+  requirePositive("size[0]", lx, gen);
+  requirePositive("size[1]", ly, gen);
+  requirePositive("size[2]", lz, gen);
+  requirePositive("divisions[0]", nx, gen);
+  requirePositive("divisions[1]", ny, gen);
+  requirePositive("divisions[2]", nz, gen);
+  requirePositive("grading[0]", gx, gen);
+  requirePositive("grading[1]", gy, gen);
+  requirePositive("grading[2]", gz, gen);
+  if (type != ElementType::Hex8)
+    throw GeneratorError("mesh generator box: element type " + elementName(type) +
+                         " is not a hexahedron (the box makes hex8 meshes)");
+  // Node and connectivity indices are LocalIndex: refuse before anything is allocated.
+  const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
+  const double nodes = (nx + 1.0) * (ny + 1.0) * (nz + 1.0);
+  if (nodes > most || 8.0 * nx * ny * nz > most)
+    throw GeneratorError("mesh generator box: divisions too large (node or connectivity indices "
+                         "beyond " +
+                         std::to_string(std::numeric_limits<LocalIndex>::max()) + ")");
+
+  // Grid line coordinates along each axis: x0 + l (i / n)^g.
+  const auto lines = [&](double origin, double length, int n, double g, const char *axis) {
+    std::vector<double> v(static_cast<std::size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) {
+      v[i] = origin + length * std::pow(static_cast<double>(i) / n, g);
+      if (!std::isfinite(v[i]))
+        throw GeneratorError(std::string("mesh generator box: the ") + axis +
+                             " coordinates overflow (size, origin or grading too large)");
+    }
+    v[n] = origin + length; // the far face exactly where it was asked for
+    return v;
+  };
+  const std::vector<double> xs = lines(x0, lx, nx, gx, "x"), ys = lines(y0, ly, ny, gy, "y"),
+                            zs = lines(z0, lz, nz, gz, "z");
+
+  Mesh mesh;
+  mesh.elementType = ElementType::Hex8;
+  mesh.nodesPerElement = Hex8::kNumNodes;
+  mesh.regionNames = {"body"};
+  mesh.source = "generator box";
+  const auto node = [&](int i, int j, int k) {
+    return static_cast<LocalIndex>(i + (nx + 1) * (j + static_cast<long>(ny + 1) * k));
+  };
+  mesh.coordinates.reserve(3 * static_cast<std::size_t>(nodes));
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        mesh.coordinates.push_back(xs[i]);
+        mesh.coordinates.push_back(ys[j]);
+        mesh.coordinates.push_back(zs[k]);
+      }
+  const std::size_t elements = static_cast<std::size_t>(nx) * ny * nz;
+  mesh.connectivity.reserve(8 * elements);
+  mesh.elementRegion.assign(elements, 0);
+  // Faces in Hex8::sideNode numbering: 0 z-, 1 z+, 2 y-, 3 x+, 4 y+, 5 x-.
+  auto &zmin = mesh.boundaries["zmin"], &zmax = mesh.boundaries["zmax"];
+  auto &ymin = mesh.boundaries["ymin"], &ymax = mesh.boundaries["ymax"];
+  auto &xmin = mesh.boundaries["xmin"], &xmax = mesh.boundaries["xmax"];
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const LocalIndex e = mesh.numElements();
+        for (LocalIndex n : {node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
+                             node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
+                             node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)})
+          mesh.connectivity.push_back(n);
+        if (k == 0)
+          zmin.push_back({e, 0});
+        if (k == nz - 1)
+          zmax.push_back({e, 1});
+        if (j == 0)
+          ymin.push_back({e, 2});
+        if (i == nx - 1)
+          xmax.push_back({e, 3});
+        if (j == ny - 1)
+          ymax.push_back({e, 4});
+        if (i == 0)
+          xmin.push_back({e, 5});
+      }
+  for (int cz = 0; cz < 2; ++cz)
+    for (int cy = 0; cy < 2; ++cy)
+      for (int cx = 0; cx < 2; ++cx)
+        mesh.nodeSets["corner_" + std::to_string(cx) + std::to_string(cy) + std::to_string(cz)] = {
+            node(cx * nx, cy * ny, cz * nz)};
+  for (int side = 0; side < 2; ++side) {
+    std::vector<LocalIndex> face;
+    for (int k = 0; k <= nz; ++k)
+      for (int j = 0; j <= ny; ++j)
+        face.push_back(node(side * nx, j, k));
+    mesh.nodeSets[side == 0 ? "xmin_center" : "xmax_center"] = {
+        closestNode3(mesh, face, {side == 0 ? x0 : x0 + lx, y0 + 0.5 * ly, z0 + 0.5 * lz})};
+  }
+  mesh.finalizeIds();
+  return mesh;
+}
 
 Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0, double y0,
                    double gx, double gy) {
@@ -392,6 +513,10 @@ Mesh mergeMeshes(const std::vector<MeshBody> &bodies) {
   std::string source;
   for (const MeshBody &b : bodies) {
     const Mesh &m = b.mesh;
+    if (m.dim() != 2)
+      throw InputError("mesh bodies: body '" + b.name + "' is a " + std::to_string(m.dim()) +
+                       "D mesh (" + elementName(m.elementType) +
+                       "); several bodies in one mesh are 2D only so far (issue 17)");
     if (!names.insert(b.name).second)
       throw InputError("mesh bodies: the name '" + b.name + "' is used twice");
     if (m.elementType != out.elementType)

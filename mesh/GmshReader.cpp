@@ -1,9 +1,11 @@
-// Gmsh 4.1 ASCII reader: $MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements.
+// Gmsh 4.1 ASCII reader ($MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements): meshes of
+// quadrangles (2D) or of 8-node hexahedra (3D). Layer: mesh.
 #include <mesh/GmshReader.hpp>
 
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -102,6 +104,16 @@ private:
 
 const char *gmshTypeName(long type) {
   switch (type) {
+  case 15:
+    return "point";
+  case 1:
+    return "2-node line";
+  case 8:
+    return "3-node line";
+  case 3:
+    return "4-node quadrangle";
+  case 16:
+    return "8-node quadrangle";
   case 2:
     return "3-node triangle";
   case 9:
@@ -112,13 +124,29 @@ const char *gmshTypeName(long type) {
     return "4-node tetrahedron";
   case 5:
     return "8-node hexahedron";
+  case 6:
+    return "6-node prism";
+  case 7:
+    return "5-node pyramid";
+  case 11:
+    return "10-node tetrahedron";
+  case 12:
+    return "27-node hexahedron";
+  case 17:
+    return "20-node hexahedron";
   default:
     return "element";
   }
 }
 
-/// Dimension of the supported element types (point, 2- and 3-node lines, quadrangles).
-int gmshDimension(long type) { return type == 15 ? 0 : type == 1 || type == 8 ? 1 : 2; }
+/// Gmsh element type of the 8-node hexahedron, the one volume element mixcon reads.
+constexpr long kGmshHex8 = 5;
+
+/// Dimension of the supported element types (point, 2- and 3-node lines, quadrangles,
+/// hexahedra).
+int gmshDimension(long type) {
+  return type == 15 ? 0 : type == 1 || type == 8 ? 1 : type == kGmshHex8 ? 3 : 2;
+}
 
 int gmshNodesPerElement(long type) {
   switch (type) {
@@ -131,11 +159,56 @@ int gmshNodesPerElement(long type) {
   case 3:
     return 4;
   case 16:
+  case kGmshHex8:
     return 8;
   default:
     return -1;
   }
 }
+
+struct LineElement {
+  int entity;
+  long id;
+  std::vector<long> nodes;
+  int line;
+};
+struct PointElement {
+  int entity;
+  long node;
+};
+
+/// What the sections of a file hold, before the mesh is assembled from it. The quadrangles are
+/// read into the mesh's connectivity (they are its elements in 2D, its boundary faces in 3D).
+struct GmshContent {
+  std::map<std::pair<int, int>, std::string> physicalNames;        // (dim, tag) -> name
+  std::map<std::pair<int, int>, std::vector<int>> entityPhysicals; // (dim, entity) -> tags
+  std::unordered_map<long, LocalIndex> nodeIndex;
+  std::vector<double> xyz; ///< 3 coordinates per node, as read
+  std::vector<LineElement> lines;
+  std::vector<PointElement> points;
+  std::vector<int> elementEntity; ///< surface entity of each quadrangle
+  std::vector<int> quadLine;      ///< file line of each quadrangle
+  long quadType = 0;
+  std::vector<LocalIndex> hexConnectivity;
+  std::vector<long> hexIds;
+  std::vector<int> hexEntity;
+  int zLine = 0;  ///< line of the first node with z != 0 (0: none)
+  long zNode = 0; ///< its tag
+
+  /// Names of the physical groups of entity (dim, entity): their names, or their tags where
+  /// $PhysicalNames names none.
+  std::vector<std::string> groupNames(int dim, int entity) const {
+    std::vector<std::string> names;
+    auto it = entityPhysicals.find({dim, entity});
+    if (it == entityPhysicals.end())
+      return names;
+    for (int tag : it->second) {
+      auto pn = physicalNames.find({dim, tag});
+      names.push_back(pn != physicalNames.end() ? pn->second : std::to_string(tag));
+    }
+    return names;
+  }
+};
 
 } // namespace
 
@@ -201,29 +274,233 @@ Mesh readGmsh(const std::string &path) {
   return readGmsh(in, path);
 }
 
+namespace {
+
+/// The message prefix "file:line: ".
+std::string at(const std::string &name, int line) {
+  return name + ":" + std::to_string(line) + ": ";
+}
+
+/// A 2D mesh: the quadrangles are the elements, 1D groups boundaries (their line elements matched
+/// to element edges), 0D groups node sets.
+void assemblePlane(Mesh &mesh, GmshContent &c, const std::string &name) {
+  mesh.elementType = c.quadType == 16 ? ElementType::Quad8 : ElementType::Quad4;
+  mesh.nodesPerElement = c.quadType == 16 ? 8 : 4;
+  mesh.coordinates.reserve(2 * (c.xyz.size() / 3));
+  for (std::size_t n = 0; n < c.xyz.size() / 3; ++n) {
+    mesh.coordinates.push_back(c.xyz[3 * n]);
+    mesh.coordinates.push_back(c.xyz[3 * n + 1]);
+  }
+  std::vector<double>().swap(c.xyz); // the z column is not needed
+
+  // Gmsh orients a plane surface's elements by its curve loop: a surface drawn clockwise gives
+  // clockwise quadrangles. Planar elements have one right orientation, so reorder them (before
+  // boundary edges are taken from the elements); inverted or folded ones stay for validateMesh.
+  if (const LocalIndex flipped = orientCounterClockwise(mesh); flipped > 0)
+    mesh.warnings.push_back(name + ": " + std::to_string(flipped) + " of " +
+                            std::to_string(mesh.numElements()) +
+                            " quadrangles had clockwise nodes (a surface whose curve loop runs "
+                            "clockwise); their nodes were reordered to counter-clockwise");
+
+  // Regions: the first physical group of each element's surface (or "surface_<tag>").
+  for (std::size_t e = 0; e < c.elementEntity.size(); ++e) {
+    auto names = c.groupNames(2, c.elementEntity[e]);
+    const std::string region =
+        names.empty() ? "surface_" + std::to_string(c.elementEntity[e]) : names.front();
+    int idx = mesh.regionIndex(region);
+    if (idx < 0) {
+      idx = static_cast<int>(mesh.regionNames.size());
+      mesh.regionNames.push_back(region);
+    }
+    mesh.elementRegion.push_back(idx);
+  }
+
+  // Boundaries: match each physical line element to the element edge with the same end nodes.
+  std::map<std::pair<LocalIndex, LocalIndex>, BoundaryEdge> edgeOf;
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int k = 0; k < 4; ++k) {
+      const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4);
+      edgeOf[{std::min(a, b), std::max(a, b)}] = {e, k};
+    }
+  const int lineNodes = mesh.nodesPerEdge();
+  for (const auto &l : c.lines) {
+    auto names = c.groupNames(1, l.entity);
+    if (names.empty())
+      continue;
+    if (static_cast<int>(l.nodes.size()) != lineNodes)
+      throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) + " has " +
+                       std::to_string(l.nodes.size()) + " nodes but the quadrangles need " +
+                       std::to_string(lineNodes) + "-node edges");
+    LocalIndex ends[2];
+    for (int k = 0; k < 2; ++k) {
+      auto it = c.nodeIndex.find(l.nodes[k]);
+      if (it == c.nodeIndex.end())
+        throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) +
+                         " references unknown node " + std::to_string(l.nodes[k]));
+      ends[k] = it->second;
+    }
+    auto it = edgeOf.find({std::min(ends[0], ends[1]), std::max(ends[0], ends[1])});
+    if (it == edgeOf.end())
+      throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) +
+                       " of boundary '" + names.front() + "' is not an edge of any quadrangle");
+    for (const auto &nm : names)
+      mesh.boundaries[nm].push_back(it->second);
+  }
+  for (const auto &p : c.points) {
+    auto names = c.groupNames(0, p.entity);
+    auto it = c.nodeIndex.find(p.node);
+    if (it == c.nodeIndex.end())
+      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
+    for (const auto &nm : names)
+      mesh.nodeSets[nm].push_back(it->second);
+  }
+  // A named physical group without elements is kept, empty: a problem that uses it is then told
+  // that it is empty rather than that it does not exist.
+  for (const auto &[key, nm] : c.physicalNames) {
+    if (key.first == 1 && !mesh.boundaries.count(nm))
+      mesh.boundaries[nm];
+    else if (key.first == 0 && !mesh.nodeSets.count(nm))
+      mesh.nodeSets[nm];
+  }
+}
+
+/// One face of a hexahedron, keyed by its sorted corner nodes (the search table of the boundary
+/// quadrangles).
+struct HexFace {
+  std::array<LocalIndex, 4> key;
+  BoundaryEdge side;
+  bool operator<(const HexFace &o) const { return key < o.key; }
+};
+
+/// True when the four nodes `q` run around the face in the same direction as the element's side
+/// `s` (one is the other rotated), i.e. the quadrangle's normal points out of that element.
+bool sameTurn(const Mesh &mesh, const BoundaryEdge &s, const std::array<LocalIndex, 4> &q) {
+  for (int shift = 0; shift < 4; ++shift) {
+    bool all = true;
+    for (int k = 0; k < 4 && all; ++k)
+      all = mesh.sideNode(s, k) == q[(k + shift) % 4];
+    if (all)
+      return true;
+  }
+  return false;
+}
+
+/// A 3D mesh: the hexahedra are the elements (volume groups are regions), the quadrangles of
+/// surface groups are boundaries (each matched to the element face with the same corner nodes),
+/// curve and point groups are node sets (their nodes). Quadrangles of surfaces without a physical
+/// group must still be element faces: a mesh of hexahedra takes no 2D elements.
+void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
+  if (c.quadType == 16)
+    throw InputError(at(name, c.quadLine.front()) +
+                     "8-node quadrangles (type 16) in a mesh of 8-node hexahedra; the faces of "
+                     "8-node hexahedra are 4-node quadrangles (type 3)");
+  // The quadrangles read so far are faces: move them out of the element arrays.
+  const std::vector<LocalIndex> quads = std::move(mesh.connectivity);
+  const std::vector<long> quadIds = std::move(mesh.elementIds);
+  mesh.elementType = ElementType::Hex8;
+  mesh.nodesPerElement = Hex8::kNumNodes;
+  mesh.connectivity = std::move(c.hexConnectivity);
+  mesh.elementIds = std::move(c.hexIds);
+  mesh.coordinates = std::move(c.xyz);
+  // No reorientation: a hexahedron has no single fix for a wrong node order (a mirrored one
+  // differs from a twisted one); validateMesh names the element whose Jacobian is not positive.
+
+  // Regions: the first physical group of each element's volume (or "volume_<tag>").
+  for (int entity : c.hexEntity) {
+    auto names = c.groupNames(3, entity);
+    const std::string region = names.empty() ? "volume_" + std::to_string(entity) : names.front();
+    int idx = mesh.regionIndex(region);
+    if (idx < 0) {
+      idx = static_cast<int>(mesh.regionNames.size());
+      mesh.regionNames.push_back(region);
+    }
+    mesh.elementRegion.push_back(idx);
+  }
+
+  // Boundaries: each quadrangle matched to the element faces with its four corner nodes. A face
+  // between two elements matches both; the one whose side turns like the quadrangle is taken.
+  if (!quads.empty()) {
+    std::vector<HexFace> faces;
+    faces.reserve(static_cast<std::size_t>(mesh.numElements()) * Hex8::kNumSides);
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int f = 0; f < Hex8::kNumSides; ++f) {
+        HexFace face{{}, {e, f}};
+        for (int k = 0; k < 4; ++k)
+          face.key[k] = mesh.node(e, Hex8::sideNode(f, k));
+        std::sort(face.key.begin(), face.key.end());
+        faces.push_back(face);
+      }
+    std::sort(faces.begin(), faces.end());
+    for (std::size_t q = 0; q < quadIds.size(); ++q) {
+      const auto names = c.groupNames(2, c.elementEntity[q]);
+      std::array<LocalIndex, 4> nodes;
+      std::copy(quads.begin() + 4 * q, quads.begin() + 4 * q + 4, nodes.begin());
+      HexFace probe{nodes, {0, 0}};
+      std::sort(probe.key.begin(), probe.key.end());
+      const auto [first, last] = std::equal_range(faces.begin(), faces.end(), probe);
+      if (first == last) {
+        const std::string quad = "quadrangle element " + std::to_string(quadIds[q]);
+        if (!names.empty())
+          throw InputError(at(name, c.quadLine[q]) + quad + " of boundary '" + names.front() +
+                           "' is not a face of any hexahedron");
+        throw InputError(at(name, c.quadLine[q]) + quad + " (surface " +
+                         std::to_string(c.elementEntity[q]) +
+                         ") is not a face of any hexahedron; in a mesh of hexahedra quadrangles "
+                         "are boundary faces only (mixed 2D and 3D elements are not supported)");
+      }
+      if (names.empty())
+        continue;
+      auto match = first;
+      for (auto it = first; it != last; ++it)
+        if (sameTurn(mesh, it->side, nodes)) {
+          match = it;
+          break;
+        }
+      for (const auto &nm : names)
+        mesh.boundaries[nm].push_back(match->side);
+    }
+  }
+
+  // Node sets: the nodes of the curve and point groups, sorted.
+  for (const auto &l : c.lines) {
+    for (const auto &nm : c.groupNames(1, l.entity))
+      for (long tag : l.nodes) {
+        auto it = c.nodeIndex.find(tag);
+        if (it == c.nodeIndex.end())
+          throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) +
+                           " references unknown node " + std::to_string(tag));
+        mesh.nodeSets[nm].push_back(it->second);
+      }
+  }
+  for (const auto &p : c.points) {
+    auto names = c.groupNames(0, p.entity);
+    auto it = c.nodeIndex.find(p.node);
+    if (it == c.nodeIndex.end())
+      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
+    for (const auto &nm : names)
+      mesh.nodeSets[nm].push_back(it->second);
+  }
+  for (auto &[nm, nodes] : mesh.nodeSets) {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  // Named groups without elements are kept, empty (as in 2D).
+  for (const auto &[key, nm] : c.physicalNames) {
+    if (key.first == 2 && !mesh.boundaries.count(nm))
+      mesh.boundaries[nm];
+    else if ((key.first == 1 || key.first == 0) && !mesh.nodeSets.count(nm))
+      mesh.nodeSets[nm];
+  }
+}
+
+} // namespace
+
 Mesh readGmsh(std::istream &in, const std::string &name) {
   Lexer lex(in, name);
   Mesh mesh;
   mesh.source = name;
-
-  std::map<std::pair<int, int>, std::string> physicalNames;        // (dim, tag) -> name
-  std::map<std::pair<int, int>, std::vector<int>> entityPhysicals; // (dim, entity) -> tags
-  std::unordered_map<long, LocalIndex> nodeIndex;
-  struct LineElement {
-    int entity;
-    long id;
-    std::vector<long> nodes;
-    int line;
-  };
-  std::vector<LineElement> lines;
-  struct PointElement {
-    int entity;
-    long node;
-  };
-  std::vector<PointElement> points;
-  std::vector<int> elementEntity;
+  GmshContent c;
   bool sawFormat = false, sawNodes = false, sawElements = false;
-  long quadType = 0;
 
   std::vector<std::string> t;
   // The header first: a file that does not start with $MeshFormat is refused at its first line
@@ -253,14 +530,14 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           nm += " " + p[k];
         if (nm.size() >= 2 && nm.front() == '"' && nm.back() == '"')
           nm = nm.substr(1, nm.size() - 2);
-        physicalNames[{lex.toInt(p[0]), lex.toInt(p[1])}] = nm;
+        c.physicalNames[{lex.toInt(p[0]), lex.toInt(p[1])}] = nm;
       }
     } else if (section == "$Entities") {
-      auto c = lex.expectLine("$Entities");
-      lex.need(c, 4, "$Entities counts");
+      auto e0 = lex.expectLine("$Entities");
+      lex.need(e0, 4, "$Entities counts");
       long counts[4];
       for (int d = 0; d < 4; ++d)
-        counts[d] = lex.toCount(c[d], kMaxCount, "number of entities");
+        counts[d] = lex.toCount(e0[d], kMaxCount, "number of entities");
       for (int d = 0; d < 4; ++d)
         for (long i = 0; i < counts[d]; ++i) {
           auto e = lex.expectLine("$Entities");
@@ -271,7 +548,7 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           const long np = lex.toCount(e[physAt], kMaxCount, "number of physical tags");
           lex.need(e, physAt + 1 + np, "$Entities entry");
           for (long k = 0; k < np; ++k)
-            entityPhysicals[{d, tag}].push_back(std::abs(lex.toInt(e[physAt + 1 + k])));
+            c.entityPhysicals[{d, tag}].push_back(std::abs(lex.toInt(e[physAt + 1 + k])));
         }
     } else if (section == "$Nodes") {
       auto h = lex.expectLine("$Nodes");
@@ -282,20 +559,23 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
         lex.need(bh, 4, "$Nodes block header");
         const bool parametric = lex.toLong(bh[2]) != 0;
         // Node indices are LocalIndex: the mesh holds at most kMaxCount nodes.
-        const long n = lex.toCount(bh[3], kMaxCount - mesh.numNodes(), "number of nodes");
+        const long n = lex.toCount(bh[3], kMaxCount - static_cast<long>(mesh.nodeIds.size()),
+                                   "number of nodes");
         std::vector<long> tags; // grown as read: the header's count drives no allocation
         for (long i = 0; i < n; ++i)
           tags.push_back(lex.toLong(lex.expectLine("$Nodes tags")[0]));
         for (long i = 0; i < n; ++i) {
           auto xyz = lex.expectLine("$Nodes coordinates");
           lex.need(xyz, parametric ? 4 : 3, "node coordinates");
-          if (std::abs(lex.toDouble(xyz[2])) > 0.0)
-            lex.fail("node " + std::to_string(tags[i]) +
-                     " has a non-zero z coordinate; mixcon meshes are planar (z = 0)");
-          if (!nodeIndex.emplace(tags[i], mesh.numNodes()).second)
+          const double x = lex.toDouble(xyz[0]), y = lex.toDouble(xyz[1]), z = lex.toDouble(xyz[2]);
+          // z != 0 is refused once the mesh turns out to be 2D (no hexahedra), at this line.
+          if (std::abs(z) > 0.0 && c.zLine == 0) {
+            c.zLine = lex.line();
+            c.zNode = tags[i];
+          }
+          if (!c.nodeIndex.emplace(tags[i], static_cast<LocalIndex>(mesh.nodeIds.size())).second)
             lex.fail("duplicate node tag " + std::to_string(tags[i]));
-          mesh.coordinates.push_back(lex.toDouble(xyz[0]));
-          mesh.coordinates.push_back(lex.toDouble(xyz[1]));
+          c.xyz.insert(c.xyz.end(), {x, y, z});
           mesh.nodeIds.push_back(tags[i]);
         }
       }
@@ -312,17 +592,23 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
         const long type = lex.toLong(bh[2]);
         const long n = lex.toCount(bh[3], kMaxCount, "number of elements");
         const int npe = gmshNodesPerElement(type);
-        if (npe < 0 || dim < 0 || dim > 2)
+        if (dim == 3 && type != kGmshHex8 && !c.hexIds.empty())
+          lex.fail("mixed volume element types: element type " + std::to_string(type) + " (" +
+                   gmshTypeName(type) +
+                   ") in a mesh of 8-node hexahedra (type 5); mixcon reads one volume element "
+                   "type, 8-node hexahedra");
+        if (npe < 0)
           lex.fail(std::string("unsupported element type ") + std::to_string(type) + " (" +
                    gmshTypeName(type) +
-                   "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles");
+                   "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles and 8-node "
+                   "hexahedra (type 5)");
         if (gmshDimension(type) != dim)
           lex.fail("element type " + std::to_string(type) + " in a block of dimension " +
                    std::to_string(dim));
         if (dim == 2) {
-          if (quadType != 0 && quadType != type)
+          if (c.quadType != 0 && c.quadType != type)
             lex.fail("mixed 4-node and 8-node quadrangles; use one element order per mesh");
-          quadType = type;
+          c.quadType = type;
         }
         for (long i = 0; i < n; ++i) {
           auto e = lex.expectLine("$Elements entry");
@@ -331,23 +617,30 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           std::vector<long> nodes(npe);
           for (int a = 0; a < npe; ++a)
             nodes[a] = lex.toLong(e[1 + a]);
-          if (dim == 2) {
-            if (static_cast<long>(mesh.connectivity.size()) > kMaxCount - npe)
+          if (dim >= 2) {
+            std::vector<LocalIndex> &conn = dim == 2 ? mesh.connectivity : c.hexConnectivity;
+            if (static_cast<long>(conn.size()) > kMaxCount - npe)
               lex.fail("too many elements (connectivity indices are " +
                        std::to_string(sizeof(LocalIndex) * 8) + "-bit)");
             for (long nt : nodes) {
-              auto it = nodeIndex.find(nt);
-              if (it == nodeIndex.end())
+              auto it = c.nodeIndex.find(nt);
+              if (it == c.nodeIndex.end())
                 lex.fail("element " + std::to_string(id) + " references unknown node " +
                          std::to_string(nt));
-              mesh.connectivity.push_back(it->second);
+              conn.push_back(it->second);
             }
-            mesh.elementIds.push_back(id);
-            elementEntity.push_back(entity);
+            if (dim == 2) {
+              mesh.elementIds.push_back(id);
+              c.elementEntity.push_back(entity);
+              c.quadLine.push_back(lex.line());
+            } else {
+              c.hexIds.push_back(id);
+              c.hexEntity.push_back(entity);
+            }
           } else if (dim == 1) {
-            lines.push_back({entity, id, nodes, lex.line()});
+            c.lines.push_back({entity, id, nodes, lex.line()});
           } else {
-            points.push_back({entity, nodes[0]});
+            c.points.push_back({entity, nodes[0]});
           }
         }
       }
@@ -360,99 +653,23 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
       }
     }
   } while (lex.next(t));
+  // The mesh's dimension is the highest element dimension present: 3 with hexahedra.
+  const bool solid = !c.hexIds.empty();
+  if (!solid && c.zLine > 0)
+    throw InputError(at(name, c.zLine) + "node " + std::to_string(c.zNode) +
+                     " has a non-zero z coordinate; mixcon meshes are planar (z = 0) unless "
+                     "they are made of 8-node hexahedra (type 5)");
   if (!sawFormat)
     throw InputError(name + ": not a Gmsh file (no $MeshFormat section)");
   if (!sawNodes || !sawElements)
     throw InputError(name + ": missing $Nodes or $Elements section");
-  if (quadType == 0)
-    throw InputError(name + ": no quadrilateral elements (2D elements of type 3 or 16)");
-  mesh.elementType = quadType == 16 ? ElementType::Quad8 : ElementType::Quad4;
-  mesh.nodesPerElement = quadType == 16 ? 8 : 4;
-
-  // Gmsh orients a plane surface's elements by its curve loop: a surface drawn clockwise gives
-  // clockwise quadrangles. Planar elements have one right orientation, so reorder them (before
-  // boundary edges are taken from the elements); inverted or folded ones stay for validateMesh.
-  if (const LocalIndex flipped = orientCounterClockwise(mesh); flipped > 0)
-    mesh.warnings.push_back(name + ": " + std::to_string(flipped) + " of " +
-                            std::to_string(mesh.numElements()) +
-                            " quadrangles had clockwise nodes (a surface whose curve loop runs "
-                            "clockwise); their nodes were reordered to counter-clockwise");
-
-  auto groupNames = [&](int dim, int entity) {
-    std::vector<std::string> names;
-    auto it = entityPhysicals.find({dim, entity});
-    if (it == entityPhysicals.end())
-      return names;
-    for (int tag : it->second) {
-      auto pn = physicalNames.find({dim, tag});
-      names.push_back(pn != physicalNames.end() ? pn->second : std::to_string(tag));
-    }
-    return names;
-  };
-
-  // Regions: the first physical group of each element's surface (or "surface_<tag>").
-  for (std::size_t e = 0; e < elementEntity.size(); ++e) {
-    auto names = groupNames(2, elementEntity[e]);
-    const std::string region =
-        names.empty() ? "surface_" + std::to_string(elementEntity[e]) : names.front();
-    int idx = mesh.regionIndex(region);
-    if (idx < 0) {
-      idx = static_cast<int>(mesh.regionNames.size());
-      mesh.regionNames.push_back(region);
-    }
-    mesh.elementRegion.push_back(idx);
-  }
-
-  // Boundaries: match each physical line element to the element edge with the same end nodes.
-  std::map<std::pair<LocalIndex, LocalIndex>, BoundaryEdge> edgeOf;
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-    for (int k = 0; k < 4; ++k) {
-      const LocalIndex a = mesh.node(e, k), b = mesh.node(e, (k + 1) % 4);
-      edgeOf[{std::min(a, b), std::max(a, b)}] = {e, k};
-    }
-  const int lineNodes = mesh.nodesPerEdge();
-  for (const auto &l : lines) {
-    auto names = groupNames(1, l.entity);
-    if (names.empty())
-      continue;
-    if (static_cast<int>(l.nodes.size()) != lineNodes)
-      throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
-                       std::to_string(l.id) + " has " + std::to_string(l.nodes.size()) +
-                       " nodes but the quadrangles need " + std::to_string(lineNodes) +
-                       "-node edges");
-    LocalIndex ends[2];
-    for (int k = 0; k < 2; ++k) {
-      auto it = nodeIndex.find(l.nodes[k]);
-      if (it == nodeIndex.end())
-        throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
-                         std::to_string(l.id) + " references unknown node " +
-                         std::to_string(l.nodes[k]));
-      ends[k] = it->second;
-    }
-    auto it = edgeOf.find({std::min(ends[0], ends[1]), std::max(ends[0], ends[1])});
-    if (it == edgeOf.end())
-      throw InputError(name + ":" + std::to_string(l.line) + ": line element " +
-                       std::to_string(l.id) + " of boundary '" + names.front() +
-                       "' is not an edge of any quadrangle");
-    for (const auto &nm : names)
-      mesh.boundaries[nm].push_back(it->second);
-  }
-  for (const auto &p : points) {
-    auto names = groupNames(0, p.entity);
-    auto it = nodeIndex.find(p.node);
-    if (it == nodeIndex.end())
-      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
-    for (const auto &nm : names)
-      mesh.nodeSets[nm].push_back(it->second);
-  }
-  // A named physical group without elements is kept, empty: a problem that uses it is then told
-  // that it is empty rather than that it does not exist.
-  for (const auto &[key, nm] : physicalNames) {
-    if (key.first == 1 && !mesh.boundaries.count(nm))
-      mesh.boundaries[nm];
-    else if (key.first == 0 && !mesh.nodeSets.count(nm))
-      mesh.nodeSets[nm];
-  }
+  if (c.quadType == 0 && !solid)
+    throw InputError(name + ": no quadrilateral elements (2D elements of type 3 or 16) and no "
+                            "hexahedra (3D elements of type 5)");
+  if (solid)
+    assembleSolid(mesh, c, name);
+  else
+    assemblePlane(mesh, c, name);
   mesh.finalizeIds();
   return mesh;
 }
