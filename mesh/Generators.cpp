@@ -43,7 +43,7 @@ double graded(int i, int n, double ratio) {
 /// Builds the mesh of several patches, merging nodes that coincide within a tolerance.
 Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::string source) {
   if (type != ElementType::Quad4 && type != ElementType::Quad8)
-    throw GeneratorError("mesh " + source + ": element type " + elementName(type) +
+    throw GeneratorError("mesh " + source + ": element type " + elementTypeName(type) +
                          " is not a quadrilateral (this generator is 2D; the box generator makes "
                          "hex8 meshes)");
   Mesh mesh;
@@ -178,7 +178,7 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
   requirePositive("grading[1]", gy, gen);
   requirePositive("grading[2]", gz, gen);
   if (type != ElementType::Hex8)
-    throw GeneratorError("mesh generator box: element type " + elementName(type) +
+    throw GeneratorError("mesh generator box: element type " + elementTypeName(type) +
                          " is not a hexahedron (the box makes hex8 meshes)");
   // Node and connectivity indices are LocalIndex: refuse before anything is allocated.
   const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
@@ -515,7 +515,7 @@ Mesh mergeMeshes(const std::vector<MeshBody> &bodies) {
     const Mesh &m = b.mesh;
     if (m.dim() != 2)
       throw InputError("mesh bodies: body '" + b.name + "' is a " + std::to_string(m.dim()) +
-                       "D mesh (" + elementName(m.elementType) +
+                       "D mesh (" + elementTypeName(m.elementType) +
                        "); several bodies in one mesh are 2D only so far (issue 17)");
     if (!names.insert(b.name).second)
       throw InputError("mesh bodies: the name '" + b.name + "' is used twice");
