@@ -23,7 +23,9 @@ ElementType elementType(const YamlItem &i) {
     return ElementType::Quad4;
   if (v == "quad8")
     return ElementType::Quad8;
-  i.fail("unsupported element '" + v + "' (supported: quad4, quad8)");
+  if (v == "hex8")
+    return ElementType::Hex8;
+  i.fail("unsupported element '" + v + "' (supported: quad4, quad8, hex8)");
 }
 
 std::string joinPath(const std::string &base, const std::string &file) {

@@ -99,6 +99,10 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
         mb.offset[1] = off[1];
       }
       mb.mesh = readMesh(b, baseDir, true);
+      if (mb.mesh.dim() != 2)
+        b.fail("several bodies are 2D only so far (contact between bodies is 2D; issue 17); "
+               "body '" +
+               mb.name + "' is a 3D mesh");
       if (!bodies.empty() && mb.mesh.elementType != bodies.front().mesh.elementType)
         b.fail("every body needs the same element type as the first one");
       bodies.push_back(std::move(mb));
@@ -130,8 +134,7 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
     if (m.has("element")) {
       const ElementType want = elementType(m["element"]);
       if (want != mesh.elementType)
-        m["element"].fail(std::string("the mesh file has ") +
-                          (mesh.elementType == ElementType::Quad8 ? "quad8" : "quad4") +
+        m["element"].fail(std::string("the mesh file has ") + elementTypeName(mesh.elementType) +
                           " elements but the problem asks for " + m["element"].string());
     }
   } else {
@@ -141,10 +144,26 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
     g.requireMap();
     const std::string type =
         g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole",
-                                   "quarter_disk", "half_disk", "pinned_plate"});
-    const ElementType et = g.has("element") ? elementType(g["element"]) : ElementType::Quad4;
+                                   "quarter_disk", "half_disk", "pinned_plate", "box"});
+    const ElementType et = g.has("element") ? elementType(g["element"])
+                           : type == "box"  ? ElementType::Hex8
+                                            : ElementType::Quad4;
     try {
-      if (type == "rectangle") {
+      if (type == "box") {
+        g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
+        const auto size = g.required("size").vector(3);
+        const YamlItem d = g.required("divisions");
+        if (!d.node.IsSequence() || d.node.size() != 3)
+          d.fail("expected a list of three integers [nx, ny, nz]");
+        const std::array<int, 3> div{d.at(0).integer(), d.at(1).integer(), d.at(2).integer()};
+        checkGeneratedSize(d, 1.0 * div[0] * div[1] * div[2]);
+        const auto origin =
+            g.has("origin") ? g["origin"].vector(3) : std::array<double, 3>{0.0, 0.0, 0.0};
+        const auto grading =
+            g.has("grading") ? g["grading"].vector(3) : std::array<double, 3>{1.0, 1.0, 1.0};
+        mesh = boxMesh(size[0], size[1], size[2], div[0], div[1], div[2], et, origin[0], origin[1],
+                       origin[2], grading[0], grading[1], grading[2]);
+      } else if (type == "rectangle") {
         g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
         const auto size = g.required("size").pair();
         const auto div = g.required("divisions").intPair();

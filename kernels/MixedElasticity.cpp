@@ -9,6 +9,10 @@ MassLumping massLumping(ElementType type) {
 }
 
 void checkMixedPairing(ElementType displacement, ElementType stress) {
+  if (spatialDimension(displacement) != 2 || spatialDimension(stress) != 2)
+    throw InputError("mixed model: " + elementTypeName(displacement) + " displacements with " +
+                     elementTypeName(stress) +
+                     " stresses: the mixed model is 2D only so far (quadrilaterals; issue 17)");
   if (displacement == stress)
     return;
   if (displacement == ElementType::Quad8 && stress == ElementType::Quad4)
