@@ -238,7 +238,11 @@ void ModelBase::checkRigidBodyModes() const {
         r << "rotate about (" << snap(b.sum[0] / b.count - size * v(1) / v(2)) << ", "
           << snap(b.sum[1] / b.count + size * v(0) / v(2)) << ")";
       } else if (dim == 3 && free == 1 && v.tail(3).norm() > 1e-6) {
-        const Eigen::Vector3d axis = v.tail(3).normalized();
+        Eigen::Vector3d axis = v.tail(3).normalized();
+        Eigen::Index largest = 0;
+        axis.cwiseAbs().maxCoeff(&largest);
+        if (axis(largest) < 0.0) // the axis's sign is arbitrary: print its largest part positive
+          axis = -axis;
         const auto snap = [](double t) { return std::fabs(t) < 1e-9 ? 0.0 : t; };
         r << "rotate about an axis along (" << snap(axis(0)) << ", " << snap(axis(1)) << ", "
           << snap(axis(2)) << ")";

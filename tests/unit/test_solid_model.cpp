@@ -1,0 +1,339 @@
+// The 3D parts of the linear displacement model and of the problem files (issue 17, Hex8):
+// - face loads (assembleFaceLoads through ModelBase::addSideLoad) and body forces against plain
+//   host references (their own bilinear face map and trilinear volume map, 5-point Gauss rules,
+//   exact for planar faces and trilinear elements);
+// - the six rigid-body modes of checkRigidBodyModes in 3D, named in the message;
+// - problem files: box generator, uz, 3-component loads, 3D materials (orthotropic axes given
+//   as vectors or angles agree, 21 anisotropic constants), and the refusals of what 3D does not
+//   have yet, each naming the file and line.
+#include <io/Problem.hpp>
+#include <mesh/Generators.hpp>
+#include <solver/DisplacementModel.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+using namespace mixcon;
+
+namespace {
+
+/// A 2 x 1.5 x 1 box (2 x 3 x 2 elements) whose nodes move randomly in y and z but keep their x,
+/// and stay on the planes y = 0, 1.5 and z = 0, 1 they lie on: the box keeps its shape and
+/// volume, and the end faces xmin and xmax (irregular quadrilaterals) stay planar, where 2 x 2
+/// Gauss on a face is exact.
+Mesh boxWithPlanarEnds() {
+  Mesh mesh = boxMesh(2.0, 1.5, 1.0, 2, 3, 2, ElementType::Hex8);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> d(-0.08, 0.08);
+  const double len[3] = {2.0, 1.5, 1.0};
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    for (int i = 1; i < 3; ++i) {
+      double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
+      if (std::abs(x) > 1e-12 && std::abs(x - len[i]) > 1e-12)
+        x += d(rng);
+    }
+  validateMesh(mesh);
+  return mesh;
+}
+
+void gauss5(int i, double &x, double &w) {
+  static const double xs[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
+  static const double ws[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                               0.4786286704993665, 0.2369268850561891};
+  x = xs[i];
+  w = ws[i];
+}
+
+LinearDisplacementModel solidModel(const Mesh &mesh) {
+  return LinearDisplacementModel(mesh, std::vector<int>(mesh.numElements(), 0),
+                                 {IsotropicMaterial{1.0, 0.25}.stiffness()});
+}
+
+/// The reference load vector F^L of the model (no constraints: the right-hand side is F).
+std::vector<double> assembledLoad(LinearDisplacementModel &model) {
+  // u = 0 everywhere: the reactions are -F.
+  auto r = model.reactionHost(1.0);
+  for (double &v : r)
+    v = -v;
+  return r;
+}
+
+} // namespace
+
+TEST(SolidLoads, FaceTractionAndPressureMatchAHostQuadrature) {
+  const Mesh mesh = boxWithPlanarEnds();
+  const std::array<double, 3> t{0.3, -1.2, 0.7};
+  const double pressure = 2.5;
+  auto model = solidModel(mesh);
+  model.addSideLoad(mesh.boundaries.at("xmax"), t, 0.0);
+  model.addSideLoad(mesh.boundaries.at("xmin"), {0.0, 0.0, 0.0}, pressure);
+  const auto f = assembledLoad(model);
+
+  // Host reference: face nodes from the Hex8 face table written out here (Gmsh order, outward
+  // counter-clockwise), the bilinear map of the face and a 5 x 5 Gauss rule.
+  const int faceNodes[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                               {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  std::vector<double> ref(3 * static_cast<std::size_t>(mesh.numNodes()), 0.0);
+  double area[2] = {0.0, 0.0}, normalSum[2][3] = {};
+  for (int which = 0; which < 2; ++which)
+    for (const auto &side : mesh.boundaries.at(which == 0 ? "xmax" : "xmin")) {
+      LocalIndex nodes[4];
+      for (int k = 0; k < 4; ++k)
+        nodes[k] = mesh.node(side.element, faceNodes[side.edge][k]);
+      const double sc[4] = {-1, 1, 1, -1}, tc[4] = {-1, -1, 1, 1};
+      for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j) {
+          double s, ws, tt, wt;
+          gauss5(i, s, ws);
+          gauss5(j, tt, wt);
+          double a1[3] = {}, a2[3] = {}, n[4];
+          for (int k = 0; k < 4; ++k) {
+            n[k] = 0.25 * (1 + s * sc[k]) * (1 + tt * tc[k]);
+            for (int c = 0; c < 3; ++c) {
+              a1[c] += 0.25 * sc[k] * (1 + tt * tc[k]) * mesh.coordinate(nodes[k], c);
+              a2[c] += 0.25 * tc[k] * (1 + s * sc[k]) * mesh.coordinate(nodes[k], c);
+            }
+          }
+          const double na[3] = {a1[1] * a2[2] - a1[2] * a2[1], a1[2] * a2[0] - a1[0] * a2[2],
+                                a1[0] * a2[1] - a1[1] * a2[0]};
+          const double da = std::sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
+          area[which] += da * ws * wt;
+          for (int c = 0; c < 3; ++c)
+            normalSum[which][c] += na[c] * ws * wt;
+          for (int k = 0; k < 4; ++k)
+            for (int c = 0; c < 3; ++c)
+              ref[3 * nodes[k] + c] +=
+                  n[k] * ws * wt * (which == 0 ? t[c] * da : -pressure * na[c]);
+        }
+    }
+  for (std::size_t k = 0; k < ref.size(); ++k)
+    EXPECT_NEAR(f[k], ref[k], 1e-13) << "unknown " << k;
+  // The planar end faces: area 1.5 x 1, outward normals +x (xmax) and -x (xmin).
+  EXPECT_NEAR(area[0], 1.5, 1e-12);
+  EXPECT_NEAR(normalSum[0][0], 1.5, 1e-12);
+  EXPECT_NEAR(normalSum[1][0], -1.5, 1e-12);
+  double total[3] = {};
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    for (int c = 0; c < 3; ++c)
+      total[c] += f[3 * p + c];
+  // Traction times area, plus the pressure pushing on xmin in +x.
+  EXPECT_NEAR(total[0], t[0] * 1.5 + pressure * 1.5, 1e-12);
+  EXPECT_NEAR(total[1], t[1] * 1.5, 1e-12);
+  EXPECT_NEAR(total[2], t[2] * 1.5, 1e-12);
+}
+
+TEST(SolidLoads, BodyForceMatchesAHostQuadrature) {
+  const Mesh mesh = boxWithPlanarEnds();
+  auto model = solidModel(mesh);
+  // f = (1 + x, -2 z, 0.5 y) at the quadrature points (a field, not only a constant).
+  model.addBodyForce3D([](double x, double y, double z, LocalIndex) {
+    return std::array<double, 3>{1.0 + x, -2.0 * z, 0.5 * y};
+  });
+  const auto f = assembledLoad(model);
+  // Host reference: trilinear map, 2 x 2 x 2 Gauss like the element rule (the force is sampled
+  // at the quadrature points, so the reference uses the same points), written out here.
+  std::vector<double> ref(3 * static_cast<std::size_t>(mesh.numNodes()), 0.0);
+  const double g = 1.0 / std::sqrt(3.0);
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int q = 0; q < 8; ++q) {
+      const double xi[3] = {(q & 1) ? g : -g, (q & 2) ? g : -g, (q & 4) ? g : -g};
+      double jac[3][3] = {}, x[3] = {}, n[8];
+      for (int a = 0; a < 8; ++a) {
+        const double ca[3] = {(a == 1 || a == 2 || a == 5 || a == 6) ? 1.0 : -1.0,
+                              (a == 2 || a == 3 || a == 6 || a == 7) ? 1.0 : -1.0,
+                              a >= 4 ? 1.0 : -1.0};
+        n[a] = 0.125 * (1 + xi[0] * ca[0]) * (1 + xi[1] * ca[1]) * (1 + xi[2] * ca[2]);
+        for (int j = 0; j < 3; ++j) {
+          double d = 0.125 * ca[j];
+          for (int k = 0; k < 3; ++k)
+            if (k != j)
+              d *= 1 + xi[k] * ca[k];
+          for (int i = 0; i < 3; ++i)
+            jac[i][j] += d * mesh.coordinate(mesh.node(e, a), i);
+        }
+        for (int i = 0; i < 3; ++i)
+          x[i] += n[a] * mesh.coordinate(mesh.node(e, a), i);
+      }
+      const double det = jac[0][0] * (jac[1][1] * jac[2][2] - jac[1][2] * jac[2][1]) -
+                         jac[0][1] * (jac[1][0] * jac[2][2] - jac[1][2] * jac[2][0]) +
+                         jac[0][2] * (jac[1][0] * jac[2][1] - jac[1][1] * jac[2][0]);
+      volume += det;
+      const double fq[3] = {1.0 + x[0], -2.0 * x[2], 0.5 * x[1]};
+      for (int a = 0; a < 8; ++a)
+        for (int c = 0; c < 3; ++c)
+          ref[3 * mesh.node(e, a) + c] += n[a] * fq[c] * det;
+    }
+  EXPECT_NEAR(volume, 2.0 * 1.5 * 1.0, 1e-12); // the inner moves keep the box's volume
+  for (std::size_t k = 0; k < ref.size(); ++k)
+    EXPECT_NEAR(f[k], ref[k], 1e-13) << "unknown " << k;
+}
+
+TEST(SolidModel, NamesTheFreeRigidBodyModes) {
+  const Mesh mesh = boxMesh(2.0, 1.0, 1.0, 2, 1, 1, ElementType::Hex8);
+  auto message = [&](const std::function<void(LinearDisplacementModel &)> &prescribe) {
+    auto model = solidModel(mesh);
+    prescribe(model);
+    try {
+      model.checkRigidBodyModes();
+    } catch (const InputError &e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // Clamped face: held.
+  EXPECT_EQ(message([&](auto &m) {
+              for (LocalIndex p : mesh.nodesOf("xmin"))
+                for (int c = 0; c < 3; ++c)
+                  m.prescribe(p, c, 0.0);
+            }),
+            "");
+  // No uz anywhere: free to translate in z (and rotate).
+  EXPECT_NE(message([&](auto &m) {
+              for (LocalIndex p : mesh.nodesOf("xmin"))
+                for (int c = 0; c < 2; ++c)
+                  m.prescribe(p, c, 0.0);
+            }).find("translate in z (no uz is prescribed on it)"),
+            std::string::npos);
+  // All components on the nodes of one edge along x: the rotation about that edge is free.
+  const std::string edge = message([&](auto &m) {
+    for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+      if (std::abs(mesh.y(p)) < 1e-12 && std::abs(mesh.z(p)) < 1e-12)
+        for (int c = 0; c < 3; ++c)
+          m.prescribe(p, c, 0.0);
+  });
+  EXPECT_NE(edge.find("rotate about an axis along (1, 0, 0)"), std::string::npos) << edge;
+  EXPECT_NE(edge.find("three rotations"), std::string::npos) << edge;
+}
+
+namespace {
+const char *kSolid = R"(mesh:
+  generator: {type: box, size: [4, 1, 2], divisions: [4, 1, 2]}
+materials:
+  - {region: body, type: isotropic, E: 100, nu: 0.3}
+boundary_conditions:
+  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
+loads:
+  - {boundary: xmax, traction: [0, -1, 0.5]}
+  - {boundary: zmax, pressure: 2}
+  - {node_set: corner_111, force: [1, 2, 3]}
+  - {region: body, body_force: [0, 0, -9.8]}
+solver: {type: direct}
+)";
+
+std::string replaceText(std::string s, const std::string &from, const std::string &to) {
+  const auto at = s.find(from);
+  if (at == std::string::npos)
+    throw std::logic_error("test text lacks '" + from + "'");
+  return s.replace(at, from.size(), to);
+}
+
+/// The InputError message of parsing `text`, empty when it parses.
+std::string refusal(const std::string &text) {
+  try {
+    parseProblem(text, "solid.yaml", "");
+  } catch (const InputError &e) {
+    return e.what();
+  }
+  return "";
+}
+} // namespace
+
+TEST(SolidProblem, ParsesABoxWithThreeComponentLoads) {
+  const Problem p = parseProblem(kSolid, "solid.yaml", "");
+  EXPECT_EQ(p.mesh.elementType, ElementType::Hex8);
+  EXPECT_EQ(p.mesh.dim(), 3);
+  EXPECT_EQ(p.mesh.numElements(), 8);
+  ASSERT_EQ(p.loads.size(), 4u);
+  EXPECT_EQ(p.loads[0].vector, (std::array<double, 3>{0.0, -1.0, 0.5}));
+  EXPECT_EQ(p.loads[2].vector, (std::array<double, 3>{1.0, 2.0, 3.0}));
+  EXPECT_EQ(p.loads[3].vector, (std::array<double, 3>{0.0, 0.0, -9.8}));
+  ASSERT_EQ(p.dirichlet.size(), 1u);
+  EXPECT_EQ(p.dirichlet[0].uz, 0.0);
+  const SolidMatrix c = IsotropicMaterial{100, 0.3}.stiffness();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      EXPECT_DOUBLE_EQ(p.materials[0].solid.m[i][j], c.m[i][j]);
+}
+
+TEST(SolidProblem, OrthotropicAxesByVectorsOrAnglesAgree) {
+  const std::string ortho = "{region: body, type: orthotropic, E1: 160, E2: 11, E3: 9, G12: 10, "
+                            "G13: 8, G23: 6, nu12: 0.4, nu13: 0.3, nu23: 0.35, ";
+  const std::string mat = "{region: body, type: isotropic, E: 100, nu: 0.3}";
+  // Rz(30 deg): axis 1 along (cos 30, sin 30, 0), axis 2 along (-sin 30, cos 30, 0).
+  const Problem a = parseProblem(replaceText(kSolid, mat, ortho + "angles: [30, 0, 0]}"), "a", "");
+  const Problem b = parseProblem(
+      replaceText(kSolid, mat, ortho + "axes: [[0.8660254037844387, 0.5, 0], [-1, 1.7320508, 0]]}"),
+      "b", "");
+  const OrthotropicConstants k{160, 11, 9, 10, 0.4, 0.3, 0.35, 8, 6};
+  const SolidMatrix direct = OrthotropicMaterial{k, rotationAboutZ(M_PI / 6)}.stiffness();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_NEAR(a.materials[0].solid.m[i][j], direct.m[i][j], 1e-9 * direct.m[0][0]);
+      EXPECT_NEAR(b.materials[0].solid.m[i][j], direct.m[i][j], 1e-7 * direct.m[0][0]);
+    }
+  EXPECT_NE(refusal(replaceText(kSolid, mat, ortho + "axes: [[1, 0, 0], [2, 0, 0]]}"))
+                .find("must not be parallel"),
+            std::string::npos);
+  EXPECT_NE(refusal(replaceText(kSolid, mat, ortho + "angles: [1, 2, 3], axes: [[1,0,0],[0,1,0]]}"))
+                .find("not both"),
+            std::string::npos);
+  // Anisotropic: the diagonal is required, a coupling may be given.
+  const std::string aniso = "{region: body, type: anisotropic, C11: 200, C22: 150, C33: 120, "
+                            "C44: 40, C55: 50, C66: 60, C12: 30, C13: 20, C23: 25, C16: 5}";
+  const Problem c = parseProblem(replaceText(kSolid, mat, aniso), "c", "");
+  EXPECT_DOUBLE_EQ(c.materials[0].solid.m[0][5], 5.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].solid.m[5][0], 5.0);
+  EXPECT_DOUBLE_EQ(c.materials[0].solid.m[2][2], 120.0);
+  EXPECT_NE(
+      refusal(replaceText(kSolid, mat, "{region: body, type: anisotropic, C11: 1}")).find("C22"),
+      std::string::npos);
+  EXPECT_NE(refusal(replaceText(kSolid, mat, replaceText(aniso, "C12: 30", "C12: 300")))
+                .find("not positive definite"),
+            std::string::npos);
+}
+
+TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case cases[] = {
+      {"materials:", "model: {formulation: mixed}\nmaterials:",
+       "solid.yaml:3:22: model.formulation: the mixed model is 2D only so far"},
+      {"materials:", "model: {geometric_nonlinearity: true}\nmaterials:",
+       "geometric nonlinearity is 2D only so far"},
+      {"materials:", "model: {analysis: plane_strain}\nmaterials:",
+       "analysis applies to 2D meshes"},
+      {"materials:", "model: {thickness: 2}\nmaterials:", "thickness applies to 2D meshes"},
+      {"solver:", "contact: []\nsolver:", "contact is 2D only so far"},
+      {"traction: [0, -1, 0.5]", "traction: [0, -1]", "expected a list of three numbers"},
+      {"force: [1, 2, 3]", "force: [1, 2]", "expected a list of three numbers"},
+      {"divisions: [4, 1, 2]", "divisions: [4, 1]", "expected a list of three integers"},
+      {"ux: 0, uy: 0, uz: 0", "ux: 0, uy: 0, uw: 0", "unknown key 'uw'"},
+      {"solver:",
+       "verification: {type: lame_cylinder, inner_radius: 1, outer_radius: 2, "
+       "inner_pressure: 1}\nsolver:",
+       "lame_cylinder is the 2D closed form"},
+  };
+  for (const Case &c : cases) {
+    const std::string m = refusal(replaceText(kSolid, c.from, c.to));
+    EXPECT_NE(m.find(c.expect), std::string::npos) << c.to << "\n  got: " << m;
+    EXPECT_EQ(m.rfind("solid.yaml:", 0), 0u) << m;
+  }
+  // And uz on a 2D mesh.
+  const std::string plane = R"(mesh:
+  generator: {type: rectangle, size: [4, 1], divisions: [4, 1]}
+materials:
+  - {region: body, type: isotropic, E: 100, nu: 0.3}
+boundary_conditions:
+  - {boundary: left, ux: 0, uy: 0, uz: 0}
+)";
+  EXPECT_NE(
+      refusal(plane).find("solid.yaml:6:40: boundary_conditions[0].uz: uz applies to 3D meshes"),
+      std::string::npos)
+      << refusal(plane);
+}
