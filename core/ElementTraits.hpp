@@ -16,7 +16,7 @@
 namespace mixcon {
 
 /// Runtime tag used on the host to choose the compile-time traits once (switch, then template).
-enum class ElementType { Quad4, Quad8, Hex8 };
+enum class ElementType { Quad4, Quad8, Hex8, Hex20 };
 
 namespace detail {
 // Gauss-Legendre abscissae and weights on [-1, 1].
@@ -220,6 +220,96 @@ struct Hex8 {
   }
 };
 
+/// 20-node serendipity hexahedron, 3x3x3 Gauss quadrature. Node order as VTK and XDMF
+/// (Hexahedron_20): the corners as Hex8 (0..7), then the mid-edge nodes of the bottom face's edges
+/// 8 (0-1), 9 (1-2), 10 (2-3), 11 (3-0), of the top face's 12 (4-5), 13 (5-6), 14 (6-7),
+/// 15 (7-4), and of the vertical edges 16 (0-4), 17 (1-5), 18 (2-6), 19 (3-7). (Gmsh numbers the
+/// mid-edge nodes otherwise; its reader reorders them.) Faces as Hex8 (same corners, same
+/// outward counter-clockwise order), each an 8-node quadrilateral: its corners, then the
+/// mid-edge nodes of its edges in the order corner 0-1, 1-2, 2-3, 3-0 (Quad8's order).
+struct Hex20 {
+  static constexpr ElementType kType = ElementType::Hex20;
+  static constexpr int kDim = 3;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
+  static constexpr int kNumNodes = 20;
+  static constexpr int kGaussOrder = 3;
+  static constexpr int kNumQp = 27;
+  static constexpr int kNumSides = 6;
+  static constexpr int kNodesPerSide = 8;
+  using Side = Quad8; ///< a face: the serendipity quadrilateral of its 8 nodes (and its 3x3 rule)
+  static constexpr const char *kName = "hex20";
+
+  /// The corners (Hex8 numbering) that mid-edge node 8 + k lies between.
+  KOKKOS_INLINE_FUNCTION static int edgeCorner(int k, int end) {
+    constexpr int edges[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    return edges[k][end];
+  }
+  /// Natural coordinates of node a.
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    if (a < 8) {
+      Hex8::nodeNatural(a, xi);
+      return;
+    }
+    double x0[kDim], x1[kDim];
+    Hex8::nodeNatural(edgeCorner(a - 8, 0), x0);
+    Hex8::nodeNatural(edgeCorner(a - 8, 1), x1);
+    for (int i = 0; i < kDim; ++i)
+      xi[i] = 0.5 * (x0[i] + x1[i]);
+  }
+  /// Serendipity shape functions: corner a, N = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a)
+  /// (xi xi_a + eta eta_a + zeta zeta_a - 2) / 8; mid-edge node with xi_a = 0 (and likewise for
+  /// the other directions), N = (1 - xi^2)(1 + eta eta_a)(1 + zeta zeta_a) / 4.
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    for (int a = 0; a < kNumNodes; ++a) {
+      double xa[kDim];
+      nodeNatural(a, xa);
+      double p[kDim]; // 1 + xi_i xa_i
+      for (int i = 0; i < kDim; ++i)
+        p[i] = 1.0 + xi[i] * xa[i];
+      if (a < 8) {
+        const double s = xi[0] * xa[0] + xi[1] * xa[1] + xi[2] * xa[2] - 2.0;
+        n[a] = 0.125 * p[0] * p[1] * p[2] * s;
+        for (int i = 0; i < kDim; ++i) {
+          const double others = p[(i + 1) % 3] * p[(i + 2) % 3];
+          dn[a][i] = 0.125 * others * xa[i] * (s + p[i]);
+        }
+      } else {
+        int zero = 0; // the direction along the node's edge: xa = 0 there
+        for (int i = 0; i < kDim; ++i)
+          if (xa[i] == 0.0)
+            zero = i;
+        const int j = (zero + 1) % 3, k = (zero + 2) % 3;
+        const double q = 1.0 - xi[zero] * xi[zero];
+        n[a] = 0.25 * q * p[j] * p[k];
+        dn[a][zero] = -0.5 * xi[zero] * p[j] * p[k];
+        dn[a][j] = 0.25 * q * xa[j] * p[k];
+        dn[a][k] = 0.25 * q * p[j] * xa[k];
+      }
+    }
+  }
+  /// Local node k (0..7) of face f: the Hex8 face's corners, then its edges' mid-edge nodes.
+  KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
+    if (k < 4)
+      return Hex8::sideNode(f, k);
+    const int c0 = Hex8::sideNode(f, k - 4), c1 = Hex8::sideNode(f, (k - 3) % 4);
+    for (int e = 0; e < 12; ++e)
+      if ((edgeCorner(e, 0) == c0 && edgeCorner(e, 1) == c1) ||
+          (edgeCorner(e, 0) == c1 && edgeCorner(e, 1) == c0))
+        return 8 + e;
+    return -1; // not reached: every face edge is an element edge
+  }
+  /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    double w0, w1, w2;
+    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi[0], w0);
+    detail::gauss1d(kGaussOrder, (q / kGaussOrder) % kGaussOrder, xi[1], w1);
+    detail::gauss1d(kGaussOrder, q / (kGaussOrder * kGaussOrder), xi[2], w2);
+    w = w0 * w1 * w2;
+  }
+};
+
 /// 1D shape functions along an element edge, parameter s in [-1, 1] from the edge's first to
 /// its second node (a 3-node edge has its middle node last).
 template <int NodesPerEdge>
@@ -293,6 +383,8 @@ template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
     return f(Quad8{});
   case ElementType::Hex8:
     return f(Hex8{});
+  case ElementType::Hex20:
+    return f(Hex20{});
   }
   throw std::invalid_argument("dispatchElement: unknown ElementType value " +
                               std::to_string(static_cast<int>(type)));
@@ -314,6 +406,7 @@ template <class F> decltype(auto) dispatchPlaneElement(ElementType type, const c
   case ElementType::Quad8:
     return f(Quad8{});
   case ElementType::Hex8:
+  case ElementType::Hex20:
     break;
   }
   throw std::invalid_argument(std::string(what) + " is 2D only so far (issue 17); element type " +
