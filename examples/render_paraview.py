@@ -3,13 +3,15 @@
 
 For every output directory given (one holding results.xdmf), opens the last step, warps the mesh
 by the displacement and writes
-  <dir>/deformed_stress_<c>.png          coloured by the nodal stress component c (xx, yy, xy)
+  <dir>/deformed_stress_<c>.png          coloured by the nodal stress component c (xx, yy, xy;
+                                         3D: xx, yy, zz, yz, xz, xy)
   <dir>/deformed_contact_pressure.png    contact runs: coloured by the normal contact traction
 The warp is the true displacement when it is visible (largest |u| at least 1 % of the model's
-size), else magnified to 5 % of the size; the factor is printed and written on the image.
+size), else magnified to 5 % of the size; the factor is printed and written on the image. A 2D
+model is seen from +z, a 3D one from an oblique view.
 
 Usage: pvpython --force-offscreen-rendering examples/render_paraview.py OUT_DIR [OUT_DIR ...]
-           [--component xx|yy|xy] [--scale FACTOR] [--size 1200 800]
+           [--component xx|yy|zz|yz|xz|xy] [--scale FACTOR] [--size 1200 800]
 Needs ParaView 5.10+ (Debian: apt-get install python3-paraview). Debian's ParaView renders
 through X only: without a display, run it as `xvfb-run -a pvpython examples/render_paraview.py`.
 """
@@ -20,7 +22,11 @@ import sys
 
 from paraview import simple as pv
 
-COMPONENTS = {"xx": "X", "yy": "Y", "xy": "Z"}  # XDMF "stress" columns as ParaView names them
+# The columns of the "stress" array (docs/output-format.md): 3 in 2D, 6 (Voigt order) in 3D.
+# ParaView names them by position, X Y Z and XX YY ZZ XY YZ XZ (VTK's symmetric-tensor order),
+# so in 3D its labels of the three shear columns are not their meaning: colouring goes by index.
+STRESS_COLUMNS = {3: ["xx", "yy", "xy"], 6: ["xx", "yy", "zz", "yz", "xz", "xy"]}
+COMPONENTS = sorted(set(STRESS_COLUMNS[3] + STRESS_COLUMNS[6]))
 
 
 def timesteps(reader):
@@ -61,19 +67,27 @@ def render(directory, component="xx", scale=None, size=(1200, 800)):
     display = pv.Show(warp, view)
     display.SetRepresentationType("Surface With Edges")
     display.EdgeColor = [0.3, 0.3, 0.3]
-    fields = [("stress", COMPONENTS[component], f"stress {component}",
-               f"deformed_stress_{component}.png")]
+    stress = reader.PointData["stress"]
+    columns = STRESS_COLUMNS[stress.GetNumberOfComponents()]
+    if component not in columns:
+        raise ValueError(f"{directory}: stress has no component {component} (columns {columns})")
+    index = columns.index(component)
+    fields = [("stress", index, f"stress {component}", f"deformed_stress_{component}.png")]
+    b = reader.GetDataInformation().GetBounds()
+    three_d = b[5] - b[4] > 0.0
     if "contact_normal_traction" in reader.PointData.keys():
         fields.append(("contact_normal_traction", None, "contact pressure (normal traction)",
                        "deformed_contact_pressure.png"))
     written = []
     for array, comp, title, name in fields:
-        pv.ColorBy(display, ("POINTS", array, comp) if comp else ("POINTS", array))
-        display.RescaleTransferFunctionToDataRange(False, True)
+        named = comp is not None
+        pv.ColorBy(display, ("POINTS", array, stress.GetComponentName(comp)) if named else
+                   ("POINTS", array))
         lut = pv.GetColorTransferFunction(array)
-        if comp:
+        if named:
             lut.VectorMode = "Component"
-            lut.VectorComponent = "XYZ".index(comp)
+            lut.VectorComponent = comp
+        display.RescaleTransferFunctionToDataRange(False, True)
         display.SetScalarBarVisibility(view, True)
         bar = pv.GetScalarBar(lut, view)
         bar.Title = title
@@ -84,8 +98,15 @@ def render(directory, component="xx", scale=None, size=(1200, 800)):
         label = pv.Show(text, view)
         label.Color = [0.0, 0.0, 0.0]
         label.WindowLocation = "Upper Center"
-        view.InteractionMode = "2D"
         pv.ResetCamera(view)
+        if three_d:
+            view.InteractionMode = "3D"
+            camera = view.GetActiveCamera()
+            camera.Elevation(15.0)
+            camera.Azimuth(30.0)
+            pv.ResetCamera(view)
+        else:
+            view.InteractionMode = "2D"
         path = os.path.join(directory, name)
         pv.SaveScreenshot(path, view, ImageResolution=list(size))
         pv.Hide(text, view)
@@ -101,7 +122,7 @@ def render(directory, component="xx", scale=None, size=(1200, 800)):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("directories", nargs="+")
-    ap.add_argument("--component", choices=sorted(COMPONENTS), default="xx")
+    ap.add_argument("--component", choices=COMPONENTS, default="xx")
     ap.add_argument("--scale", type=float, default=None, help="displacement factor (default: auto)")
     ap.add_argument("--size", type=int, nargs=2, default=[1200, 800])
     args = ap.parse_args()

@@ -1,17 +1,24 @@
 """ParaView check of mixcon's results.xdmf (run by pvpython; see run_paraview_check.py).
 
-For every output directory given: opens results.xdmf with ParaView's default reader, checks at
-every time step the node/cell array names and component counts, finite ranges, the time values
-(the load factors of summary.json), that Warp By Vector on the displacement moves every point by
-exactly its displacement; then renders the deformed shape with examples/render_paraview.py
-(coloured by stress xx and, for contact runs, by the contact pressure) and checks that the PNGs
-show a coloured, not blank, image. Exit 0 when all holds, 1 otherwise.
+For every output directory given: opens results.xdmf with ParaView's default reader, checks the
+mesh against results.h5 (read with h5py: the VTK cell type of the element, e.g. 12 hexahedron
+for Hex8, the points per cell, the numbers of cells and points, the connectivity and the
+coordinates), at every time step the node/cell array names and component counts (stress: 3
+columns in 2D, 6 in 3D, with the component labels docs/output-format.md gives), finite ranges,
+the time values (the load factors of summary.json), that the values ParaView reads equal those of
+results.h5, that Warp By Vector on the displacement moves every point by exactly its
+displacement and that a Calculator on the stress components (xx; in 3D zz and the von Mises
+stress) gives what the HDF5 columns give; then renders the deformed shape with
+examples/render_paraview.py (coloured by stress xx and, for contact runs, by the contact
+pressure) and checks that the PNGs show a coloured, not blank, image. Exit 0 when all holds, 1
+otherwise.
 """
 import json
 import math
 import os
 import sys
 
+import h5py
 import numpy as np
 from paraview import simple as pv
 from vtkmodules.numpy_interface import dataset_adapter as dsa
@@ -22,6 +29,13 @@ sys.path.insert(0, os.path.join(HERE, "..", "..", "examples"))
 import render_paraview  # noqa: E402
 
 failures = []
+
+# VTK cell type of each (dimension, nodes per element) mixcon writes (the XDMF topologies of
+# io/OutputLayout.cpp: Quadrilateral, Quadrilateral_8, Hexahedron, Hexahedron_20, Tetrahedron,
+# Tetrahedron_10).
+VTK_CELL = {(2, 4): 9, (2, 8): 23, (3, 8): 12, (3, 20): 25, (3, 4): 10, (3, 10): 24}
+# ParaView's labels of the stress columns (by position; docs/output-format.md, "ParaView").
+STRESS_LABELS = {2: ["X", "Y", "Z"], 3: ["XX", "YY", "ZZ", "XY", "YZ", "XZ"]}
 
 
 def check(ok, message):
@@ -40,12 +54,61 @@ def leaf(proxy):
     return dsa.WrapDataObject(d)
 
 
+def check_mesh(name, grid, h5):
+    """The grid ParaView read against /mesh of results.h5."""
+    nodes, elements = h5["mesh/nodes"][()], h5["mesh/elements"][()]
+    dim, npe = nodes.shape[1], elements.shape[1]
+    check(grid.GetNumberOfPoints() == len(nodes) and grid.GetNumberOfCells() == len(elements),
+          f"{name}: {grid.GetNumberOfPoints()} points, {grid.GetNumberOfCells()} cells; "
+          f"results.h5 {len(nodes)} nodes, {len(elements)} elements")
+    cell_types = np.unique(np.asarray(grid.CellTypes))
+    check(list(cell_types) == [VTK_CELL.get((dim, npe))],
+          f"{name}: VTK cell types {list(cell_types)}, expected {VTK_CELL.get((dim, npe))} "
+          f"for {npe}-node elements in {dim}D")
+    conn = np.asarray(grid.Cells)  # legacy layout: n, ids..., n, ids...
+    if len(conn) == len(elements) * (npe + 1):
+        conn = conn.reshape(len(elements), npe + 1)
+        check(np.all(conn[:, 0] == npe), f"{name}: cells with other than {npe} points")
+        check(np.array_equal(conn[:, 1:], elements), f"{name}: connectivity differs from HDF5")
+    else:
+        check(False, f"{name}: {len(conn)} cell entries, expected {len(elements)} cells of "
+              f"{npe} points")
+    points = np.asarray(grid.Points)
+    padded = np.zeros((len(nodes), 3))
+    padded[:, :dim] = nodes
+    check(np.array_equal(points, padded), f"{name}: point coordinates differ from HDF5")
+    return dim
+
+
+def check_calculator(name, reader, t, stress, dim):
+    """A Calculator on the stress components (as users apply it) against the HDF5 columns."""
+    formulas = {"stress_X": stress[:, 0]} if dim == 2 else {
+        "stress_ZZ": stress[:, 2],
+        # von Mises, symmetric in the shear columns, so the labels' order does not matter.
+        "sqrt(0.5*((stress_XX-stress_YY)^2+(stress_YY-stress_ZZ)^2+(stress_ZZ-stress_XX)^2)"
+        "+3*(stress_XY^2+stress_YZ^2+stress_XZ^2))": np.sqrt(
+            0.5 * ((stress[:, 0] - stress[:, 1])**2 + (stress[:, 1] - stress[:, 2])**2 +
+                   (stress[:, 2] - stress[:, 0])**2) + 3.0 * np.sum(stress[:, 3:]**2, axis=1)),
+        "stress_5": stress[:, 5]}  # xy, the column ParaView labels XZ, by its index
+    for formula, want in formulas.items():
+        calc = pv.Calculator(Input=reader, ResultArrayName="result", Function=formula)
+        calc.UpdatePipeline(t)
+        got = leaf(calc).PointData["result"]
+        got = np.asarray(got) if got is not None else np.zeros(0)
+        check(got.shape == want.shape and
+              np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max()),
+              f"{name} t={t}: Calculator '{formula}' differs from HDF5")
+        pv.Delete(calc)
+
+
 def check_run(directory):
     name = os.path.basename(directory)
     summary = json.load(open(os.path.join(directory, "summary.json")))
     loads = [s["load_factor"] for s in summary["steps"]]
     contact = "contact" in summary["steps"][0]
-    expected = {"displacement": 3, "reaction": 3, "stress": 3}
+    h5 = h5py.File(os.path.join(directory, "results.h5"), "r")
+    dim = h5["mesh/nodes"].shape[1]
+    expected = {"displacement": 3, "reaction": 3, "stress": 3 if dim == 2 else 6}
     if contact:
         expected.update({"contact_status": 1, "contact_gap": 1, "contact_normal_traction": 1,
                          "contact_tangential_traction": 1})
@@ -55,9 +118,17 @@ def check_run(directory):
           f"{name}: time steps {times} vs load factors {loads}")
     warp = pv.WarpByVector(Input=reader, Vectors=["POINTS", "displacement"], ScaleFactor=1.0)
     peak_pressure = 0.0
-    for t in times:
+    for step, t in enumerate(times, start=1):
         warp.UpdatePipeline(t)
         grid = leaf(reader)
+        if step == 1:
+            check_mesh(name, grid, h5)
+        check(list(h5["mesh/element_region"][()]) == list(np.asarray(grid.CellData["region"])),
+              f"{name} t={t}: region differs from HDF5")
+        info = reader.PointData["stress"]
+        labels = [info.GetComponentName(c) for c in range(expected["stress"])]
+        check(labels == STRESS_LABELS[dim], f"{name}: ParaView labels stress {labels}, documented "
+              f"{STRESS_LABELS[dim]}")
         arrays = {k: grid.PointData[k] for k in grid.PointData.keys()}
         check(set(arrays) == set(expected),
               f"{name} t={t}: node arrays {sorted(arrays)}, expected {sorted(expected)}")
@@ -78,16 +149,21 @@ def check_run(directory):
                 lo, hi = info.GetRange(c)
                 check(math.isfinite(lo) and math.isfinite(hi) and lo <= hi,
                       f"{name} t={t}: {k}[{c}] range ({lo}, {hi})")
+            if k in ("displacement", "reaction", "stress"):
+                check(np.array_equal(a, h5[f"steps/{step}/{k}"][()]),
+                      f"{name} t={t}: {k} differs from results.h5 /steps/{step}/{k}")
         u = np.asarray(arrays["displacement"])
-        check(np.all(u[:, 2] == 0.0) and np.abs(u).max() > 0.0,
-              f"{name} t={t}: displacement z not 0 or displacement all 0")
+        check((dim == 3 or np.all(u[:, 2] == 0.0)) and np.abs(u).max() > 0.0,
+              f"{name} t={t}: displacement z not 0 in 2D or displacement all 0")
+        check_calculator(name, reader, t, h5[f"steps/{step}/stress"][()], dim)
         moved = np.asarray(leaf(warp).Points) - np.asarray(grid.Points)
         check(np.allclose(moved, u, rtol=0, atol=1e-12 * (1 + np.abs(u).max())),
               f"{name} t={t}: warped points differ from reference + displacement by "
               f"{np.abs(moved - u).max():g}")
         if contact:
             status = np.asarray(arrays["contact_status"])
-            check(set(np.unique(status)) <= {-1, 0, 1, 2}, f"{name} t={t}: status {np.unique(status)}")
+            check(set(np.unique(status)) <= {-1, 0, 1, 2},
+                  f"{name} t={t}: status {np.unique(status)}")
             p = np.asarray(arrays["contact_normal_traction"])
             check(np.all(p[status <= 0] == 0.0), f"{name} t={t}: traction off the closed nodes")
             peak_pressure = max(peak_pressure, p.max())
@@ -95,6 +171,7 @@ def check_run(directory):
         check(peak_pressure > 0.0, f"{name}: no contact pressure in any step")
     pv.Delete(warp)
     pv.Delete(reader)
+    h5.close()
     written, _ = render_paraview.render(directory, "xx", None, (600, 400))
     check(len(written) == (2 if contact else 1), f"{name}: rendered {written}")
     for png in written:
@@ -107,7 +184,7 @@ def check_run(directory):
         body = np.mean(np.any(rgb < 200, axis=1))  # not the white background
         check(colours > 50 and body > 0.05,
               f"{png}: {colours} colours, {100 * body:.1f} % non-background pixels")
-    print(f"{name}: {len(times)} steps, arrays {sorted(expected)}; rendered "
+    print(f"{name}: {dim}D, {len(times)} steps, arrays {sorted(expected)}; rendered "
           + ", ".join(os.path.basename(w) for w in written))
 
 

@@ -1,6 +1,8 @@
 #!/usr/bin/python3
-"""CTest driver of the ParaView check: runs mixcon on a linear, a nonlinear and a contact example,
-then tests/paraview/check_paraview.py under pvpython on their results.xdmf.
+"""CTest driver of the ParaView check: runs mixcon on a linear, a nonlinear and a contact 2D
+example and two 3D Hex8 ones, the box-generated cantilever (whose closed-form verification must
+pass too: mixcon exits 1 otherwise) and the L bracket read from a Gmsh file, then
+tests/paraview/check_paraview.py under pvpython on their results.xdmf.
 
 Exits 77 (CTest SKIP_RETURN_CODE) with a message when pvpython is not installed (Debian:
 apt-get install python3-paraview) or when there is neither an X display nor Xvfb (Debian's
@@ -15,7 +17,8 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(os.path.dirname(HERE))
-EXAMPLES = ["lame_cylinder", "cantilever/report_displacement", "hertz/hertz_report"]
+EXAMPLES = ["lame_cylinder", "cantilever/report_displacement", "hertz/hertz_report",
+            "cantilever_3d", "bracket_3d/bracket"]
 SKIP = 77
 
 
