@@ -192,6 +192,18 @@ void writeStressDataset(hid_t loc, const std::string &name, const std::vector<do
   H5Dclose(set);
 }
 
+/// The rows of a (points x columns.size()) array whose column j is column columns[j] of `values`
+/// (rows of `width` entries): the stress in the XDMF's order (io/OutputLayout.hpp).
+std::vector<double> selectColumns(const std::vector<double> &values, std::size_t width,
+                                  const std::vector<int> &columns) {
+  const std::size_t n = values.size() / width, m = columns.size();
+  std::vector<double> out(n * m);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < m; ++j)
+      out[m * i + j] = values[width * i + static_cast<std::size_t>(columns[j])];
+  return out;
+}
+
 /// Columns of a nodal vector dataset in either dimension: ParaView's vector filters (Warp By
 /// Vector, Glyph) take 3 components.
 constexpr int kVectorColumns = 3;
@@ -419,6 +431,11 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
       writeDataset(g, "displacement", withZeroZ(f.displacement, dim).data(), H5T_NATIVE_DOUBLE, nn,
                    kVectorColumns);
       writeStressDataset(g, "stress", f.stress, names.stressComponents);
+      if (names.xdmfStressDataset != "stress") // 3D: the XDMF's copy in ParaView's column order
+        writeStressDataset(
+            g, names.xdmfStressDataset,
+            selectColumns(f.stress, names.stressComponents.size(), xdmfStressColumns(names)),
+            names.xdmfStressComponents);
       if (!f.reaction.empty())
         writeDataset(g, "reaction", withZeroZ(f.reaction, dim).data(), H5T_NATIVE_DOUBLE, nn,
                      kVectorColumns);
@@ -612,11 +629,13 @@ void ResultsWriter::finish(bool success, const std::string &message) {
 }
 
 void ResultsWriter::writeXdmf() const {
-  // Vectors are N x 3 in results.h5 (z = 0 in 2D), as Warp By Vector needs. The stress is the
-  // N x (Voigt size) dataset itself: ParaView 5.11's Xdmf3 reader labels a 2D one's components
-  // X, Y, Z (= xx, yy, xy) whatever the AttributeType, and skips HyperSlab and Function data items
-  // ("unrecognized array type"), so named per-component scalars would need copies of the data.
-  // Topology, geometry and widths are the mesh's row of the output table (io/OutputLayout.hpp).
+  // Vectors are N x 3 in results.h5 (z = 0 in 2D), as Warp By Vector needs. ParaView labels the
+  // stress columns by position (X Y Z in 2D; XX YY ZZ XY YZ XZ, VTK's symmetric-tensor order, in
+  // 3D) whatever the AttributeType, and its Xdmf3 reader (5.11) skips HyperSlab and Function data
+  // items ("unrecognized array type": their type is unknown until read), so the XDMF cannot
+  // reorder columns: it points at a dataset in ParaView's order, "stress" itself in 2D (xx yy xy),
+  // its copy "stress_vtk" in 3D (the Voigt "stress" is xx yy zz yz xz xy). Topology, geometry,
+  // widths and that dataset are the mesh's row of the output table (io/OutputLayout.hpp).
   const OutputNames &names = outputNames(mesh_);
   const auto ne = mesh_.numElements(), nn = mesh_.numNodes();
   std::ostringstream x;
@@ -652,7 +671,8 @@ void ResultsWriter::writeXdmf() const {
       nodeArray("reaction", base + "/reaction", kVectorColumns, false);
     x << "      <Attribute Name=\"stress\" AttributeType=\"" << names.stressAttribute
       << "\" Center=\"Node\">\n";
-    item(base + "/stress", nn, static_cast<int>(names.stressComponents.size()), false);
+    item(base + "/" + names.xdmfStressDataset, nn,
+         static_cast<int>(names.xdmfStressComponents.size()), false);
     x << "      </Attribute>\n";
     if (has.contact) {
       nodeArray("contact_status", base + "/contact_nodal/status", 0, true);
