@@ -6,9 +6,12 @@ for Hex8, the points per cell, the numbers of cells and points, the connectivity
 coordinates), at every time step the node/cell array names and component counts (stress: 3
 columns in 2D, 6 in 3D, with the component labels docs/output-format.md gives), finite ranges,
 the time values (the load factors of summary.json), that the values ParaView reads equal those of
-results.h5, that Warp By Vector on the displacement moves every point by exactly its
-displacement and that a Calculator on the stress components (xx; in 3D zz and the von Mises
-stress) gives what the HDF5 columns give; then renders the deformed shape with
+results.h5 -- the stress column ParaView labels L equals the results.h5 /steps/<k>/stress column
+whose `components` name is L (3D: stress_XY is column 5 = xy, stress_YZ column 3 = yz, stress_XZ
+column 4 = xz), also through ParaView's legacy Xdmf2 reader in 3D --, that Warp By Vector on the
+displacement moves every point by exactly its displacement and that a Calculator on the stress
+components by their labels (xx; in 3D zz, xy, yz, xz and the von Mises stress) gives what the
+HDF5 columns of those names give; then renders the deformed shape with
 examples/render_paraview.py (coloured by stress xx and, for contact runs, by the contact
 pressure) and checks that the PNGs show a coloured, not blank, image. Exit 0 when all holds, 1
 otherwise.
@@ -34,8 +37,13 @@ failures = []
 # io/OutputLayout.cpp: Quadrilateral, Quadrilateral_8, Hexahedron, Hexahedron_20, Tetrahedron,
 # Tetrahedron_10).
 VTK_CELL = {(2, 4): 9, (2, 8): 23, (3, 8): 12, (3, 20): 25, (3, 4): 10, (3, 10): 24}
-# ParaView's labels of the stress columns (by position; docs/output-format.md, "ParaView").
+# ParaView's labels of the stress columns (by position; docs/output-format.md, "ParaView") and
+# the stress component each must show, by its name in the `components` attribute of results.h5's
+# /steps/<k>/stress (2D X Y Z: xx yy xy, as VTK names a 3-vector; 3D VTK's symmetric tensor).
 STRESS_LABELS = {2: ["X", "Y", "Z"], 3: ["XX", "YY", "ZZ", "XY", "YZ", "XZ"]}
+STRESS_MEANING = {2: ["xx", "yy", "xy"], 3: ["xx", "yy", "zz", "xy", "yz", "xz"]}
+# The column order of /steps/<k>/stress, which the issue requires and docs/output-format.md gives.
+VOIGT = {2: ["xx", "yy", "xy"], 3: ["xx", "yy", "zz", "yz", "xz", "xy"]}
 
 
 def check(ok, message):
@@ -80,16 +88,27 @@ def check_mesh(name, grid, h5):
     return dim
 
 
-def check_calculator(name, reader, t, stress, dim):
-    """A Calculator on the stress components (as users apply it) against the HDF5 columns."""
-    formulas = {"stress_X": stress[:, 0]} if dim == 2 else {
-        "stress_ZZ": stress[:, 2],
-        # von Mises, symmetric in the shear columns, so the labels' order does not matter.
+def stress_columns(name, h5, step, dim):
+    """results.h5's /steps/<step>/stress and, by the names of its `components` attribute, the
+    column each ParaView label must show (STRESS_MEANING)."""
+    ds = h5[f"steps/{step}/stress"]
+    names = [n.decode() if isinstance(n, bytes) else str(n) for n in ds.attrs["components"]]
+    check(names == VOIGT[dim], f"{name} step {step}: stress components {names}, documented "
+          f"{VOIGT[dim]}")
+    return ds[()], {label: names.index(meaning) if meaning in names else 0
+                    for label, meaning in zip(STRESS_LABELS[dim], STRESS_MEANING[dim])}
+
+
+def check_calculator(name, reader, t, stress, column, dim):
+    """A Calculator on the stress components by their labels (as users apply it) against the
+    HDF5 columns of the components those labels name."""
+    c = {label: stress[:, k] for label, k in column.items()}
+    formulas = {"stress_X": c["X"]} if dim == 2 else {
+        "stress_ZZ": c["ZZ"], "stress_XY": c["XY"], "stress_YZ": c["YZ"], "stress_XZ": c["XZ"],
         "sqrt(0.5*((stress_XX-stress_YY)^2+(stress_YY-stress_ZZ)^2+(stress_ZZ-stress_XX)^2)"
         "+3*(stress_XY^2+stress_YZ^2+stress_XZ^2))": np.sqrt(
-            0.5 * ((stress[:, 0] - stress[:, 1])**2 + (stress[:, 1] - stress[:, 2])**2 +
-                   (stress[:, 2] - stress[:, 0])**2) + 3.0 * np.sum(stress[:, 3:]**2, axis=1)),
-        "stress_5": stress[:, 5]}  # xy, the column ParaView labels XZ, by its index
+            0.5 * ((c["XX"] - c["YY"])**2 + (c["YY"] - c["ZZ"])**2 + (c["ZZ"] - c["XX"])**2) +
+            3.0 * (c["XY"]**2 + c["YZ"]**2 + c["XZ"]**2))}
     for formula, want in formulas.items():
         calc = pv.Calculator(Input=reader, ResultArrayName="result", Function=formula)
         calc.UpdatePipeline(t)
@@ -99,6 +118,25 @@ def check_calculator(name, reader, t, stress, dim):
               np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max()),
               f"{name} t={t}: Calculator '{formula}' differs from HDF5")
         pv.Delete(calc)
+
+
+def check_legacy_reader(name, directory, t, stress):
+    """ParaView's legacy Xdmf2 reader (XDMFReader) reads the same 6 stress columns, labelled the
+    same: the XDMF declares them a Matrix, which it, unlike a Tensor6 (XDMF order xx xy xz yy yz
+    zz, expanded to 3 x 3), leaves as written."""
+    legacy = pv.XDMFReader(FileNames=[os.path.join(directory, "results.xdmf")])
+    legacy.PointArrayStatus = ["stress"]
+    legacy.UpdatePipeline(t)
+    got = leaf(legacy).PointData["stress"]
+    got = np.asarray(got) if got is not None else np.zeros((0, 0))
+    info = legacy.PointData["stress"]
+    labels = [info.GetComponentName(c) for c in range(info.GetNumberOfComponents())] if info \
+        else []
+    check(got.shape == stress.shape and np.array_equal(got, stress) and
+          labels == STRESS_LABELS[3],
+          f"{name} t={t}: the Xdmf2 reader's stress ({got.shape}, labels {labels}) differs from "
+          f"the Xdmf3 reader's")
+    pv.Delete(legacy)
 
 
 def check_run(directory):
@@ -149,13 +187,24 @@ def check_run(directory):
                 lo, hi = info.GetRange(c)
                 check(math.isfinite(lo) and math.isfinite(hi) and lo <= hi,
                       f"{name} t={t}: {k}[{c}] range ({lo}, {hi})")
-            if k in ("displacement", "reaction", "stress"):
+            if k in ("displacement", "reaction"):
                 check(np.array_equal(a, h5[f"steps/{step}/{k}"][()]),
                       f"{name} t={t}: {k} differs from results.h5 /steps/{step}/{k}")
+        stress, column = stress_columns(name, h5, step, dim)
+        if "stress" in arrays:
+            a = np.asarray(arrays["stress"])
+            for j, label in enumerate(STRESS_LABELS[dim]):
+                check(a.shape[1] == len(STRESS_LABELS[dim]) and
+                      np.array_equal(a[:, j], stress[:, column[label]]),
+                      f"{name} t={t}: ParaView's stress {label} (column {j}) is not results.h5 "
+                      f"/steps/{step}/stress column {column[label]} "
+                      f"({STRESS_MEANING[dim][j]})")
+            if dim == 3:
+                check_legacy_reader(name, directory, t, a)
         u = np.asarray(arrays["displacement"])
         check((dim == 3 or np.all(u[:, 2] == 0.0)) and np.abs(u).max() > 0.0,
               f"{name} t={t}: displacement z not 0 in 2D or displacement all 0")
-        check_calculator(name, reader, t, h5[f"steps/{step}/stress"][()], dim)
+        check_calculator(name, reader, t, stress, column, dim)
         moved = np.asarray(leaf(warp).Points) - np.asarray(grid.Points)
         check(np.allclose(moved, u, rtol=0, atol=1e-12 * (1 + np.abs(u).max())),
               f"{name} t={t}: warped points differ from reference + displacement by "
