@@ -22,10 +22,10 @@ import sys
 
 from paraview import simple as pv
 
-# The columns of the "stress" array (docs/output-format.md): 3 in 2D, 6 (Voigt order) in 3D.
-# ParaView names them by position, X Y Z and XX YY ZZ XY YZ XZ (VTK's symmetric-tensor order),
-# so in 3D its labels of the three shear columns are not their meaning: colouring goes by index.
-STRESS_COLUMNS = {3: ["xx", "yy", "xy"], 6: ["xx", "yy", "zz", "yz", "xz", "xy"]}
+# The columns of the "stress" array as ParaView reads it (docs/output-format.md): 3 in 2D (Voigt
+# order); in 3D the XDMF points at the copy in VTK's symmetric-tensor order (stress_vtk), which
+# ParaView labels XX YY ZZ XY YZ XZ.
+STRESS_COLUMNS = {3: ["xx", "yy", "xy"], 6: ["xx", "yy", "zz", "xy", "yz", "xz"]}
 COMPONENTS = sorted(set(STRESS_COLUMNS[3] + STRESS_COLUMNS[6]))
 
 

@@ -25,7 +25,9 @@ ElementType elementType(const YamlItem &i) {
     return ElementType::Quad8;
   if (v == "hex8")
     return ElementType::Hex8;
-  i.fail("unsupported element '" + v + "' (supported: quad4, quad8, hex8)");
+  if (v == "hex20")
+    return ElementType::Hex20;
+  i.fail("unsupported element '" + v + "' (supported: quad4, quad8, hex8, hex20)");
 }
 
 std::string joinPath(const std::string &base, const std::string &file) {

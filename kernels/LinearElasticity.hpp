@@ -82,7 +82,7 @@ linearStiffness(const ElementData<MemorySpace> &d, LocalIndex e,
 
 /// Element stiffness matrices of all elements into ke(e, i, j) (extent E x 2n x 2n).
 template <class Elem, class ExecSpace, class MemorySpace, class... P>
-void computeLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+void computeLinearStiffness(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                             const Kokkos::View<double ***, P...> &ke) {
   computeElementStiffness<Elem>(exec, d.mesh, d.thickness, linearElasticLaw(d), ke);
 }

@@ -12,10 +12,11 @@ namespace mixcon {
 
 using GlobalIndex = std::int64_t;
 
-/// Spatial dimension of the solver's models (2: the element kernels they call are 2D) and the
-/// per-node unknowns of their fields (core/Tensor.hpp): kNumDisplacements (2), kNumStresses (3,
-/// Voigt), kMixedUnknowns (5). Per-node counts and strides in solver/ and io/ are these
-/// constants, so that a 3D model changes the dimension here rather than literals.
+/// Spatial dimension of the models that are 2D only so far (the mixed and the geometrically
+/// nonlinear ones, contact) and the per-node unknowns of their fields (core/Tensor.hpp):
+/// kNumDisplacements (2), kNumStresses (3, Voigt), kMixedUnknowns (5). Their per-node counts and
+/// strides are these constants rather than literals. The linear displacement model takes its
+/// dimension from the mesh (DofMap::dofsPerNode = Mesh::dim()).
 inline constexpr int kModelDim = 2;
 using ModelLayout = FieldLayout<kModelDim>;
 

@@ -33,8 +33,7 @@ template <class Elem> std::vector<std::array<double, 3>> naturalNodes() {
 
 /// Interpolation of f through the nodes, evaluated at xi.
 template <class Elem>
-double interpolate(const std::function<double(double, double, double)> &f,
-                   const double (&xi)[3]) {
+double interpolate(const std::function<double(double, double, double)> &f, const double (&xi)[3]) {
   double n[Elem::kNumNodes], dn[Elem::kNumNodes][3];
   Elem::shape(xi, n, dn);
   double v = 0.0;
@@ -127,9 +126,9 @@ TYPED_TEST(SolidElementTest, ReproducesItsPolynomialSpace) {
   // Not in the space: a Hex8 does not reproduce x^2 (a check that the test can fail).
   if (Elem::kNumNodes == 8) {
     const double xi[3] = {0.3, 0.1, -0.2};
-    EXPECT_GT(std::abs(interpolate<Elem>([](double x, double, double) { return x * x; }, xi) -
-                       0.09),
-              0.5);
+    EXPECT_GT(
+        std::abs(interpolate<Elem>([](double x, double, double) { return x * x; }, xi) - 0.09),
+        0.5);
   }
 }
 
@@ -166,9 +165,10 @@ TYPED_TEST(SolidElementTest, FacesLieOnTheirPlaneAndRunCounterClockwiseFromOutsi
       if (std::abs(nrm[i]) > std::abs(nrm[axis]))
         axis = i;
     const double side = nrm[axis] > 0 ? 1.0 : -1.0;
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < 3; ++i) {
       if (i != axis)
         EXPECT_NEAR(nrm[i], 0.0, 1e-14) << "face " << f;
+    }
     for (int k = 0; k < Elem::kNodesPerSide; ++k) {
       const int a = Elem::sideNode(f, k);
       ASSERT_GE(a, 0);

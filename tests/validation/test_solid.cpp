@@ -44,8 +44,8 @@ Vector<6> patchStrain() {
 
 /// A box mesh with every interior node moved randomly by up to 0.2 of an element (the boundary
 /// nodes move within their face planes only, so the box keeps its shape).
-Mesh distortedBox(int n) {
-  Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, ElementType::Hex8);
+Mesh distortedBox(int n, ElementType type) {
+  Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, type);
   std::mt19937 rng(7);
   const double h[3] = {1.0 / n, 1.5 / (n + 1), 1.2 / n}, len[3] = {1.0, 1.5, 1.2};
   std::uniform_real_distribution<double> u(-0.2, 0.2);
@@ -62,16 +62,20 @@ Mesh distortedBox(int n) {
 
 } // namespace
 
-class SolidPatchTest : public ::testing::TestWithParam<LinearSolverType> {};
-INSTANTIATE_TEST_SUITE_P(Solvers, SolidPatchTest,
-                         ::testing::Values(LinearSolverType::Direct, LinearSolverType::Amg),
-                         [](const auto &info) {
-                           return std::string(info.param == LinearSolverType::Amg ? "Amg"
-                                                                                  : "Direct");
-                         });
+class SolidPatchTest : public ::testing::TestWithParam<std::tuple<ElementType, LinearSolverType>> {
+};
+INSTANTIATE_TEST_SUITE_P(
+    Elements, SolidPatchTest,
+    ::testing::Combine(::testing::Values(ElementType::Hex8, ElementType::Hex20),
+                       ::testing::Values(LinearSolverType::Direct, LinearSolverType::Amg)),
+    [](const auto &info) {
+      return elementTypeName(std::get<0>(info.param)) +
+             (std::get<1>(info.param) == LinearSolverType::Amg ? "Amg" : "Direct");
+    });
 
-TEST_P(SolidPatchTest, Hex8ReproducesALinearFieldExactly) {
-  const Mesh mesh = distortedBox(3);
+TEST_P(SolidPatchTest, ReproducesALinearFieldExactly) {
+  const auto [type, solver] = GetParam();
+  const Mesh mesh = distortedBox(3, type);
   const SolidMatrix c = rotatedOrthotropic();
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c});
   std::vector<char> onBoundary(mesh.numNodes(), 0);
@@ -83,7 +87,7 @@ TEST_P(SolidPatchTest, Hex8ReproducesALinearFieldExactly) {
         model.prescribe(p, i, ue[i]);
     }
   LinearSolverOptions o;
-  o.type = GetParam();
+  o.type = solver;
   o.tolerance = 1e-13;
   model.setup(o, MPI_COMM_WORLD);
   ASSERT_TRUE(model.solve(1.0).converged);
@@ -105,8 +109,9 @@ TEST_P(SolidPatchTest, Hex8ReproducesALinearFieldExactly) {
   std::vector<double> xq, sq;
   int perElement = 0;
   model.gaussPointStressHost(xq, sq, perElement);
-  EXPECT_EQ(perElement, 8);
-  ASSERT_EQ(sq.size(), 6u * 8u * mesh.numElements());
+  const int qp = type == ElementType::Hex20 ? 27 : 8;
+  EXPECT_EQ(perElement, qp);
+  ASSERT_EQ(sq.size(), 6u * qp * mesh.numElements());
   for (std::size_t k = 0; k < sq.size(); ++k)
     ASSERT_NEAR(sq[k], sigma.v[k % 6], 1e-9 * std::abs(sigma.v[0]));
   const auto r = model.reactionHost(1.0);
@@ -187,4 +192,40 @@ TEST(SolidCantilever, TipDeflectionConvergesToBeamTheory) {
                 20 * n, 2 * n, 2 * n, tip, reference, 100.0 * error);
   }
   EXPECT_LT(previous, 0.02); // 80 x 8 x 8: 1.65% measured
+}
+
+TEST(SolidCantilever, Hex20IsCloseToBeamTheoryOnACoarseMesh) {
+  // The same cantilever with 20-node elements, which do not lock: 20 x 2 x 2 elements.
+  const double l = 10.0, h = 1.0, b = 1.0, e = 1000.0, nu = 0.3, q = -0.01;
+  const double inertia = b * h * h * h / 12.0, area = b * h, g = e / (2.0 * (1.0 + nu));
+  const double p = q * area;
+  const double reference = p * l * l * l / (3.0 * e * inertia) + p * l / (5.0 / 6.0 * g * area);
+  const Mesh mesh = boxMesh(l, h, b, 20, 2, 2, ElementType::Hex20);
+  LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0),
+                                {IsotropicMaterial{e, nu}.stiffness()});
+  for (LocalIndex k : mesh.nodesOf("xmin"))
+    for (int i = 0; i < 3; ++i)
+      model.prescribe(k, i, 0.0);
+  model.addSideLoad(mesh.boundaries.at("xmax"), {0.0, q, 0.0}, 0.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Amg;
+  o.tolerance = 1e-10;
+  model.setup(o, MPI_COMM_WORLD);
+  ASSERT_TRUE(model.solve(1.0).converged);
+  const auto u = model.displacementHost();
+  // The mean over the corner nodes of the end face (mid-edge nodes weigh differently).
+  double tip = 0.0;
+  int count = 0;
+  for (LocalIndex k : mesh.nodesOf("xmax"))
+    if (std::abs(std::abs(mesh.y(k) - 0.5 * h) - 0.5 * h) < 1e-12 &&
+        std::abs(std::abs(mesh.z(k) - 0.5 * b) - 0.5 * b) < 1e-12) {
+      tip += u[3 * k + 1];
+      ++count;
+    }
+  ASSERT_EQ(count, 4);
+  tip /= count;
+  const double error = std::abs(tip - reference) / std::abs(reference);
+  std::printf("  cantilever 20 x 2 x 2 Hex20: tip %.6g, beam theory %.6g, error %.2f%%\n", tip,
+              reference, 100.0 * error);
+  EXPECT_LT(error, 0.01);
 }
