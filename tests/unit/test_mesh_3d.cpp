@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -66,6 +67,87 @@ Vec3 faceNormal(const Mesh &m, const BoundaryEdge &f) {
   for (double &c : n)
     c /= len;
   return n;
+}
+
+/// VTK's (the internal) Hex20 mid-edge nodes: node 8 + k lies between corners kVtkEdge[k].
+constexpr int kVtkEdge[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                 {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+/// Gmsh's Hex20 mid-edge nodes (Gmsh manual, "Node ordering": the hexahedron's edge list):
+/// node 8 + k lies between corners kGmshEdge[k].
+constexpr int kGmshEdge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
+                                  {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+/// Natural coordinates of the Hex8 corners (the Gmsh/VTK order).
+constexpr int kCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+
+/// Host reference: volume of a 20-node serendipity hexahedron (internal node order), the
+/// integral of det(dx/dxi) by 3x3x3 Gauss, with the shape functions written out here: corner a,
+/// N = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a)(xi xi_a + eta eta_a + zeta zeta_a - 2) / 8;
+/// mid-edge node (zero natural coordinate along its edge, say xi), N = (1 - xi^2)(1 + eta
+/// eta_a)(1 + zeta zeta_a) / 4.
+double hex20Volume(const Mesh &m, LocalIndex e) {
+  double xa[20][3];
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      xa[a][i] = kCorner[a][i];
+  for (int k = 0; k < 12; ++k)
+    for (int i = 0; i < 3; ++i)
+      xa[8 + k][i] = 0.5 * (kCorner[kVtkEdge[k][0]][i] + kCorner[kVtkEdge[k][1]][i]);
+  const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  double volume = 0.0;
+  for (int q = 0; q < 27; ++q) {
+    const double xi[3] = {g[q % 3], g[(q / 3) % 3], g[q / 9]};
+    const double weight = w[q % 3] * w[(q / 3) % 3] * w[q / 9];
+    double jac[3][3] = {};
+    for (int a = 0; a < 20; ++a) {
+      double p[3], dn[3];
+      for (int i = 0; i < 3; ++i)
+        p[i] = 1.0 + xi[i] * xa[a][i];
+      if (a < 8) {
+        const double s = xi[0] * xa[a][0] + xi[1] * xa[a][1] + xi[2] * xa[a][2] - 2.0;
+        for (int i = 0; i < 3; ++i) // d/dxi_i of p0 p1 p2 s / 8
+          dn[i] = 0.125 * p[(i + 1) % 3] * p[(i + 2) % 3] * xa[a][i] * (s + p[i]);
+      } else {
+        int along = 0;
+        for (int i = 0; i < 3; ++i)
+          if (xa[a][i] == 0.0)
+            along = i;
+        const int j = (along + 1) % 3, k = (along + 2) % 3;
+        const double bubble = 1.0 - xi[along] * xi[along];
+        dn[along] = -0.5 * xi[along] * p[j] * p[k];
+        dn[j] = 0.25 * bubble * xa[a][j] * p[k];
+        dn[k] = 0.25 * bubble * p[j] * xa[a][k];
+      }
+      const Vec3 x = point(m, m.node(e, a));
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          jac[i][j] += x[i] * dn[j];
+    }
+    volume += weight * (jac[0][0] * (jac[1][1] * jac[2][2] - jac[1][2] * jac[2][1]) -
+                        jac[0][1] * (jac[1][0] * jac[2][2] - jac[1][2] * jac[2][0]) +
+                        jac[0][2] * (jac[1][0] * jac[2][1] - jac[1][1] * jac[2][0]));
+  }
+  return volume;
+}
+
+/// Expects every mid-edge node of every element (and of every boundary face) of a Hex20 mesh at
+/// the middle of its corners (kVtkEdge; face node 4 + m between face corners m and m + 1).
+void expectMidEdgeNodesAtMidpoints(const Mesh &m) {
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int k = 0; k < 12; ++k) {
+      const Vec3 a = point(m, m.node(e, kVtkEdge[k][0])), b = point(m, m.node(e, kVtkEdge[k][1]));
+      const Vec3 c = point(m, m.node(e, 8 + k));
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << "element " << e << " edge " << k;
+    }
+  for (const auto &[name, faces] : m.boundaries)
+    for (const BoundaryEdge &f : faces)
+      for (int k = 0; k < 4; ++k) {
+        const Vec3 a = point(m, m.sideNode(f, k)), b = point(m, m.sideNode(f, (k + 1) % 4));
+        const Vec3 c = point(m, m.sideNode(f, 4 + k));
+        for (int i = 0; i < 3; ++i)
+          EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << name << " face node " << 4 + k;
+      }
 }
 
 std::string expectInputError(const std::function<void()> &f) {
@@ -206,6 +288,148 @@ TEST(BoxMesh, GradingSetsTheFirstElementSize) {
     EXPECT_NEAR(m.z(n), 3.0, 1e-14);
 }
 
+TEST(BoxMesh, Hex20CountsVolumeMidEdgeNodesBoundariesAndNodeSets) {
+  const double lx = 3.0, ly = 2.0, lz = 1.5, x0 = 1.0, y0 = -0.5, z0 = 2.0;
+  const int nx = 4, ny = 3, nz = 2;
+  const Mesh m = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex20, x0, y0, z0);
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.dim(), 3);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.nodesPerSide(), 8);
+  const int corners = (nx + 1) * (ny + 1) * (nz + 1);
+  const int edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz;
+  EXPECT_EQ(m.numNodes(), corners + edges);
+  EXPECT_EQ(m.numElements(), nx * ny * nz);
+  EXPECT_EQ(m.nodeIds.size(), static_cast<std::size_t>(m.numNodes()));
+  EXPECT_EQ(m.elementIds.size(), static_cast<std::size_t>(m.numElements()));
+  ASSERT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  EXPECT_EQ(m.elementRegion, std::vector<int>(m.numElements(), 0));
+  EXPECT_NO_THROW(validateMesh(m));
+
+  // Every node is used, each element has 20 distinct nodes, and no two nodes coincide.
+  std::vector<int> uses(m.numNodes(), 0);
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    std::set<LocalIndex> own;
+    for (int a = 0; a < 20; ++a) {
+      own.insert(m.node(e, a));
+      ++uses[m.node(e, a)];
+    }
+    EXPECT_EQ(own.size(), 20u) << "element " << e;
+  }
+  EXPECT_EQ(std::count(uses.begin(), uses.end(), 0), 0);
+  std::set<std::array<long long, 3>> places;
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    places.insert(
+        {std::llround(m.x(n) * 1e9), std::llround(m.y(n) * 1e9), std::llround(m.z(n) * 1e9)});
+  EXPECT_EQ(places.size(), static_cast<std::size_t>(m.numNodes()));
+
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = hex20Volume(m, e);
+    EXPECT_NEAR(v, lx * ly * lz / (nx * ny * nz), 1e-12) << "element " << e;
+    volume += v;
+  }
+  EXPECT_NEAR(volume, lx * ly * lz, 1e-12 * lx * ly * lz);
+  expectMidEdgeNodesAtMidpoints(m);
+
+  // Each boundary: its faces, their 8 nodes on its plane, the outward normal on its axis.
+  struct Side {
+    const char *name;
+    int axis;
+    double value, direction;
+    int faces;
+  };
+  const Side sides[] = {{"xmin", 0, x0, -1.0, ny * nz}, {"xmax", 0, x0 + lx, 1.0, ny * nz},
+                        {"ymin", 1, y0, -1.0, nx * nz}, {"ymax", 1, y0 + ly, 1.0, nx * nz},
+                        {"zmin", 2, z0, -1.0, nx * ny}, {"zmax", 2, z0 + lz, 1.0, nx * ny}};
+  EXPECT_EQ(m.boundaries.size(), 6u);
+  for (const Side &s : sides) {
+    SCOPED_TRACE(s.name);
+    ASSERT_TRUE(m.hasBoundary(s.name));
+    const auto &faces = m.boundaries.at(s.name);
+    EXPECT_EQ(static_cast<int>(faces.size()), s.faces);
+    for (const BoundaryEdge &f : faces) {
+      std::set<LocalIndex> nodes;
+      for (int k = 0; k < 8; ++k) {
+        nodes.insert(m.sideNode(f, k));
+        EXPECT_NEAR(m.coordinate(m.sideNode(f, k), s.axis), s.value, 1e-12);
+      }
+      EXPECT_EQ(nodes.size(), 8u);
+      const Vec3 n = faceNormal(m, f);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(n[i], i == s.axis ? s.direction : 0.0, 1e-12);
+    }
+    // The boundary's nodes: the face's corner and mid-edge nodes of the lattice.
+    const int a = (s.axis + 1) % 3, b = (s.axis + 2) % 3;
+    const int n[3] = {nx, ny, nz};
+    const int expected = (n[a] + 1) * (n[b] + 1) + n[a] * (n[b] + 1) + (n[a] + 1) * n[b];
+    EXPECT_EQ(static_cast<int>(m.nodesOf(s.name).size()), expected);
+  }
+
+  for (int c = 0; c < 8; ++c) {
+    const int cx = c & 1, cy = (c >> 1) & 1, cz = (c >> 2) & 1;
+    const std::string name =
+        "corner_" + std::to_string(cx) + std::to_string(cy) + std::to_string(cz);
+    ASSERT_TRUE(m.hasNodeSet(name)) << name;
+    ASSERT_EQ(m.nodeSets.at(name).size(), 1u) << name;
+    const LocalIndex p = m.nodeSets.at(name).front();
+    EXPECT_NEAR(m.x(p), x0 + cx * lx, 1e-12) << name;
+    EXPECT_NEAR(m.y(p), y0 + cy * ly, 1e-12) << name;
+    EXPECT_NEAR(m.z(p), z0 + cz * lz, 1e-12) << name;
+  }
+  // ny = 3: no grid line at mid-height, but a mid-edge node (nz = 2: a grid line at mid-depth),
+  // so the face centre is a node.
+  for (int side = 0; side < 2; ++side) {
+    const std::string name = side == 0 ? "xmin_center" : "xmax_center";
+    ASSERT_TRUE(m.hasNodeSet(name));
+    ASSERT_EQ(m.nodeSets.at(name).size(), 1u);
+    const LocalIndex c = m.nodeSets.at(name).front();
+    EXPECT_NEAR(m.x(c), x0 + side * lx, 1e-12);
+    EXPECT_NEAR(m.y(c), y0 + 0.5 * ly, 1e-12);
+    EXPECT_NEAR(m.z(c), z0 + 0.5 * lz, 1e-12);
+  }
+}
+
+TEST(BoxMesh, Hex20GradedMidEdgeNodesSitAtTheMiddleOfTheGradedEdges) {
+  const double lx = 2.0, ly = 1.0, lz = 4.0, gx = 1.5, gy = 2.0, gz = 1.2;
+  const int nx = 3, ny = 2, nz = 3;
+  const Mesh m = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex20, 0.5, 0.0, -1.0, gx, gy, gz);
+  EXPECT_NO_THROW(validateMesh(m));
+  expectMidEdgeNodesAtMidpoints(m);
+  // The corners are those of the Hex8 box with the same arguments, element by element.
+  const Mesh hex8 = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex8, 0.5, 0.0, -1.0, gx, gy, gz);
+  ASSERT_EQ(m.numElements(), hex8.numElements());
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(m.coordinate(m.node(e, a), i), hex8.coordinate(hex8.node(e, a), i));
+  for (const auto &[name, faces] : hex8.boundaries) {
+    ASSERT_TRUE(m.hasBoundary(name));
+    const auto &f20 = m.boundaries.at(name);
+    ASSERT_EQ(f20.size(), faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      EXPECT_EQ(f20[i].element, faces[i].element);
+      EXPECT_EQ(f20[i].edge, faces[i].edge);
+    }
+  }
+  for (const char *corner : {"corner_000", "corner_111", "corner_101"})
+    for (int i = 0; i < 3; ++i)
+      EXPECT_EQ(m.coordinate(m.nodeSets.at(corner).front(), i),
+                hex8.coordinate(hex8.nodeSets.at(corner).front(), i));
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = hex20Volume(m, e);
+    EXPECT_NEAR(v, hexVolume(hex8, e), 1e-12 * v) << "element " << e; // straight edges: a brick
+    volume += v;
+  }
+  EXPECT_NEAR(volume, lx * ly * lz, 1e-12 * lx * ly * lz);
+  // Numbering: the half-step lattice, I fastest: node 1 is the mid-edge node of element 0's
+  // first x edge, node 2 the far end of that edge.
+  EXPECT_EQ(m.node(0, 0), 0);
+  EXPECT_EQ(m.node(0, 8), 1);
+  EXPECT_EQ(m.node(0, 1), 2);
+}
+
 TEST(BoxMesh, RefusesBadArgumentsAndOtherElementTypes) {
   auto generatorError = [](const std::function<void()> &f) {
     try {
@@ -227,6 +451,12 @@ TEST(BoxMesh, RefusesBadArgumentsAndOtherElementTypes) {
   msg = generatorError([] { boxMesh(1, 1, 1, 1, 1, 1, ElementType::Hex8, 0, 0, 0, 1, 1, -2); });
   EXPECT_NE(msg.find("mesh generator box: grading[2] must be positive"), std::string::npos) << msg;
   msg = generatorError([] { boxMesh(1, 1, 1, 2000, 2000, 2000, ElementType::Hex8); });
+  EXPECT_NE(msg.find("mesh generator box: divisions too large"), std::string::npos) << msg;
+  // Hex20 counts 20 nodes per element: 500^3 Hex8 elements would fit, Hex20 ones do not.
+  const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
+  EXPECT_LT(8.0 * 500 * 500 * 500, most);
+  EXPECT_GT(20.0 * 500 * 500 * 500, most);
+  msg = generatorError([] { boxMesh(1, 1, 1, 500, 500, 500, ElementType::Hex20); });
   EXPECT_NE(msg.find("mesh generator box: divisions too large"), std::string::npos) << msg;
   // The 2D generators refuse a 3D element type instead of building a broken mesh.
   msg = generatorError([] { rectangleMesh(1, 1, 2, 2, ElementType::Hex8); });
