@@ -623,11 +623,32 @@ TEST(GmshReader3D, ReadsHexahedraWithRegionsBoundaryFacesAndNodeSets) {
 }
 
 namespace {
-/// Writes a Hex8 mesh as Gmsh 4.1 ASCII: one volume (physical "body"), one surface per boundary
-/// (physical groups of the same names) whose quadrangles are the boundary faces' corner nodes,
-/// rotated by the face number and, for odd elements, in the other turning sense (the reader must
-/// not depend on either), one point per node set. Node tags 5 + 2 n, element tags 1000 + e.
+/// Gmsh's node k of a 20-node hexahedron is internal node gmshToInternal()[k] (from the two edge
+/// tables: the mid-edge node of the same two corners).
+std::array<int, 20> gmshToInternal() {
+  std::array<int, 20> p{};
+  for (int a = 0; a < 8; ++a)
+    p[a] = a;
+  for (int k = 0; k < 12; ++k) {
+    p[8 + k] = -1;
+    for (int j = 0; j < 12; ++j)
+      if (std::min(kVtkEdge[j][0], kVtkEdge[j][1]) == std::min(kGmshEdge[k][0], kGmshEdge[k][1]) &&
+          std::max(kVtkEdge[j][0], kVtkEdge[j][1]) == std::max(kGmshEdge[k][0], kGmshEdge[k][1]))
+        p[8 + k] = 8 + j;
+    EXPECT_GE(p[8 + k], 8) << "Gmsh edge " << k;
+  }
+  return p;
+}
+
+/// Writes a Hex8 or Hex20 mesh as Gmsh 4.1 ASCII (type 5 or 17, Gmsh's node order): one volume
+/// (physical "body"), one surface per boundary (physical groups of the same names) whose
+/// quadrangles (type 3 or 16) are the boundary faces' corner nodes, rotated by the face number
+/// and, for odd elements, in the other turning sense (the reader must not depend on either), then
+/// for type 16 the mid-edge nodes of the quadrangle's edges in that order; one point per node
+/// set. Node tags 5 + 2 n, element tags 1000 + e.
 std::string toGmsh3D(const Mesh &m) {
+  const bool hex20 = m.elementType == ElementType::Hex20;
+  const std::array<int, 20> order = gmshToInternal();
   std::ostringstream s;
   std::vector<std::string> bnames, pnames;
   for (const auto &[name, faces] : m.boundaries)
@@ -669,21 +690,28 @@ std::string toGmsh3D(const Mesh &m) {
   }
   for (std::size_t i = 0; i < bnames.size(); ++i) {
     const auto &faces = m.boundaries.at(bnames[i]);
-    s << "2 " << i + 1 << " 3 " << faces.size() << "\n";
+    s << "2 " << i + 1 << (hex20 ? " 16 " : " 3 ") << faces.size() << "\n";
     for (const BoundaryEdge &f : faces) {
       s << id++;
+      int corner[4]; // the face corners in the quadrangle's order
       for (int k = 0; k < 4; ++k) {
         const int r = (k + f.edge) % 4;
-        s << " " << tag(m.sideNode(f, f.element % 2 ? 3 - r : r));
+        corner[k] = f.element % 2 ? 3 - r : r;
+        s << " " << tag(m.sideNode(f, corner[k]));
+      }
+      // Face node 4 + c lies between face corners c and c + 1.
+      for (int k = 0; k < 4 && hex20; ++k) {
+        const int c0 = corner[k], c1 = corner[(k + 1) % 4];
+        s << " " << tag(m.sideNode(f, 4 + (c1 == (c0 + 1) % 4 ? c0 : c1)));
       }
       s << "\n";
     }
   }
-  s << "3 1 5 " << m.numElements() << "\n";
+  s << "3 1 " << (hex20 ? 17 : 5) << " " << m.numElements() << "\n";
   for (LocalIndex e = 0; e < m.numElements(); ++e) {
     s << 1000 + e;
-    for (int a = 0; a < 8; ++a)
-      s << " " << tag(m.node(e, a));
+    for (int a = 0; a < m.nodesPerElement; ++a)
+      s << " " << tag(m.node(e, hex20 ? order[a] : a));
     s << "\n";
   }
   s << "$EndElements\n";
@@ -779,7 +807,7 @@ TEST(GmshReader3D, RefusesQuadranglesThatAreNoFaceAndMixedElements) {
                      ": unsupported element type 4 (4-node tetrahedron)"),
             std::string::npos)
       << msg;
-  EXPECT_NE(msg.find("8-node hexahedra (type 5)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("8-node (type 5) and 20-node (type 17) hexahedra"), std::string::npos) << msg;
   // 8-node quadrangles next to hexahedra.
   bad = t;
   bad = replaced(bad, "2 1 3 1\n4 101 107 110 104", "2 1 16 1\n4 101 107 110 104 101 107 110 104");
@@ -844,6 +872,226 @@ $EndElements
   const std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
   EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "1 1 0.5")) +
                      ": node 3 has a non-zero z coordinate; mixcon meshes are planar (z = 0)"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(GmshReader3D, RoundTripOfAGradedHex20BoxKeepsGeometryTopologyAndGroups) {
+  const Mesh box =
+      boxMesh(2.0, 1.0, 0.5, 3, 2, 2, ElementType::Hex20, -1.0, 0.0, 0.25, 1.3, 1.0, 1.6);
+  const std::string text = toGmsh3D(box);
+  ASSERT_NE(text.find("\n3 1 17 12\n"), std::string::npos); // 20-node hexahedra
+  ASSERT_NE(text.find("\n2 1 16 "), std::string::npos);     // 8-node quadrangles
+  const Mesh m = readText(text, "box20.msh");
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.coordinates, box.coordinates);
+  EXPECT_EQ(m.connectivity, box.connectivity);
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    EXPECT_EQ(m.elementId(e), 1000 + e);
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    EXPECT_EQ(m.nodeId(n), 5 + 2 * n);
+  EXPECT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  ASSERT_EQ(m.boundaries.size(), box.boundaries.size());
+  for (const auto &[name, faces] : box.boundaries) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(m.hasBoundary(name));
+    const auto &read = m.boundaries.at(name);
+    ASSERT_EQ(read.size(), faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      EXPECT_EQ(read[i].element, faces[i].element);
+      EXPECT_EQ(read[i].edge, faces[i].edge);
+    }
+  }
+  EXPECT_EQ(m.nodeSets, box.nodeSets);
+  EXPECT_NO_THROW(validateMesh(m));
+}
+
+namespace {
+/// A 2 x 1 x 1 box of two 20-node hexahedra written by hand in Gmsh's node order. Its nodes are
+/// the points (I, J, K) / 2, 0 <= I <= 4, 0 <= J, K <= 2, with at most one odd index, tagged
+/// 1 + I + 5 J + 15 K. Groups: volume "body"; surface "right" (x = 2), one 8-node quadrangle;
+/// curve "edge" (y = z = 0), two 3-node lines; point "origin".
+struct Hex20File {
+  using P = std::array<int, 3>;
+  static long tag(const P &p) { return 1 + p[0] + 5 * p[1] + 15 * p[2]; }
+  /// " t1 t2 ..." of the points.
+  static std::string tags(const std::vector<P> &points) {
+    std::string s;
+    for (const P &p : points)
+      s += " " + std::to_string(tag(p));
+    return s;
+  }
+  /// Lattice point of corner c of element e.
+  static P corner(int e, int c) {
+    return {2 * e + kCorner[c][0] + 1, kCorner[c][1] + 1, kCorner[c][2] + 1};
+  }
+  static P middle(const P &a, const P &b) {
+    return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+  }
+  /// Element e's nodes by an edge table (Gmsh's or VTK's).
+  static std::vector<P> nodes(int e, const int (&edges)[12][2]) {
+    std::vector<P> v;
+    for (int c = 0; c < 8; ++c)
+      v.push_back(corner(e, c));
+    for (int k = 0; k < 12; ++k)
+      v.push_back(middle(corner(e, edges[k][0]), corner(e, edges[k][1])));
+    return v;
+  }
+  /// The quadrangle of x = 2, turning counter-clockwise seen from +x, in Gmsh's (Quad8's) order.
+  static std::vector<P> rightQuad() {
+    const std::vector<P> c = {{4, 0, 0}, {4, 2, 0}, {4, 2, 2}, {4, 0, 2}};
+    std::vector<P> q = c;
+    for (int k = 0; k < 4; ++k)
+      q.push_back(middle(c[k], c[(k + 1) % 4]));
+    return q;
+  }
+  static std::string text() {
+    std::vector<P> points;
+    for (int K = 0; K <= 2; ++K)
+      for (int J = 0; J <= 2; ++J)
+        for (int I = 0; I <= 4; ++I)
+          if (I % 2 + J % 2 + K % 2 <= 1)
+            points.push_back({I, J, K});
+    std::ostringstream s;
+    s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n0 4 \"origin\"\n1 5 "
+         "\"edge\"\n2 3 \"right\"\n3 1 \"body\"\n$EndPhysicalNames\n$Entities\n1 1 1 1\n1 0 0 0 1 "
+         "4\n1 0 0 0 2 0 0 1 5 0\n2 2 0 0 2 1 1 1 3 0\n1 0 0 0 2 1 1 1 1 0\n$EndEntities\n";
+    s << "$Nodes\n1 " << points.size() << " 1 " << tag({4, 2, 2}) << "\n3 1 0 " << points.size()
+      << "\n";
+    for (const P &p : points)
+      s << tag(p) << "\n";
+    for (const P &p : points)
+      s << 0.5 * p[0] << " " << 0.5 * p[1] << " " << 0.5 * p[2] << "\n";
+    s << "$EndNodes\n$Elements\n4 6 1 22\n0 1 15 1\n1" << tags({{0, 0, 0}}) << "\n1 1 8 2\n2"
+      << tags({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}) << "\n3" << tags({{2, 0, 0}, {4, 0, 0}, {3, 0, 0}})
+      << "\n2 2 16 1\n5" << tags(rightQuad()) << "\n3 1 17 2\n21" << tags(nodes(0, kGmshEdge))
+      << "\n22" << tags(nodes(1, kGmshEdge)) << "\n$EndElements\n";
+    return s.str();
+  }
+};
+} // namespace
+
+TEST(GmshReader3D, ReadsHex20InGmshOrderIntoTheInternalOrder) {
+  using F = Hex20File;
+  const std::string text = F::text();
+  const Mesh m = readText(text, "two20.msh");
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.numNodes(), 12 + 8 + 6 + 6); // corners, x, y and z edges
+  EXPECT_EQ(m.numElements(), 2);
+  EXPECT_EQ(m.elementIds, (std::vector<long>{21, 22}));
+  // The connectivity in VTK's order, node by node (by tag).
+  for (int e = 0; e < 2; ++e) {
+    const std::vector<F::P> expected = F::nodes(e, kVtkEdge);
+    for (int a = 0; a < 20; ++a)
+      EXPECT_EQ(m.nodeId(m.node(e, a)), F::tag(expected[a])) << "element " << e << " node " << a;
+  }
+  EXPECT_NO_THROW(validateMesh(m));
+  EXPECT_NEAR(hex20Volume(m, 0) + hex20Volume(m, 1), 2.0, 1e-14);
+  expectMidEdgeNodesAtMidpoints(m);
+  ASSERT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  // The 8-node quadrangle is face x+ (3) of element 22, all eight nodes.
+  ASSERT_TRUE(m.hasBoundary("right"));
+  ASSERT_EQ(m.boundaries.at("right").size(), 1u);
+  const BoundaryEdge f = m.boundaries.at("right").front();
+  EXPECT_EQ(f.element, 1);
+  EXPECT_EQ(f.edge, 3);
+  std::set<long> tags, quad;
+  for (int k = 0; k < m.nodesPerSide(); ++k)
+    tags.insert(m.nodeId(m.sideNode(f, k)));
+  for (const F::P &p : F::rightQuad())
+    quad.insert(F::tag(p));
+  EXPECT_EQ(tags, quad);
+  EXPECT_NEAR(faceNormal(m, f)[0], 1.0, 1e-14);
+  // Node sets: the 3-node lines' five nodes, the point's node.
+  std::vector<LocalIndex> edge;
+  for (int i = 0; i <= 4; ++i)
+    edge.push_back(nodeOfTag(m, F::tag({i, 0, 0})));
+  std::sort(edge.begin(), edge.end());
+  EXPECT_EQ(m.nodeSets.at("edge"), edge);
+  EXPECT_EQ(m.nodeSets.at("origin"), std::vector<LocalIndex>{nodeOfTag(m, 1)});
+}
+
+TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixedOrders) {
+  using F = Hex20File;
+  using P = F::P;
+  const std::string t = F::text();
+  const std::string quad = "5" + F::tags(F::rightQuad());
+  // An 8-node quadrangle whose corners are no face (a diagonal plane).
+  const std::string diagonal =
+      "5" +
+      F::tags(
+          {{4, 0, 0}, {4, 2, 0}, {2, 2, 2}, {2, 0, 2}, {4, 1, 0}, {4, 2, 1}, {4, 1, 2}, {4, 0, 1}});
+  std::string bad = replaced(t, quad, diagonal);
+  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, diagonal)) +
+                     ": quadrangle element 5 of boundary 'right' is not a face of any hexahedron"),
+            std::string::npos)
+      << msg;
+  // The right corners, but the mid-edge nodes of edges 1-2 and 2-3 swapped.
+  std::vector<P> q = F::rightQuad();
+  std::swap(q[5], q[6]);
+  const std::string swapped = "5" + F::tags(q);
+  bad = replaced(t, quad, swapped);
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, swapped)) +
+                     ": quadrangle element 5 of boundary 'right': its mid-edge node " +
+                     std::to_string(F::tag(q[5])) + " (between nodes " +
+                     std::to_string(F::tag(q[1])) + " and " + std::to_string(F::tag(q[2])) +
+                     ") is not the hexahedron's mid-edge node of that edge, " +
+                     std::to_string(F::tag(q[6]))),
+            std::string::npos)
+      << msg;
+  // A 4-node quadrangle on a 20-node hexahedron.
+  const std::string corners = "5" + F::tags({q[0], q[1], q[2], q[3]});
+  bad = replaced(replaced(t, quad, corners), "2 2 16 1", "2 2 3 1");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, corners)) +
+                     ": 4-node quadrangles (type 3) in a mesh of 20-node hexahedra"),
+            std::string::npos)
+      << msg;
+  // A 2-node line (a curve of the other order).
+  const std::string line2 = "3" + F::tags({{2, 0, 0}, {4, 0, 0}});
+  bad = replaced(t,
+                 "1 1 8 2\n2" + F::tags({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}) + "\n3" +
+                     F::tags({{2, 0, 0}, {4, 0, 0}, {3, 0, 0}}),
+                 "1 1 1 1\n" + line2);
+  bad = replaced(bad, "4 6 1 22", "4 5 1 22");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, line2)) +
+                     ": line element 3 has 2 nodes in a mesh of 20-node hexahedra"),
+            std::string::npos)
+      << msg;
+  // 20-node hexahedra followed by 8-node ones: mixed orders, at the second block's line.
+  bad = replaced(t, "4 6 1 22", "5 7 1 23");
+  std::vector<P> hex8;
+  for (int c = 0; c < 8; ++c)
+    hex8.push_back(F::corner(0, c));
+  bad = replaced(bad, "$EndElements", "3 1 5 1\n23" + F::tags(hex8) + "\n$EndElements");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 5 1")) +
+                     ": mixed volume element types: element type 5 (8-node hexahedron) after "
+                     "element type 17 (20-node hexahedron)"),
+            std::string::npos)
+      << msg;
+  // ... and the other way round, in the 8-node file: a 20-node block after the 8-node one.
+  bad = replaced(kGmshHex, "5 7 1 22", "6 8 1 23");
+  bad = replaced(bad, "$EndElements",
+                 "3 1 17 1\n23 101 102 105 104 107 108 111 110 101 102 105 104 107 108 111 110 "
+                 "101 102 105 104\n$EndElements");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 17 1")) +
+                     ": mixed volume element types: element type 17 (20-node hexahedron) after "
+                     "element type 5 (8-node hexahedron)"),
+            std::string::npos)
+      << msg;
+  // A 3-node line in the 8-node file.
+  bad = replaced(kGmshHex, "1 1 1 2\n2 101 102\n3 102 103", "1 1 8 1\n2 101 103 102");
+  bad = replaced(bad, "5 7 1 22", "5 6 1 22");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 101 103 102")) +
+                     ": line element 2 has 3 nodes in a mesh of 8-node hexahedra"),
             std::string::npos)
       << msg;
 }
