@@ -1,5 +1,5 @@
 // Structured generators: the 2D ones built from mapped patches that are merged at coincident
-// nodes, the Hex8 box as a tensor grid. Layer: mesh.
+// nodes, the Hex8 and Hex20 box as a tensor grid. Layer: mesh.
 #include <mesh/Generators.hpp>
 
 #include <array>
@@ -45,7 +45,7 @@ Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::stri
   if (type != ElementType::Quad4 && type != ElementType::Quad8)
     throw GeneratorError("mesh " + source + ": element type " + elementTypeName(type) +
                          " is not a quadrilateral (this generator is 2D; the box generator makes "
-                         "hex8 meshes)");
+                         "hex8 and hex20 meshes)");
   Mesh mesh;
   mesh.elementType = type;
   mesh.nodesPerElement = type == ElementType::Quad8 ? 8 : 4;
@@ -177,18 +177,31 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
   requirePositive("grading[0]", gx, gen);
   requirePositive("grading[1]", gy, gen);
   requirePositive("grading[2]", gz, gen);
-  if (type != ElementType::Hex8)
+  if (type != ElementType::Hex8 && type != ElementType::Hex20)
     throw GeneratorError("mesh generator box: element type " + elementTypeName(type) +
-                         " is not a hexahedron (the box makes hex8 meshes)");
+                         " is not a hexahedron (the box makes hex8 and hex20 meshes)");
+  const bool serendipity = type == ElementType::Hex20;
+  const int npe = serendipity ? Hex20::kNumNodes : Hex8::kNumNodes;
+  // Nodes live on a lattice of (mx + 1) x (my + 1) x (mz + 1) points: the grid itself for Hex8,
+  // the grid with its half steps for Hex20 (point (I, J, K), even indices on grid lines).
+  const int step = serendipity ? 2 : 1;
+  const long mx = static_cast<long>(step) * nx, my = static_cast<long>(step) * ny,
+             mz = static_cast<long>(step) * nz;
   // Node and connectivity indices are LocalIndex: refuse before anything is allocated.
   const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
-  const double nodes = (nx + 1.0) * (ny + 1.0) * (nz + 1.0);
-  if (nodes > most || 8.0 * nx * ny * nz > most)
+  const double corners = (nx + 1.0) * (ny + 1.0) * (nz + 1.0);
+  const double midEdges = serendipity
+                              ? nx * (ny + 1.0) * (nz + 1.0) + (nx + 1.0) * ny * (nz + 1.0) +
+                                    (nx + 1.0) * (ny + 1.0) * nz
+                              : 0.0;
+  const double lattice = (mx + 1.0) * (my + 1.0) * (mz + 1.0);
+  if (corners + midEdges > most || lattice > most || double(npe) * nx * ny * nz > most)
     throw GeneratorError("mesh generator box: divisions too large (node or connectivity indices "
                          "beyond " +
                          std::to_string(std::numeric_limits<LocalIndex>::max()) + ")");
 
-  // Grid line coordinates along each axis: x0 + l (i / n)^g.
+  // Grid line coordinates along each axis: x0 + l (i / n)^g; with half steps for Hex20, the
+  // mid-edge nodes at the middle of each (graded, straight) element edge.
   const auto lines = [&](double origin, double length, int n, double g, const char *axis) {
     std::vector<double> v(static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= n; ++i) {
@@ -198,31 +211,59 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
                              " coordinates overflow (size, origin or grading too large)");
     }
     v[n] = origin + length; // the far face exactly where it was asked for
-    return v;
+    if (!serendipity)
+      return v;
+    std::vector<double> half(2 * static_cast<std::size_t>(n) + 1);
+    for (int i = 0; i <= 2 * n; ++i)
+      half[i] = i % 2 == 0 ? v[i / 2] : 0.5 * (v[i / 2] + v[i / 2 + 1]);
+    return half;
   };
   const std::vector<double> xs = lines(x0, lx, nx, gx, "x"), ys = lines(y0, ly, ny, gy, "y"),
                             zs = lines(z0, lz, nz, gz, "z");
 
   Mesh mesh;
-  mesh.elementType = ElementType::Hex8;
-  mesh.nodesPerElement = Hex8::kNumNodes;
+  mesh.elementType = type;
+  mesh.nodesPerElement = npe;
   mesh.regionNames = {"body"};
   mesh.source = "generator box";
-  const auto node = [&](int i, int j, int k) {
-    return static_cast<LocalIndex>(i + (nx + 1) * (j + static_cast<long>(ny + 1) * k));
+  // Node numbers: the lattice points in lexicographic order (I fastest, then J, then K), skipping
+  // those with two or three odd indices (face and cell centres, which a serendipity element does
+  // not have). For Hex8 every lattice point is a node: x fastest, then y, then z.
+  const auto latticeIndex = [&](long I, long J, long K) {
+    return static_cast<std::size_t>(I + (mx + 1) * (J + (my + 1) * K));
   };
-  mesh.coordinates.reserve(3 * static_cast<std::size_t>(nodes));
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i) {
-        mesh.coordinates.push_back(xs[i]);
-        mesh.coordinates.push_back(ys[j]);
-        mesh.coordinates.push_back(zs[k]);
+  std::vector<LocalIndex> number(static_cast<std::size_t>(lattice), -1);
+  mesh.coordinates.reserve(3 * static_cast<std::size_t>(corners + midEdges));
+  LocalIndex count = 0;
+  for (long K = 0; K <= mz; ++K)
+    for (long J = 0; J <= my; ++J)
+      for (long I = 0; I <= mx; ++I) {
+        if (serendipity && (I % 2) + (J % 2) + (K % 2) > 1)
+          continue; // a face or cell centre of the half-step lattice
+        number[latticeIndex(I, J, K)] = count++;
+        mesh.coordinates.push_back(xs[I]);
+        mesh.coordinates.push_back(ys[J]);
+        mesh.coordinates.push_back(zs[K]);
       }
+  const auto node = [&](long I, long J, long K) { return number[latticeIndex(I, J, K)]; };
+
+  // Local node a of an element sits at lattice offset step (xi_a + 1) / 2 from its first corner
+  // (natural coordinates of the element's own node order: Hex8 or Hex20, core/ElementTraits.hpp).
+  std::vector<std::array<int, 3>> offset(npe);
+  for (int a = 0; a < npe; ++a) {
+    double xi[3];
+    if (serendipity)
+      Hex20::nodeNatural(a, xi);
+    else
+      Hex8::nodeNatural(a, xi);
+    for (int d = 0; d < 3; ++d)
+      offset[a][d] = static_cast<int>(std::lround(xi[d] + 1.0)) * step / 2;
+  }
   const std::size_t elements = static_cast<std::size_t>(nx) * ny * nz;
-  mesh.connectivity.reserve(8 * elements);
+  mesh.connectivity.reserve(static_cast<std::size_t>(npe) * elements);
   mesh.elementRegion.assign(elements, 0);
-  // Faces in Hex8::sideNode numbering: 0 z-, 1 z+, 2 y-, 3 x+, 4 y+, 5 x-.
+  // Faces in Hex8::sideNode numbering (Hex20's faces have the same numbers): 0 z-, 1 z+, 2 y-,
+  // 3 x+, 4 y+, 5 x-.
   auto &zmin = mesh.boundaries["zmin"], &zmax = mesh.boundaries["zmax"];
   auto &ymin = mesh.boundaries["ymin"], &ymax = mesh.boundaries["ymax"];
   auto &xmin = mesh.boundaries["xmin"], &xmax = mesh.boundaries["xmax"];
@@ -230,10 +271,10 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const LocalIndex e = mesh.numElements();
-        for (LocalIndex n : {node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k),
-                             node(i, j + 1, k), node(i, j, k + 1), node(i + 1, j, k + 1),
-                             node(i + 1, j + 1, k + 1), node(i, j + 1, k + 1)})
-          mesh.connectivity.push_back(n);
+        for (int a = 0; a < npe; ++a)
+          mesh.connectivity.push_back(node(static_cast<long>(step) * i + offset[a][0],
+                                           static_cast<long>(step) * j + offset[a][1],
+                                           static_cast<long>(step) * k + offset[a][2]));
         if (k == 0)
           zmin.push_back({e, 0});
         if (k == nz - 1)
@@ -251,12 +292,14 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
     for (int cy = 0; cy < 2; ++cy)
       for (int cx = 0; cx < 2; ++cx)
         mesh.nodeSets["corner_" + std::to_string(cx) + std::to_string(cy) + std::to_string(cz)] = {
-            node(cx * nx, cy * ny, cz * nz)};
+            node(cx * mx, cy * my, cz * mz)};
+  // Face centres: the node of the face closest to its centre, corner or mid-edge node.
   for (int side = 0; side < 2; ++side) {
     std::vector<LocalIndex> face;
-    for (int k = 0; k <= nz; ++k)
-      for (int j = 0; j <= ny; ++j)
-        face.push_back(node(side * nx, j, k));
+    for (long K = 0; K <= mz; ++K)
+      for (long J = 0; J <= my; ++J)
+        if (const LocalIndex n = node(side * mx, J, K); n >= 0)
+          face.push_back(n);
     mesh.nodeSets[side == 0 ? "xmin_center" : "xmax_center"] = {
         closestNode3(mesh, face, {side == 0 ? x0 : x0 + lx, y0 + 0.5 * ly, z0 + 0.5 * lz})};
   }

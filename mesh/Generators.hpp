@@ -1,6 +1,6 @@
 // Structured mesh generators: Quad4 / Quad8 for the report's geometries and the closed-form
-// validation cases, Hex8 boxes for the 3D solids (issue 17). Layer: mesh, the first stage of the
-// data flow (mesh -> kernels -> ...).
+// validation cases, Hex8 and Hex20 boxes for the 3D solids (issue 17). Layer: mesh, the first
+// stage of the data flow (mesh -> kernels -> ...).
 #pragma once
 
 #include <mesh/Mesh.hpp>
@@ -28,17 +28,25 @@ public:
 Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0 = 0.0,
                    double y0 = 0.0, double gx = 1.0, double gy = 1.0);
 
-/// Box [x0, x0 + lx] x [y0, y0 + ly] x [z0, z0 + lz] of nx x ny x nz Hex8 elements (`type` must
-/// be ElementType::Hex8); grading exponents gx, gy, gz > 1 cluster the elements toward x0, y0, z0
-/// (grid line i at x = x0 + lx (i / nx)^gx; 1: uniform). Nodes are numbered x fastest, then y,
-/// then z; element nodes in the Hex8 order (core/ElementTraits.hpp: the face z- counter-clockwise
-/// seen from +z, then the face z+). Region "body"; boundaries "xmin", "xmax", "ymin", "ymax",
-/// "zmin", "zmax" (element faces, Hex8::sideNode numbers: 0 z-, 1 z+, 2 y-, 3 x+, 4 y+, 5 x-);
-/// node sets "corner_000" ... "corner_111" (the corners; the digits say x, y, z at their minimum
-/// 0 or maximum 1), "xmin_center" and "xmax_center" (the node of face x = x0 or x = x0 + lx
-/// closest to the centre of that face). Throws GeneratorError naming the generator "box" for
-/// non-positive sizes, divisions or gradings, another element type, or a mesh whose node or
-/// connectivity indices would not fit a LocalIndex.
+/// Box [x0, x0 + lx] x [y0, y0 + ly] x [z0, z0 + lz] of nx x ny x nz Hex8 or Hex20 elements
+/// (`type` must be ElementType::Hex8 or ElementType::Hex20); grading exponents gx, gy, gz > 1
+/// cluster the elements toward x0, y0, z0 (grid line i at x = x0 + lx (i / nx)^gx; 1: uniform).
+/// Hex8: nodes numbered x fastest, then y, then z. Hex20: the nodes are the points of the
+/// half-step lattice (2 nx + 1) x (2 ny + 1) x (2 nz + 1) (point (I, J, K) at the grid line I / 2
+/// for even I, at the middle of grid lines (I - 1) / 2 and (I + 1) / 2 for odd I: every element
+/// edge is straight and its mid-edge node at its middle, also when graded) with at most one odd
+/// index (corners and mid-edge nodes, no face or cell centres), numbered in lexicographic order,
+/// I fastest, then J, then K; (nx + 1)(ny + 1)(nz + 1) corners plus nx (ny + 1)(nz + 1) +
+/// (nx + 1) ny (nz + 1) + (nx + 1)(ny + 1) nz mid-edge nodes. Element nodes in the element's
+/// order (core/ElementTraits.hpp: Hex8, the face z- counter-clockwise seen from +z, then the face
+/// z+; Hex20, those corners, then the mid-edge nodes in VTK's order). Region "body"; boundaries
+/// "xmin", "xmax", "ymin", "ymax", "zmin", "zmax" (element faces, sideNode numbers: 0 z-, 1 z+,
+/// 2 y-, 3 x+, 4 y+, 5 x-); node sets "corner_000" ... "corner_111" (the corners; the digits say
+/// x, y, z at their minimum 0 or maximum 1), "xmin_center" and "xmax_center" (the node, corner
+/// or mid-edge, of face x = x0 or x = x0 + lx closest to the centre of that face). Throws
+/// GeneratorError naming the generator "box" for non-positive sizes, divisions or gradings,
+/// another element type, or a mesh whose node or connectivity indices would not fit a
+/// LocalIndex.
 Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementType type,
              double x0 = 0.0, double y0 = 0.0, double z0 = 0.0, double gx = 1.0, double gy = 1.0,
              double gz = 1.0);

@@ -1,5 +1,5 @@
 // Gmsh 4.1 ASCII reader ($MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements): meshes of
-// quadrangles (2D) or of 8-node hexahedra (3D). Layer: mesh.
+// quadrangles (2D) or of 8-node or 20-node hexahedra (3D). Layer: mesh.
 #include <mesh/GmshReader.hpp>
 
 #include <sys/stat.h>
@@ -139,13 +139,24 @@ const char *gmshTypeName(long type) {
   }
 }
 
-/// Gmsh element type of the 8-node hexahedron, the one volume element mixcon reads.
+/// Gmsh element types of the 8-node and the 20-node hexahedron, the volume elements mixcon reads.
 constexpr long kGmshHex8 = 5;
+constexpr long kGmshHex20 = 17;
+
+/// Internal (VTK, core/ElementTraits.hpp Hex20) node a of a 20-node hexahedron is Gmsh's node
+/// kHex20FromGmsh[a]. Both number the corners alike; Gmsh numbers the mid-edge nodes by its edge
+/// list 0-1, 0-3, 0-4, 1-2, 1-5, 2-3, 2-6, 3-7, 4-5, 4-7, 5-6, 6-7 (Gmsh manual, "Node
+/// ordering"), VTK by 0-1, 1-2, 2-3, 3-0, 4-5, 5-6, 6-7, 7-4, 0-4, 1-5, 2-6, 3-7.
+constexpr int kHex20FromGmsh[20] = {0,  1, 2,  3,  4,  5,  6,  7,  8,  11,
+                                    13, 9, 16, 18, 19, 17, 10, 12, 14, 15};
 
 /// Dimension of the supported element types (point, 2- and 3-node lines, quadrangles,
 /// hexahedra).
 int gmshDimension(long type) {
-  return type == 15 ? 0 : type == 1 || type == 8 ? 1 : type == kGmshHex8 ? 3 : 2;
+  return type == 15                                ? 0
+         : type == 1 || type == 8                  ? 1
+         : type == kGmshHex8 || type == kGmshHex20 ? 3
+                                                   : 2;
 }
 
 int gmshNodesPerElement(long type) {
@@ -161,6 +172,8 @@ int gmshNodesPerElement(long type) {
   case 16:
   case kGmshHex8:
     return 8;
+  case kGmshHex20:
+    return 20;
   default:
     return -1;
   }
@@ -189,7 +202,8 @@ struct GmshContent {
   std::vector<int> elementEntity; ///< surface entity of each quadrangle
   std::vector<int> quadLine;      ///< file line of each quadrangle
   long quadType = 0;
-  std::vector<LocalIndex> hexConnectivity;
+  long hexType = 0; ///< Gmsh type of the hexahedra: kGmshHex8 or kGmshHex20 (0: none)
+  std::vector<LocalIndex> hexConnectivity; ///< in the internal node order
   std::vector<long> hexIds;
   std::vector<int> hexEntity;
   int zLine = 0;  ///< line of the first node with z != 0 (0: none)
@@ -385,20 +399,47 @@ bool sameTurn(const Mesh &mesh, const BoundaryEdge &s, const std::array<LocalInd
   return false;
 }
 
+/// The mid-edge node of side `s` between its corners a and b (-1 when a-b is no edge of it): the
+/// side's node 4 + m lies between its corners m and m + 1 (Hex20::sideNode).
+LocalIndex sideMidEdgeNode(const Mesh &mesh, const BoundaryEdge &s, LocalIndex a, LocalIndex b) {
+  for (int m = 0; m < 4; ++m) {
+    const LocalIndex p = mesh.sideNode(s, m), q = mesh.sideNode(s, (m + 1) % 4);
+    if ((p == a && q == b) || (p == b && q == a))
+      return mesh.sideNode(s, 4 + m);
+  }
+  return -1;
+}
+
 /// A 3D mesh: the hexahedra are the elements (volume groups are regions), the quadrangles of
-/// surface groups are boundaries (each matched to the element face with the same corner nodes),
-/// curve and point groups are node sets (their nodes). Quadrangles of surfaces without a physical
-/// group must still be element faces: a mesh of hexahedra takes no 2D elements.
+/// surface groups are boundaries (each matched to the element face with the same corner nodes;
+/// for 20-node hexahedra, 8-node quadrangles whose mid-edge nodes must be the face's), curve and
+/// point groups are node sets (their nodes). Quadrangles of surfaces without a physical group
+/// must still be element faces: a mesh of hexahedra takes no 2D elements.
 void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
-  if (c.quadType == 16)
+  const bool serendipity = c.hexType == kGmshHex20;
+  if (!serendipity && c.quadType == 16)
     throw InputError(at(name, c.quadLine.front()) +
                      "8-node quadrangles (type 16) in a mesh of 8-node hexahedra; the faces of "
                      "8-node hexahedra are 4-node quadrangles (type 3)");
+  if (serendipity && c.quadType == 3)
+    throw InputError(at(name, c.quadLine.front()) +
+                     "4-node quadrangles (type 3) in a mesh of 20-node hexahedra; the faces of "
+                     "20-node hexahedra are 8-node quadrangles (type 16)");
+  // Curves: 3-node lines with 20-node hexahedra, 2-node lines with 8-node ones (one order).
+  const std::size_t lineNodes = serendipity ? 3 : 2;
+  for (const auto &l : c.lines)
+    if (l.nodes.size() != lineNodes)
+      throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) + " has " +
+                       std::to_string(l.nodes.size()) + " nodes in a mesh of " +
+                       (serendipity ? "20-node" : "8-node") + " hexahedra, whose edges are " +
+                       (serendipity ? "3-node lines (type 8)" : "2-node lines (type 1)") +
+                       " (use one element order per mesh)");
   // The quadrangles read so far are faces: move them out of the element arrays.
   const std::vector<LocalIndex> quads = std::move(mesh.connectivity);
   const std::vector<long> quadIds = std::move(mesh.elementIds);
-  mesh.elementType = ElementType::Hex8;
-  mesh.nodesPerElement = Hex8::kNumNodes;
+  const std::size_t quadNodes = serendipity ? 8 : 4;
+  mesh.elementType = serendipity ? ElementType::Hex20 : ElementType::Hex8;
+  mesh.nodesPerElement = serendipity ? Hex20::kNumNodes : Hex8::kNumNodes;
   mesh.connectivity = std::move(c.hexConnectivity);
   mesh.elementIds = std::move(c.hexIds);
   mesh.coordinates = std::move(c.xyz);
@@ -433,28 +474,42 @@ void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
     std::sort(faces.begin(), faces.end());
     for (std::size_t q = 0; q < quadIds.size(); ++q) {
       const auto names = c.groupNames(2, c.elementEntity[q]);
-      std::array<LocalIndex, 4> nodes;
-      std::copy(quads.begin() + 4 * q, quads.begin() + 4 * q + 4, nodes.begin());
+      std::array<LocalIndex, 4> nodes; // the corners
+      const auto quad = quads.begin() + static_cast<std::ptrdiff_t>(quadNodes * q);
+      std::copy(quad, quad + 4, nodes.begin());
       HexFace probe{nodes, {0, 0}};
       std::sort(probe.key.begin(), probe.key.end());
       const auto [first, last] = std::equal_range(faces.begin(), faces.end(), probe);
+      const std::string what =
+          "quadrangle element " + std::to_string(quadIds[q]) +
+          (names.empty() ? " (surface " + std::to_string(c.elementEntity[q]) + ")"
+                         : " of boundary '" + names.front() + "'");
       if (first == last) {
-        const std::string quad = "quadrangle element " + std::to_string(quadIds[q]);
         if (!names.empty())
-          throw InputError(at(name, c.quadLine[q]) + quad + " of boundary '" + names.front() +
-                           "' is not a face of any hexahedron");
-        throw InputError(at(name, c.quadLine[q]) + quad + " (surface " +
-                         std::to_string(c.elementEntity[q]) +
-                         ") is not a face of any hexahedron; in a mesh of hexahedra quadrangles "
+          throw InputError(at(name, c.quadLine[q]) + what + " is not a face of any hexahedron");
+        throw InputError(at(name, c.quadLine[q]) + what +
+                         " is not a face of any hexahedron; in a mesh of hexahedra quadrangles "
                          "are boundary faces only (mixed 2D and 3D elements are not supported)");
       }
-      if (names.empty())
-        continue;
       auto match = first;
       for (auto it = first; it != last; ++it)
         if (sameTurn(mesh, it->side, nodes)) {
           match = it;
           break;
+        }
+      // An 8-node quadrangle's node 4 + m lies between its corners m and m + 1 (Gmsh's order, as
+      // Quad8's): it must be the hexahedron's mid-edge node of that edge.
+      if (serendipity)
+        for (int m = 0; m < 4; ++m) {
+          const LocalIndex a = quad[m], b = quad[(m + 1) % 4], mid = quad[4 + m];
+          const LocalIndex expected = sideMidEdgeNode(mesh, match->side, a, b);
+          if (mid != expected)
+            throw InputError(at(name, c.quadLine[q]) + what + ": its mid-edge node " +
+                             std::to_string(mesh.nodeId(mid)) + " (between nodes " +
+                             std::to_string(mesh.nodeId(a)) + " and " +
+                             std::to_string(mesh.nodeId(b)) +
+                             ") is not the hexahedron's mid-edge node of that edge, " +
+                             std::to_string(mesh.nodeId(expected)));
         }
       for (const auto &nm : names)
         mesh.boundaries[nm].push_back(match->side);
@@ -592,16 +647,17 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
         const long type = lex.toLong(bh[2]);
         const long n = lex.toCount(bh[3], kMaxCount, "number of elements");
         const int npe = gmshNodesPerElement(type);
-        if (dim == 3 && type != kGmshHex8 && !c.hexIds.empty())
+        if (dim == 3 && c.hexType != 0 && type != c.hexType)
           lex.fail("mixed volume element types: element type " + std::to_string(type) + " (" +
-                   gmshTypeName(type) +
-                   ") in a mesh of 8-node hexahedra (type 5); mixcon reads one volume element "
-                   "type, 8-node hexahedra");
+                   gmshTypeName(type) + ") after element type " + std::to_string(c.hexType) + " (" +
+                   gmshTypeName(c.hexType) +
+                   "); mixcon reads one volume element type per mesh, 8-node (type 5) or 20-node "
+                   "(type 17) hexahedra");
         if (npe < 0)
           lex.fail(std::string("unsupported element type ") + std::to_string(type) + " (" +
                    gmshTypeName(type) +
                    "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles and 8-node "
-                   "hexahedra (type 5)");
+                   "(type 5) and 20-node (type 17) hexahedra");
         if (gmshDimension(type) != dim)
           lex.fail("element type " + std::to_string(type) + " in a block of dimension " +
                    std::to_string(dim));
@@ -609,6 +665,8 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
           if (c.quadType != 0 && c.quadType != type)
             lex.fail("mixed 4-node and 8-node quadrangles; use one element order per mesh");
           c.quadType = type;
+        } else if (dim == 3) {
+          c.hexType = type;
         }
         for (long i = 0; i < n; ++i) {
           auto e = lex.expectLine("$Elements entry");
@@ -622,7 +680,9 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
             if (static_cast<long>(conn.size()) > kMaxCount - npe)
               lex.fail("too many elements (connectivity indices are " +
                        std::to_string(sizeof(LocalIndex) * 8) + "-bit)");
-            for (long nt : nodes) {
+            for (int a = 0; a < npe; ++a) {
+              // 20-node hexahedra from Gmsh's node order to the internal one.
+              const long nt = nodes[type == kGmshHex20 ? kHex20FromGmsh[a] : a];
               auto it = c.nodeIndex.find(nt);
               if (it == c.nodeIndex.end())
                 lex.fail("element " + std::to_string(id) + " references unknown node " +
@@ -658,14 +718,14 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
   if (!solid && c.zLine > 0)
     throw InputError(at(name, c.zLine) + "node " + std::to_string(c.zNode) +
                      " has a non-zero z coordinate; mixcon meshes are planar (z = 0) unless "
-                     "they are made of 8-node hexahedra (type 5)");
+                     "they are made of 8-node (type 5) or 20-node (type 17) hexahedra");
   if (!sawFormat)
     throw InputError(name + ": not a Gmsh file (no $MeshFormat section)");
   if (!sawNodes || !sawElements)
     throw InputError(name + ": missing $Nodes or $Elements section");
   if (c.quadType == 0 && !solid)
     throw InputError(name + ": no quadrilateral elements (2D elements of type 3 or 16) and no "
-                            "hexahedra (3D elements of type 5)");
+                            "hexahedra (3D elements of type 5 or 17)");
   if (solid)
     assembleSolid(mesh, c, name);
   else

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -66,6 +67,87 @@ Vec3 faceNormal(const Mesh &m, const BoundaryEdge &f) {
   for (double &c : n)
     c /= len;
   return n;
+}
+
+/// VTK's (the internal) Hex20 mid-edge nodes: node 8 + k lies between corners kVtkEdge[k].
+constexpr int kVtkEdge[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                 {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+/// Gmsh's Hex20 mid-edge nodes (Gmsh manual, "Node ordering": the hexahedron's edge list):
+/// node 8 + k lies between corners kGmshEdge[k].
+constexpr int kGmshEdge[12][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3},
+                                  {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}};
+/// Natural coordinates of the Hex8 corners (the Gmsh/VTK order).
+constexpr int kCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+
+/// Host reference: volume of a 20-node serendipity hexahedron (internal node order), the
+/// integral of det(dx/dxi) by 3x3x3 Gauss, with the shape functions written out here: corner a,
+/// N = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a)(xi xi_a + eta eta_a + zeta zeta_a - 2) / 8;
+/// mid-edge node (zero natural coordinate along its edge, say xi), N = (1 - xi^2)(1 + eta
+/// eta_a)(1 + zeta zeta_a) / 4.
+double hex20Volume(const Mesh &m, LocalIndex e) {
+  double xa[20][3];
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      xa[a][i] = kCorner[a][i];
+  for (int k = 0; k < 12; ++k)
+    for (int i = 0; i < 3; ++i)
+      xa[8 + k][i] = 0.5 * (kCorner[kVtkEdge[k][0]][i] + kCorner[kVtkEdge[k][1]][i]);
+  const double g[3] = {-std::sqrt(0.6), 0.0, std::sqrt(0.6)}, w[3] = {5.0 / 9, 8.0 / 9, 5.0 / 9};
+  double volume = 0.0;
+  for (int q = 0; q < 27; ++q) {
+    const double xi[3] = {g[q % 3], g[(q / 3) % 3], g[q / 9]};
+    const double weight = w[q % 3] * w[(q / 3) % 3] * w[q / 9];
+    double jac[3][3] = {};
+    for (int a = 0; a < 20; ++a) {
+      double p[3], dn[3];
+      for (int i = 0; i < 3; ++i)
+        p[i] = 1.0 + xi[i] * xa[a][i];
+      if (a < 8) {
+        const double s = xi[0] * xa[a][0] + xi[1] * xa[a][1] + xi[2] * xa[a][2] - 2.0;
+        for (int i = 0; i < 3; ++i) // d/dxi_i of p0 p1 p2 s / 8
+          dn[i] = 0.125 * p[(i + 1) % 3] * p[(i + 2) % 3] * xa[a][i] * (s + p[i]);
+      } else {
+        int along = 0;
+        for (int i = 0; i < 3; ++i)
+          if (xa[a][i] == 0.0)
+            along = i;
+        const int j = (along + 1) % 3, k = (along + 2) % 3;
+        const double bubble = 1.0 - xi[along] * xi[along];
+        dn[along] = -0.5 * xi[along] * p[j] * p[k];
+        dn[j] = 0.25 * bubble * xa[a][j] * p[k];
+        dn[k] = 0.25 * bubble * p[j] * xa[a][k];
+      }
+      const Vec3 x = point(m, m.node(e, a));
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          jac[i][j] += x[i] * dn[j];
+    }
+    volume += weight * (jac[0][0] * (jac[1][1] * jac[2][2] - jac[1][2] * jac[2][1]) -
+                        jac[0][1] * (jac[1][0] * jac[2][2] - jac[1][2] * jac[2][0]) +
+                        jac[0][2] * (jac[1][0] * jac[2][1] - jac[1][1] * jac[2][0]));
+  }
+  return volume;
+}
+
+/// Expects every mid-edge node of every element (and of every boundary face) of a Hex20 mesh at
+/// the middle of its corners (kVtkEdge; face node 4 + m between face corners m and m + 1).
+void expectMidEdgeNodesAtMidpoints(const Mesh &m) {
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int k = 0; k < 12; ++k) {
+      const Vec3 a = point(m, m.node(e, kVtkEdge[k][0])), b = point(m, m.node(e, kVtkEdge[k][1]));
+      const Vec3 c = point(m, m.node(e, 8 + k));
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << "element " << e << " edge " << k;
+    }
+  for (const auto &[name, faces] : m.boundaries)
+    for (const BoundaryEdge &f : faces)
+      for (int k = 0; k < 4; ++k) {
+        const Vec3 a = point(m, m.sideNode(f, k)), b = point(m, m.sideNode(f, (k + 1) % 4));
+        const Vec3 c = point(m, m.sideNode(f, 4 + k));
+        for (int i = 0; i < 3; ++i)
+          EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << name << " face node " << 4 + k;
+      }
 }
 
 std::string expectInputError(const std::function<void()> &f) {
@@ -206,6 +288,148 @@ TEST(BoxMesh, GradingSetsTheFirstElementSize) {
     EXPECT_NEAR(m.z(n), 3.0, 1e-14);
 }
 
+TEST(BoxMesh, Hex20CountsVolumeMidEdgeNodesBoundariesAndNodeSets) {
+  const double lx = 3.0, ly = 2.0, lz = 1.5, x0 = 1.0, y0 = -0.5, z0 = 2.0;
+  const int nx = 4, ny = 3, nz = 2;
+  const Mesh m = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex20, x0, y0, z0);
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.dim(), 3);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.nodesPerSide(), 8);
+  const int corners = (nx + 1) * (ny + 1) * (nz + 1);
+  const int edges = nx * (ny + 1) * (nz + 1) + (nx + 1) * ny * (nz + 1) + (nx + 1) * (ny + 1) * nz;
+  EXPECT_EQ(m.numNodes(), corners + edges);
+  EXPECT_EQ(m.numElements(), nx * ny * nz);
+  EXPECT_EQ(m.nodeIds.size(), static_cast<std::size_t>(m.numNodes()));
+  EXPECT_EQ(m.elementIds.size(), static_cast<std::size_t>(m.numElements()));
+  ASSERT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  EXPECT_EQ(m.elementRegion, std::vector<int>(m.numElements(), 0));
+  EXPECT_NO_THROW(validateMesh(m));
+
+  // Every node is used, each element has 20 distinct nodes, and no two nodes coincide.
+  std::vector<int> uses(m.numNodes(), 0);
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    std::set<LocalIndex> own;
+    for (int a = 0; a < 20; ++a) {
+      own.insert(m.node(e, a));
+      ++uses[m.node(e, a)];
+    }
+    EXPECT_EQ(own.size(), 20u) << "element " << e;
+  }
+  EXPECT_EQ(std::count(uses.begin(), uses.end(), 0), 0);
+  std::set<std::array<long long, 3>> places;
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    places.insert(
+        {std::llround(m.x(n) * 1e9), std::llround(m.y(n) * 1e9), std::llround(m.z(n) * 1e9)});
+  EXPECT_EQ(places.size(), static_cast<std::size_t>(m.numNodes()));
+
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = hex20Volume(m, e);
+    EXPECT_NEAR(v, lx * ly * lz / (nx * ny * nz), 1e-12) << "element " << e;
+    volume += v;
+  }
+  EXPECT_NEAR(volume, lx * ly * lz, 1e-12 * lx * ly * lz);
+  expectMidEdgeNodesAtMidpoints(m);
+
+  // Each boundary: its faces, their 8 nodes on its plane, the outward normal on its axis.
+  struct Side {
+    const char *name;
+    int axis;
+    double value, direction;
+    int faces;
+  };
+  const Side sides[] = {{"xmin", 0, x0, -1.0, ny * nz}, {"xmax", 0, x0 + lx, 1.0, ny * nz},
+                        {"ymin", 1, y0, -1.0, nx * nz}, {"ymax", 1, y0 + ly, 1.0, nx * nz},
+                        {"zmin", 2, z0, -1.0, nx * ny}, {"zmax", 2, z0 + lz, 1.0, nx * ny}};
+  EXPECT_EQ(m.boundaries.size(), 6u);
+  for (const Side &s : sides) {
+    SCOPED_TRACE(s.name);
+    ASSERT_TRUE(m.hasBoundary(s.name));
+    const auto &faces = m.boundaries.at(s.name);
+    EXPECT_EQ(static_cast<int>(faces.size()), s.faces);
+    for (const BoundaryEdge &f : faces) {
+      std::set<LocalIndex> nodes;
+      for (int k = 0; k < 8; ++k) {
+        nodes.insert(m.sideNode(f, k));
+        EXPECT_NEAR(m.coordinate(m.sideNode(f, k), s.axis), s.value, 1e-12);
+      }
+      EXPECT_EQ(nodes.size(), 8u);
+      const Vec3 n = faceNormal(m, f);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(n[i], i == s.axis ? s.direction : 0.0, 1e-12);
+    }
+    // The boundary's nodes: the face's corner and mid-edge nodes of the lattice.
+    const int a = (s.axis + 1) % 3, b = (s.axis + 2) % 3;
+    const int n[3] = {nx, ny, nz};
+    const int expected = (n[a] + 1) * (n[b] + 1) + n[a] * (n[b] + 1) + (n[a] + 1) * n[b];
+    EXPECT_EQ(static_cast<int>(m.nodesOf(s.name).size()), expected);
+  }
+
+  for (int c = 0; c < 8; ++c) {
+    const int cx = c & 1, cy = (c >> 1) & 1, cz = (c >> 2) & 1;
+    const std::string name =
+        "corner_" + std::to_string(cx) + std::to_string(cy) + std::to_string(cz);
+    ASSERT_TRUE(m.hasNodeSet(name)) << name;
+    ASSERT_EQ(m.nodeSets.at(name).size(), 1u) << name;
+    const LocalIndex p = m.nodeSets.at(name).front();
+    EXPECT_NEAR(m.x(p), x0 + cx * lx, 1e-12) << name;
+    EXPECT_NEAR(m.y(p), y0 + cy * ly, 1e-12) << name;
+    EXPECT_NEAR(m.z(p), z0 + cz * lz, 1e-12) << name;
+  }
+  // ny = 3: no grid line at mid-height, but a mid-edge node (nz = 2: a grid line at mid-depth),
+  // so the face centre is a node.
+  for (int side = 0; side < 2; ++side) {
+    const std::string name = side == 0 ? "xmin_center" : "xmax_center";
+    ASSERT_TRUE(m.hasNodeSet(name));
+    ASSERT_EQ(m.nodeSets.at(name).size(), 1u);
+    const LocalIndex c = m.nodeSets.at(name).front();
+    EXPECT_NEAR(m.x(c), x0 + side * lx, 1e-12);
+    EXPECT_NEAR(m.y(c), y0 + 0.5 * ly, 1e-12);
+    EXPECT_NEAR(m.z(c), z0 + 0.5 * lz, 1e-12);
+  }
+}
+
+TEST(BoxMesh, Hex20GradedMidEdgeNodesSitAtTheMiddleOfTheGradedEdges) {
+  const double lx = 2.0, ly = 1.0, lz = 4.0, gx = 1.5, gy = 2.0, gz = 1.2;
+  const int nx = 3, ny = 2, nz = 3;
+  const Mesh m = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex20, 0.5, 0.0, -1.0, gx, gy, gz);
+  EXPECT_NO_THROW(validateMesh(m));
+  expectMidEdgeNodesAtMidpoints(m);
+  // The corners are those of the Hex8 box with the same arguments, element by element.
+  const Mesh hex8 = boxMesh(lx, ly, lz, nx, ny, nz, ElementType::Hex8, 0.5, 0.0, -1.0, gx, gy, gz);
+  ASSERT_EQ(m.numElements(), hex8.numElements());
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int a = 0; a < 8; ++a)
+      for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(m.coordinate(m.node(e, a), i), hex8.coordinate(hex8.node(e, a), i));
+  for (const auto &[name, faces] : hex8.boundaries) {
+    ASSERT_TRUE(m.hasBoundary(name));
+    const auto &f20 = m.boundaries.at(name);
+    ASSERT_EQ(f20.size(), faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      EXPECT_EQ(f20[i].element, faces[i].element);
+      EXPECT_EQ(f20[i].edge, faces[i].edge);
+    }
+  }
+  for (const char *corner : {"corner_000", "corner_111", "corner_101"})
+    for (int i = 0; i < 3; ++i)
+      EXPECT_EQ(m.coordinate(m.nodeSets.at(corner).front(), i),
+                hex8.coordinate(hex8.nodeSets.at(corner).front(), i));
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = hex20Volume(m, e);
+    EXPECT_NEAR(v, hexVolume(hex8, e), 1e-12 * v) << "element " << e; // straight edges: a brick
+    volume += v;
+  }
+  EXPECT_NEAR(volume, lx * ly * lz, 1e-12 * lx * ly * lz);
+  // Numbering: the half-step lattice, I fastest: node 1 is the mid-edge node of element 0's
+  // first x edge, node 2 the far end of that edge.
+  EXPECT_EQ(m.node(0, 0), 0);
+  EXPECT_EQ(m.node(0, 8), 1);
+  EXPECT_EQ(m.node(0, 1), 2);
+}
+
 TEST(BoxMesh, RefusesBadArgumentsAndOtherElementTypes) {
   auto generatorError = [](const std::function<void()> &f) {
     try {
@@ -227,6 +451,12 @@ TEST(BoxMesh, RefusesBadArgumentsAndOtherElementTypes) {
   msg = generatorError([] { boxMesh(1, 1, 1, 1, 1, 1, ElementType::Hex8, 0, 0, 0, 1, 1, -2); });
   EXPECT_NE(msg.find("mesh generator box: grading[2] must be positive"), std::string::npos) << msg;
   msg = generatorError([] { boxMesh(1, 1, 1, 2000, 2000, 2000, ElementType::Hex8); });
+  EXPECT_NE(msg.find("mesh generator box: divisions too large"), std::string::npos) << msg;
+  // Hex20 counts 20 nodes per element: 500^3 Hex8 elements would fit, Hex20 ones do not.
+  const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
+  EXPECT_LT(8.0 * 500 * 500 * 500, most);
+  EXPECT_GT(20.0 * 500 * 500 * 500, most);
+  msg = generatorError([] { boxMesh(1, 1, 1, 500, 500, 500, ElementType::Hex20); });
   EXPECT_NE(msg.find("mesh generator box: divisions too large"), std::string::npos) << msg;
   // The 2D generators refuse a 3D element type instead of building a broken mesh.
   msg = generatorError([] { rectangleMesh(1, 1, 2, 2, ElementType::Hex8); });
@@ -393,11 +623,32 @@ TEST(GmshReader3D, ReadsHexahedraWithRegionsBoundaryFacesAndNodeSets) {
 }
 
 namespace {
-/// Writes a Hex8 mesh as Gmsh 4.1 ASCII: one volume (physical "body"), one surface per boundary
-/// (physical groups of the same names) whose quadrangles are the boundary faces' corner nodes,
-/// rotated by the face number and, for odd elements, in the other turning sense (the reader must
-/// not depend on either), one point per node set. Node tags 5 + 2 n, element tags 1000 + e.
+/// Gmsh's node k of a 20-node hexahedron is internal node gmshToInternal()[k] (from the two edge
+/// tables: the mid-edge node of the same two corners).
+std::array<int, 20> gmshToInternal() {
+  std::array<int, 20> p{};
+  for (int a = 0; a < 8; ++a)
+    p[a] = a;
+  for (int k = 0; k < 12; ++k) {
+    p[8 + k] = -1;
+    for (int j = 0; j < 12; ++j)
+      if (std::min(kVtkEdge[j][0], kVtkEdge[j][1]) == std::min(kGmshEdge[k][0], kGmshEdge[k][1]) &&
+          std::max(kVtkEdge[j][0], kVtkEdge[j][1]) == std::max(kGmshEdge[k][0], kGmshEdge[k][1]))
+        p[8 + k] = 8 + j;
+    EXPECT_GE(p[8 + k], 8) << "Gmsh edge " << k;
+  }
+  return p;
+}
+
+/// Writes a Hex8 or Hex20 mesh as Gmsh 4.1 ASCII (type 5 or 17, Gmsh's node order): one volume
+/// (physical "body"), one surface per boundary (physical groups of the same names) whose
+/// quadrangles (type 3 or 16) are the boundary faces' corner nodes, rotated by the face number
+/// and, for odd elements, in the other turning sense (the reader must not depend on either), then
+/// for type 16 the mid-edge nodes of the quadrangle's edges in that order; one point per node
+/// set. Node tags 5 + 2 n, element tags 1000 + e.
 std::string toGmsh3D(const Mesh &m) {
+  const bool hex20 = m.elementType == ElementType::Hex20;
+  const std::array<int, 20> order = gmshToInternal();
   std::ostringstream s;
   std::vector<std::string> bnames, pnames;
   for (const auto &[name, faces] : m.boundaries)
@@ -439,21 +690,28 @@ std::string toGmsh3D(const Mesh &m) {
   }
   for (std::size_t i = 0; i < bnames.size(); ++i) {
     const auto &faces = m.boundaries.at(bnames[i]);
-    s << "2 " << i + 1 << " 3 " << faces.size() << "\n";
+    s << "2 " << i + 1 << (hex20 ? " 16 " : " 3 ") << faces.size() << "\n";
     for (const BoundaryEdge &f : faces) {
       s << id++;
+      int corner[4]; // the face corners in the quadrangle's order
       for (int k = 0; k < 4; ++k) {
         const int r = (k + f.edge) % 4;
-        s << " " << tag(m.sideNode(f, f.element % 2 ? 3 - r : r));
+        corner[k] = f.element % 2 ? 3 - r : r;
+        s << " " << tag(m.sideNode(f, corner[k]));
+      }
+      // Face node 4 + c lies between face corners c and c + 1.
+      for (int k = 0; k < 4 && hex20; ++k) {
+        const int c0 = corner[k], c1 = corner[(k + 1) % 4];
+        s << " " << tag(m.sideNode(f, 4 + (c1 == (c0 + 1) % 4 ? c0 : c1)));
       }
       s << "\n";
     }
   }
-  s << "3 1 5 " << m.numElements() << "\n";
+  s << "3 1 " << (hex20 ? 17 : 5) << " " << m.numElements() << "\n";
   for (LocalIndex e = 0; e < m.numElements(); ++e) {
     s << 1000 + e;
-    for (int a = 0; a < 8; ++a)
-      s << " " << tag(m.node(e, a));
+    for (int a = 0; a < m.nodesPerElement; ++a)
+      s << " " << tag(m.node(e, hex20 ? order[a] : a));
     s << "\n";
   }
   s << "$EndElements\n";
@@ -549,7 +807,7 @@ TEST(GmshReader3D, RefusesQuadranglesThatAreNoFaceAndMixedElements) {
                      ": unsupported element type 4 (4-node tetrahedron)"),
             std::string::npos)
       << msg;
-  EXPECT_NE(msg.find("8-node hexahedra (type 5)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("8-node (type 5) and 20-node (type 17) hexahedra"), std::string::npos) << msg;
   // 8-node quadrangles next to hexahedra.
   bad = t;
   bad = replaced(bad, "2 1 3 1\n4 101 107 110 104", "2 1 16 1\n4 101 107 110 104 101 107 110 104");
@@ -614,6 +872,226 @@ $EndElements
   const std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
   EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "1 1 0.5")) +
                      ": node 3 has a non-zero z coordinate; mixcon meshes are planar (z = 0)"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(GmshReader3D, RoundTripOfAGradedHex20BoxKeepsGeometryTopologyAndGroups) {
+  const Mesh box =
+      boxMesh(2.0, 1.0, 0.5, 3, 2, 2, ElementType::Hex20, -1.0, 0.0, 0.25, 1.3, 1.0, 1.6);
+  const std::string text = toGmsh3D(box);
+  ASSERT_NE(text.find("\n3 1 17 12\n"), std::string::npos); // 20-node hexahedra
+  ASSERT_NE(text.find("\n2 1 16 "), std::string::npos);     // 8-node quadrangles
+  const Mesh m = readText(text, "box20.msh");
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.coordinates, box.coordinates);
+  EXPECT_EQ(m.connectivity, box.connectivity);
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    EXPECT_EQ(m.elementId(e), 1000 + e);
+  for (LocalIndex n = 0; n < m.numNodes(); ++n)
+    EXPECT_EQ(m.nodeId(n), 5 + 2 * n);
+  EXPECT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  ASSERT_EQ(m.boundaries.size(), box.boundaries.size());
+  for (const auto &[name, faces] : box.boundaries) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(m.hasBoundary(name));
+    const auto &read = m.boundaries.at(name);
+    ASSERT_EQ(read.size(), faces.size());
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      EXPECT_EQ(read[i].element, faces[i].element);
+      EXPECT_EQ(read[i].edge, faces[i].edge);
+    }
+  }
+  EXPECT_EQ(m.nodeSets, box.nodeSets);
+  EXPECT_NO_THROW(validateMesh(m));
+}
+
+namespace {
+/// A 2 x 1 x 1 box of two 20-node hexahedra written by hand in Gmsh's node order. Its nodes are
+/// the points (I, J, K) / 2, 0 <= I <= 4, 0 <= J, K <= 2, with at most one odd index, tagged
+/// 1 + I + 5 J + 15 K. Groups: volume "body"; surface "right" (x = 2), one 8-node quadrangle;
+/// curve "edge" (y = z = 0), two 3-node lines; point "origin".
+struct Hex20File {
+  using P = std::array<int, 3>;
+  static long tag(const P &p) { return 1 + p[0] + 5 * p[1] + 15 * p[2]; }
+  /// " t1 t2 ..." of the points.
+  static std::string tags(const std::vector<P> &points) {
+    std::string s;
+    for (const P &p : points)
+      s += " " + std::to_string(tag(p));
+    return s;
+  }
+  /// Lattice point of corner c of element e.
+  static P corner(int e, int c) {
+    return {2 * e + kCorner[c][0] + 1, kCorner[c][1] + 1, kCorner[c][2] + 1};
+  }
+  static P middle(const P &a, const P &b) {
+    return {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2};
+  }
+  /// Element e's nodes by an edge table (Gmsh's or VTK's).
+  static std::vector<P> nodes(int e, const int (&edges)[12][2]) {
+    std::vector<P> v;
+    for (int c = 0; c < 8; ++c)
+      v.push_back(corner(e, c));
+    for (int k = 0; k < 12; ++k)
+      v.push_back(middle(corner(e, edges[k][0]), corner(e, edges[k][1])));
+    return v;
+  }
+  /// The quadrangle of x = 2, turning counter-clockwise seen from +x, in Gmsh's (Quad8's) order.
+  static std::vector<P> rightQuad() {
+    const std::vector<P> c = {{4, 0, 0}, {4, 2, 0}, {4, 2, 2}, {4, 0, 2}};
+    std::vector<P> q = c;
+    for (int k = 0; k < 4; ++k)
+      q.push_back(middle(c[k], c[(k + 1) % 4]));
+    return q;
+  }
+  static std::string text() {
+    std::vector<P> points;
+    for (int K = 0; K <= 2; ++K)
+      for (int J = 0; J <= 2; ++J)
+        for (int I = 0; I <= 4; ++I)
+          if (I % 2 + J % 2 + K % 2 <= 1)
+            points.push_back({I, J, K});
+    std::ostringstream s;
+    s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n4\n0 4 \"origin\"\n1 5 "
+         "\"edge\"\n2 3 \"right\"\n3 1 \"body\"\n$EndPhysicalNames\n$Entities\n1 1 1 1\n1 0 0 0 1 "
+         "4\n1 0 0 0 2 0 0 1 5 0\n2 2 0 0 2 1 1 1 3 0\n1 0 0 0 2 1 1 1 1 0\n$EndEntities\n";
+    s << "$Nodes\n1 " << points.size() << " 1 " << tag({4, 2, 2}) << "\n3 1 0 " << points.size()
+      << "\n";
+    for (const P &p : points)
+      s << tag(p) << "\n";
+    for (const P &p : points)
+      s << 0.5 * p[0] << " " << 0.5 * p[1] << " " << 0.5 * p[2] << "\n";
+    s << "$EndNodes\n$Elements\n4 6 1 22\n0 1 15 1\n1" << tags({{0, 0, 0}}) << "\n1 1 8 2\n2"
+      << tags({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}) << "\n3" << tags({{2, 0, 0}, {4, 0, 0}, {3, 0, 0}})
+      << "\n2 2 16 1\n5" << tags(rightQuad()) << "\n3 1 17 2\n21" << tags(nodes(0, kGmshEdge))
+      << "\n22" << tags(nodes(1, kGmshEdge)) << "\n$EndElements\n";
+    return s.str();
+  }
+};
+} // namespace
+
+TEST(GmshReader3D, ReadsHex20InGmshOrderIntoTheInternalOrder) {
+  using F = Hex20File;
+  const std::string text = F::text();
+  const Mesh m = readText(text, "two20.msh");
+  EXPECT_EQ(m.elementType, ElementType::Hex20);
+  EXPECT_EQ(m.nodesPerElement, 20);
+  EXPECT_EQ(m.numNodes(), 12 + 8 + 6 + 6); // corners, x, y and z edges
+  EXPECT_EQ(m.numElements(), 2);
+  EXPECT_EQ(m.elementIds, (std::vector<long>{21, 22}));
+  // The connectivity in VTK's order, node by node (by tag).
+  for (int e = 0; e < 2; ++e) {
+    const std::vector<F::P> expected = F::nodes(e, kVtkEdge);
+    for (int a = 0; a < 20; ++a)
+      EXPECT_EQ(m.nodeId(m.node(e, a)), F::tag(expected[a])) << "element " << e << " node " << a;
+  }
+  EXPECT_NO_THROW(validateMesh(m));
+  EXPECT_NEAR(hex20Volume(m, 0) + hex20Volume(m, 1), 2.0, 1e-14);
+  expectMidEdgeNodesAtMidpoints(m);
+  ASSERT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  // The 8-node quadrangle is face x+ (3) of element 22, all eight nodes.
+  ASSERT_TRUE(m.hasBoundary("right"));
+  ASSERT_EQ(m.boundaries.at("right").size(), 1u);
+  const BoundaryEdge f = m.boundaries.at("right").front();
+  EXPECT_EQ(f.element, 1);
+  EXPECT_EQ(f.edge, 3);
+  std::set<long> tags, quad;
+  for (int k = 0; k < m.nodesPerSide(); ++k)
+    tags.insert(m.nodeId(m.sideNode(f, k)));
+  for (const F::P &p : F::rightQuad())
+    quad.insert(F::tag(p));
+  EXPECT_EQ(tags, quad);
+  EXPECT_NEAR(faceNormal(m, f)[0], 1.0, 1e-14);
+  // Node sets: the 3-node lines' five nodes, the point's node.
+  std::vector<LocalIndex> edge;
+  for (int i = 0; i <= 4; ++i)
+    edge.push_back(nodeOfTag(m, F::tag({i, 0, 0})));
+  std::sort(edge.begin(), edge.end());
+  EXPECT_EQ(m.nodeSets.at("edge"), edge);
+  EXPECT_EQ(m.nodeSets.at("origin"), std::vector<LocalIndex>{nodeOfTag(m, 1)});
+}
+
+TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixedOrders) {
+  using F = Hex20File;
+  using P = F::P;
+  const std::string t = F::text();
+  const std::string quad = "5" + F::tags(F::rightQuad());
+  // An 8-node quadrangle whose corners are no face (a diagonal plane).
+  const std::string diagonal =
+      "5" +
+      F::tags(
+          {{4, 0, 0}, {4, 2, 0}, {2, 2, 2}, {2, 0, 2}, {4, 1, 0}, {4, 2, 1}, {4, 1, 2}, {4, 0, 1}});
+  std::string bad = replaced(t, quad, diagonal);
+  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, diagonal)) +
+                     ": quadrangle element 5 of boundary 'right' is not a face of any hexahedron"),
+            std::string::npos)
+      << msg;
+  // The right corners, but the mid-edge nodes of edges 1-2 and 2-3 swapped.
+  std::vector<P> q = F::rightQuad();
+  std::swap(q[5], q[6]);
+  const std::string swapped = "5" + F::tags(q);
+  bad = replaced(t, quad, swapped);
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, swapped)) +
+                     ": quadrangle element 5 of boundary 'right': its mid-edge node " +
+                     std::to_string(F::tag(q[5])) + " (between nodes " +
+                     std::to_string(F::tag(q[1])) + " and " + std::to_string(F::tag(q[2])) +
+                     ") is not the hexahedron's mid-edge node of that edge, " +
+                     std::to_string(F::tag(q[6]))),
+            std::string::npos)
+      << msg;
+  // A 4-node quadrangle on a 20-node hexahedron.
+  const std::string corners = "5" + F::tags({q[0], q[1], q[2], q[3]});
+  bad = replaced(replaced(t, quad, corners), "2 2 16 1", "2 2 3 1");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, corners)) +
+                     ": 4-node quadrangles (type 3) in a mesh of 20-node hexahedra"),
+            std::string::npos)
+      << msg;
+  // A 2-node line (a curve of the other order).
+  const std::string line2 = "3" + F::tags({{2, 0, 0}, {4, 0, 0}});
+  bad = replaced(t,
+                 "1 1 8 2\n2" + F::tags({{0, 0, 0}, {2, 0, 0}, {1, 0, 0}}) + "\n3" +
+                     F::tags({{2, 0, 0}, {4, 0, 0}, {3, 0, 0}}),
+                 "1 1 1 1\n" + line2);
+  bad = replaced(bad, "4 6 1 22", "4 5 1 22");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, line2)) +
+                     ": line element 3 has 2 nodes in a mesh of 20-node hexahedra"),
+            std::string::npos)
+      << msg;
+  // 20-node hexahedra followed by 8-node ones: mixed orders, at the second block's line.
+  bad = replaced(t, "4 6 1 22", "5 7 1 23");
+  std::vector<P> hex8;
+  for (int c = 0; c < 8; ++c)
+    hex8.push_back(F::corner(0, c));
+  bad = replaced(bad, "$EndElements", "3 1 5 1\n23" + F::tags(hex8) + "\n$EndElements");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 5 1")) +
+                     ": mixed volume element types: element type 5 (8-node hexahedron) after "
+                     "element type 17 (20-node hexahedron)"),
+            std::string::npos)
+      << msg;
+  // ... and the other way round, in the 8-node file: a 20-node block after the 8-node one.
+  bad = replaced(kGmshHex, "5 7 1 22", "6 8 1 23");
+  bad = replaced(bad, "$EndElements",
+                 "3 1 17 1\n23 101 102 105 104 107 108 111 110 101 102 105 104 107 108 111 110 "
+                 "101 102 105 104\n$EndElements");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 17 1")) +
+                     ": mixed volume element types: element type 17 (20-node hexahedron) after "
+                     "element type 5 (8-node hexahedron)"),
+            std::string::npos)
+      << msg;
+  // A 3-node line in the 8-node file.
+  bad = replaced(kGmshHex, "1 1 1 2\n2 101 102\n3 102 103", "1 1 8 1\n2 101 103 102");
+  bad = replaced(bad, "5 7 1 22", "5 6 1 22");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 101 103 102")) +
+                     ": line element 2 has 3 nodes in a mesh of 8-node hexahedra"),
             std::string::npos)
       << msg;
 }
