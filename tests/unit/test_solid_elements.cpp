@@ -166,8 +166,9 @@ TYPED_TEST(SolidElementTest, FacesLieOnTheirPlaneAndRunCounterClockwiseFromOutsi
         axis = i;
     const double side = nrm[axis] > 0 ? 1.0 : -1.0;
     for (int i = 0; i < 3; ++i) {
-      if (i != axis)
+      if (i != axis) {
         EXPECT_NEAR(nrm[i], 0.0, 1e-14) << "face " << f;
+      }
     }
     for (int k = 0; k < Elem::kNodesPerSide; ++k) {
       const int a = Elem::sideNode(f, k);

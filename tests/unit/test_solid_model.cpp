@@ -337,3 +337,24 @@ boundary_conditions:
       std::string::npos)
       << refusal(plane);
 }
+
+TEST(SolidLoads, Hex20FaceLoadsSumToTractionTimesAreaWithSerendipityWeights) {
+  // A 2 x 1.5 x 1 box of 2 x 3 x 2 Hex20: on a flat face of a serendipity element a uniform
+  // traction puts -1/12 of the face's force on each corner and 1/3 on each mid-edge node.
+  const Mesh mesh = boxMesh(2.0, 1.5, 1.0, 2, 3, 2, ElementType::Hex20);
+  auto model = solidModel(mesh);
+  const std::array<double, 3> t{0.3, -1.2, 0.7};
+  model.addSideLoad(mesh.boundaries.at("xmax"), t, 0.0);
+  model.addSideLoad(mesh.boundaries.at("zmax"), {0.0, 0.0, 0.0}, 2.5);
+  const auto f = assembledLoad(model);
+  double total[3] = {};
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    for (int c = 0; c < 3; ++c)
+      total[c] += f[3 * p + c];
+  EXPECT_NEAR(total[0], t[0] * 1.5, 1e-12);
+  EXPECT_NEAR(total[1], t[1] * 1.5, 1e-12);
+  EXPECT_NEAR(total[2], t[2] * 1.5 - 2.5 * 2.0 * 1.5, 1e-12); // pressure pushes zmax down
+  // One face of xmax (area 0.75 x 0.5): its corner node at (2, 0, 0) belongs to that face only.
+  const LocalIndex cornerNode = mesh.nodesOf("corner_100").at(0);
+  EXPECT_NEAR(f[3 * cornerNode + 1], -t[1] * 0.5 * 0.5 / 12.0, 1e-13);
+}
