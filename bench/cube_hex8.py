@@ -201,8 +201,9 @@ def main():
         sys.exit("ccx not found: apt-get install calculix-ccx")
     rows, text = [], []
 
-    text += ["| N | unknowns | PCG its | assembly s | AMG setup s | solve s | wall s | "
-             "peak RSS GB |", "|---|---|---|---|---|---|---|---|"]
+    if sizes:
+        text += ["| N | unknowns | PCG its | assembly s | AMG setup s | solve s | wall s | "
+                 "peak RSS GB |", "|---|---|---|---|---|---|---|---|"]
     done = []
     for n in sizes:
         unknowns = 3 * (n + 1) ** 3
@@ -211,7 +212,7 @@ def main():
             estimate = g1 + (g1 - g0) / (u1 - u0) * (unknowns - u1)
             print(f"N = {n}: estimated peak {estimate:.2f} GB", flush=True)
             if estimate > args.max_gb:
-                text.append(f"| {n} | {unknowns} | skipped: estimated peak {estimate:.1f} GB > "
+                text.append(f"| {n} | {unknowns:,} | skipped: estimated peak {estimate:.1f} GB > "
                             f"{args.max_gb} GB | | | | | |")
                 continue
         row, log = mixcon_run(args.mixcon, n, args.out, env, n in ccx_sizes, args.timeout,
@@ -220,7 +221,7 @@ def main():
         if row["rc"] != 0:
             why = "stopped after the time limit" if row["rc"] is None else f"exit {row['rc']}"
             print(f"N = {n}: {why}\n{log[-1500:]}", flush=True)
-            text.append(f"| {n} | {unknowns} | {why} after {row['wall_s']:.0f} s | | | | | |")
+            text.append(f"| {n} | {unknowns:,} | {why} after {row['wall_s']:.0f} s | | | | | |")
             break
         done.append((row["unknowns"], row["peak_gb"]))
         line = (f"| {n} | {row['unknowns']:,} | {row['iterations']} | {row['assembly_s']:.2f} | "
@@ -230,8 +231,10 @@ def main():
         text.append(line)
 
     if ccx_sizes:
-        text += ["", "| N | unknowns | code, solver | wall s | peak RSS GB | centre uy of x = 1 | "
+        text += ["| N | unknowns | code, solver | wall s | peak RSS GB | centre uy of x = 1 | "
                  "max abs u on x = 1 | uy / mixcon - 1 |", "|---|---|---|---|---|---|---|---|"]
+        if sizes:
+            text.insert(len(text) - 2, "")
         for n in ccx_sizes:
             base = next((r for r in rows if r["code"] == "mixcon" and r["N"] == n
                          and "tip_uy" in r), None)
