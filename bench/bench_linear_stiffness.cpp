@@ -3,7 +3,10 @@
 // Kokkos::Serial as the single-thread baseline, and the plain host reference implementation of the
 // tests (tests/support/Reference.hpp: explicit B, Eigen dynamic matrices, one element at a time),
 // against which bench/report gives the batched kernel's speed-up (the STREAM triad, the bandwidth
-// roofline, is in bench_machine.cpp; bench/report runs both in one go).
+// roofline, is in bench_machine.cpp; bench/report runs both in one go). The 3D cases (issue 17):
+// the Hex8 K^L of the generic element driver with LinearElasticPoint<3> on a distorted box mesh,
+// element matrices and fused CSR assembly, checked against a plain host reference (explicit
+// 6 x 24 B, Eigen) before they are timed.
 #include <bench/BenchMain.hpp>
 #include <kernels/GeometricStiffness.hpp>
 #include <kernels/LinearElasticity.hpp>
@@ -14,7 +17,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <random>
 
 using namespace mixcon;
 using Memory = Kokkos::DefaultExecutionSpace::memory_space;
@@ -281,6 +287,218 @@ void assembleCsr(benchmark::State &state) {
   });
 }
 
+// ---------------------------------------------------------------------------------------------
+// 3D: Hex8 (issue 17).
+
+struct SolidSetup {
+  Mesh mesh;
+  ElementData<Memory, 3> data;
+};
+
+/// The unit cube of n^3 Hex8 elements with every node moved by up to 0.15 h in each direction
+/// (fixed seed: general, non-affine elements), one rotated orthotropic material (a full 6 x 6
+/// [C]: the kernel does the same arithmetic for any [C]).
+SolidSetup makeSolidSetup(int n) {
+  SolidSetup s;
+  s.mesh = boxMesh(1.0, 1.0, 1.0, n, n, n, ElementType::Hex8);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> shift(-0.15 / n, 0.15 / n);
+  for (double &x : s.mesh.coordinates)
+    x += shift(rng);
+  s.data.mesh = toDevice<Memory, 3>(s.mesh);
+  s.data.material = Kokkos::View<int *, Memory>("material", s.mesh.numElements());
+  s.data.stiffness = Kokkos::View<SolidMatrix *, Memory>("stiffness", 1);
+  auto h = Kokkos::create_mirror_view(s.data.stiffness);
+  const OrthotropicMaterial m{{1.6e6, 1.1e5, 1.2e5, 1.0e5, 0.3, 0.25, 0.35, 0.9e5, 0.4e5},
+                              matmul(rotationAboutZ(0.3), rotationAboutX(0.2))};
+  h(0) = m.stiffness();
+  Kokkos::deep_copy(s.data.stiffness, h);
+  return s;
+}
+
+/// Plain host reference of one Hex8 K^L = int B^T C B dV: its own trilinear shape functions and
+/// 2 x 2 x 2 Gauss rule, the 6 x 24 B (Voigt xx, yy, zz, yz, xz, xy; engineering shears) built
+/// explicitly, Eigen dynamic matrices.
+Eigen::MatrixXd referenceHexStiffness(const Mesh &mesh, LocalIndex e, const Eigen::MatrixXd &c) {
+  static const double corner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  Eigen::MatrixXd xe(8, 3);
+  for (int a = 0; a < 8; ++a)
+    for (int i = 0; i < 3; ++i)
+      xe(a, i) = mesh.coordinate(mesh.node(e, a), i);
+  const double g = 1.0 / std::sqrt(3.0);
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(24, 24);
+  for (int q = 0; q < 8; ++q) {
+    const double xi[3] = {q % 2 ? g : -g, (q / 2) % 2 ? g : -g, q / 4 ? g : -g};
+    Eigen::MatrixXd dn(8, 3);
+    for (int a = 0; a < 8; ++a)
+      for (int j = 0; j < 3; ++j) {
+        double v = 0.125 * corner[a][j];
+        for (int m = 0; m < 3; ++m)
+          if (m != j)
+            v *= 1.0 + corner[a][m] * xi[m];
+        dn(a, j) = v;
+      }
+    const Eigen::MatrixXd jac = xe.transpose() * dn; // d x_i / d xi_j
+    const Eigen::MatrixXd dx = dn * jac.inverse();   // d N_a / d x_i
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(6, 24);
+    for (int a = 0; a < 8; ++a) {
+      for (int i = 0; i < 3; ++i)
+        b(i, 3 * a + i) = dx(a, i);
+      b(3, 3 * a + 1) = dx(a, 2), b(3, 3 * a + 2) = dx(a, 1);
+      b(4, 3 * a + 0) = dx(a, 2), b(4, 3 * a + 2) = dx(a, 0);
+      b(5, 3 * a + 0) = dx(a, 1), b(5, 3 * a + 1) = dx(a, 0);
+    }
+    k += b.transpose() * c * b * jac.determinant();
+  }
+  return k;
+}
+
+Eigen::MatrixXd solidStiffnessMatrix(const SolidSetup &s) {
+  auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.data.stiffness);
+  Eigen::MatrixXd c(6, 6);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      c(i, j) = hc(0).m[i][j];
+  return c;
+}
+
+/// Largest |K_kernel - K_reference| / max |K_reference| over the first, a middle and the last
+/// element (the check before the timing).
+template <class View> double solidMismatch(const SolidSetup &s, const View &ke) {
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
+  const Eigen::MatrixXd c = solidStiffnessMatrix(s);
+  const LocalIndex ne = s.mesh.numElements();
+  double worst = 0.0;
+  for (const LocalIndex e : {LocalIndex(0), ne / 2, ne - 1}) {
+    const Eigen::MatrixXd ref = referenceHexStiffness(s.mesh, e, c);
+    double diff = 0.0;
+    for (int i = 0; i < 24; ++i)
+      for (int j = 0; j < 24; ++j)
+        diff = std::max(diff, std::abs(h(e, i, j) - ref(i, j)));
+    worst = std::max(worst, diff / ref.cwiseAbs().maxCoeff());
+  }
+  return worst;
+}
+
+/// Floating-point operations of one 3D K^L element (stiffnessLanes with Dim = 3 and 6 Voigt
+/// components), counted from the code as stiffnessFlops (each multiply, add and divide one): per
+/// quadrature point the Jacobian (18n), its adjugate inverse (42: 9 cofactor terms of 3, det 5,
+/// 1 divide, 24 for the scaled entries), the physical gradients (15n), the weight (2), f D B_b for
+/// every node (18 entries of 6: one product, two shear terms of 2, the factor f: 108n) and the
+/// 3 x 3 blocks B_a^T (f D B_b) for a <= b (9 entries of 6: one product, two shear terms, the
+/// accumulation: 54 per block, n(n+1)/2 blocks). Shape functions and the mirror copy are not
+/// counted: a lower bound. Hex8: 3,116 per point, 24,928 per element.
+constexpr double solidStiffnessFlops(int n, int quadraturePoints) {
+  return quadraturePoints * (27.0 * n * n + 168.0 * n + 44.0);
+}
+
+template <class Exec> void solidElementMatrices(benchmark::State &state) {
+  const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
+  constexpr int nd = 3 * Hex8::kNumNodes;
+  const LocalIndex ne = s.mesh.numElements();
+  Kokkos::View<double ***, Memory> ke("ke", ne, nd, nd);
+  const auto law = linearElasticLaw(s.data);
+  computeElementStiffness<Hex8>(Exec(), s.data.mesh, s.data.thickness, law, ke);
+  Exec().fence();
+  if (const double m = solidMismatch(s, ke); !(m < 1e-12)) {
+    state.SkipWithError(
+        ("Hex8 K^L differs from the host reference by " + std::to_string(m) + " (relative)")
+            .c_str());
+    return;
+  }
+  timeElementMatrices<Exec>(
+      state, ne, nd * nd * 8.0, solidStiffnessFlops(Hex8::kNumNodes, Hex8::kNumQp),
+      [&] { computeElementStiffness<Hex8>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
+}
+
+/// The plain host reference above, one element after another on one thread.
+void solidHostReference(benchmark::State &state) {
+  const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
+  const Eigen::MatrixXd c = solidStiffnessMatrix(s);
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e)
+      sum += referenceHexStiffness(s.mesh, e, c)(0, 0);
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
+/// Fused compute + atomic CSR scatter of the Hex8 K^L (3 unknowns per node), checked first: the
+/// assembled matrix times a smooth displacement field equals the sum of the element matrices
+/// (host reference) times it.
+void solidAssembleCsr(benchmark::State &state) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
+  const NodeGraph g = buildNodeGraph(s.mesh);
+  auto a = expandGraph<Memory>(g, 3);
+  const auto map = elementScatterMap<Memory>(s.mesh, g);
+  constexpr int nd = 3 * Hex8::kNumNodes;
+  const LocalIndex nn = s.mesh.numNodes(), ne = s.mesh.numElements();
+  {
+    Kokkos::deep_copy(a.values, 0.0);
+    assembleLinearStiffness<Hex8>(Exec(), s.data, map, a);
+    Exec().fence();
+    // K u for u = (sin 3x + yz, cos 2y + x^2, x z^2 + y) (not in the null space or constant
+    // stress, so interior rows count too): the kernel's CSR against the reference's elements.
+    const auto u = [&](LocalIndex k, int i) {
+      const double x = s.mesh.x(k), y = s.mesh.y(k), z = s.mesh.z(k);
+      return i == 0   ? std::sin(3.0 * x) + y * z
+             : i == 1 ? std::cos(2.0 * y) + x * x
+                      : x * z * z + y;
+    };
+    const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+    const auto ci = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+    const auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+    std::vector<double> ku(3 * nn, 0.0), ref(3 * nn, 0.0);
+    for (LocalIndex r = 0; r < 3 * nn; ++r)
+      for (auto k = ro(r); k < ro(r + 1); ++k)
+        ku[r] += va(k) * u(ci(k) / 3, ci(k) % 3);
+    const Eigen::MatrixXd c = solidStiffnessMatrix(s);
+    for (LocalIndex e = 0; e < ne; ++e) {
+      const Eigen::MatrixXd k = referenceHexStiffness(s.mesh, e, c);
+      for (int p = 0; p < nd; ++p)
+        for (int q = 0; q < nd; ++q)
+          ref[3 * s.mesh.node(e, p / 3) + p % 3] += k(p, q) * u(s.mesh.node(e, q / 3), q % 3);
+    }
+    double diff = 0.0, scale = 0.0;
+    for (LocalIndex r = 0; r < 3 * nn; ++r) {
+      diff = std::max(diff, std::abs(ku[r] - ref[r]));
+      scale = std::max(scale, std::abs(ref[r]));
+    }
+    if (!(diff <= 1e-11 * scale)) {
+      state.SkipWithError("Hex8 CSR assembly differs from the host reference");
+      return;
+    }
+  }
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Kokkos::deep_copy(Exec(), a.values, 0.0);
+    assembleLinearStiffness<Hex8>(Exec(), s.data, map, a);
+    Exec().fence();
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  // Bytes as for 2D: zeroing the values, nd^2 atomic read-modify-writes (16 B) and the scatter
+  // map (nodes^2 ints) per element.
+  const double bytes =
+      a.numNonzeros() * 8.0 + ne * (nd * nd * 16.0 + Hex8::kNumNodes * Hex8::kNumNodes * 4.0);
+  state.counters["elem/s"] =
+      benchmark::Counter(static_cast<double>(ne), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["GB/s"] =
+      benchmark::Counter(bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["GFLOP/s"] =
+      benchmark::Counter(ne * solidStiffnessFlops(Hex8::kNumNodes, Hex8::kNumQp) / 1e9,
+                         benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["nnz"] = static_cast<double>(a.numNonzeros());
+  state.counters["DOF"] = 3.0 * nn;
+}
+
 } // namespace linear_stiffness_bench
 using namespace linear_stiffness_bench;
 
@@ -331,6 +549,33 @@ BENCHMARK(geometricHostReference)
 BENCHMARK(assembleCsr)
     ->Name("KL/assembleCsr/threads")
     ->ArgsProduct({{4, 8}, {64, 256, 512}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+// 3D (issue 17): `nodes` is 8 (Hex8), n the divisions of the cube (n^3 elements).
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
+    ->Name("KL3D/elementMatrices/threads")
+    ->ArgsProduct({{8}, {16, 32, 48}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+#ifdef KOKKOS_ENABLE_SERIAL
+BENCHMARK(solidElementMatrices<Kokkos::Serial>)
+    ->Name("KL3D/elementMatrices/serial-baseline")
+    ->ArgsProduct({{8}, {16, 32, 48}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+#endif
+BENCHMARK(solidHostReference)
+    ->Name("KL3D/elementMatrices/host-reference")
+    ->ArgsProduct({{8}, {16, 32}})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidAssembleCsr)
+    ->Name("KL3D/assembleCsr/threads")
+    ->ArgsProduct({{8}, {16, 32, 48}})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
