@@ -98,6 +98,13 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
   if (nonlinearMixed)
     p.solver.type = LinearSolverType::Direct;
+  if (p.mesh.dim() == 3) {
+    // 3D AMG defaults (the cube N^3 of docs/performance.md: with the 2D ones the setup is 82% of
+    // the run at N = 64 and N = 100 does not fit 24 GB; one aggressive level with truncated
+    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations).
+    p.solver.aggressiveLevels = 1;
+    p.solver.interpolationMaxElements = 4;
+  }
   if (top.has("solver")) {
     const YamlItem s = top["solver"];
     s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
