@@ -31,6 +31,15 @@ KOKKOS_INLINE_FUNCTION void gauss1d(int order, int i, double &x, double &w) {
     w = (i == 1) ? 8.0 / 9.0 : 5.0 / 9.0;
   }
 }
+/// Point q of the tensor Gauss rule of `order` points per direction on the cube (xi fastest,
+/// zeta slowest) and its weight.
+KOKKOS_INLINE_FUNCTION void tensorGaussPoint3(int order, int q, double (&xi)[3], double &w) {
+  double w0, w1, w2;
+  gauss1d(order, q % order, xi[0], w0);
+  gauss1d(order, (q / order) % order, xi[1], w1);
+  gauss1d(order, q / (order * order), xi[2], w2);
+  w = w0 * w1 * w2;
+}
 // Natural coordinates of the four corners, counter-clockwise from (-1,-1).
 KOKKOS_INLINE_FUNCTION double cornerXi(int a) { return (a == 0 || a == 3) ? -1.0 : 1.0; }
 KOKKOS_INLINE_FUNCTION double cornerEta(int a) { return (a < 2) ? -1.0 : 1.0; }
@@ -212,11 +221,7 @@ struct Hex8 {
   }
   /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
-    double w0, w1, w2;
-    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi[0], w0);
-    detail::gauss1d(kGaussOrder, (q / kGaussOrder) % kGaussOrder, xi[1], w1);
-    detail::gauss1d(kGaussOrder, q / (kGaussOrder * kGaussOrder), xi[2], w2);
-    w = w0 * w1 * w2;
+    detail::tensorGaussPoint3(kGaussOrder, q, xi, w);
   }
 };
 
@@ -302,11 +307,7 @@ struct Hex20 {
   }
   /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
-    double w0, w1, w2;
-    detail::gauss1d(kGaussOrder, q % kGaussOrder, xi[0], w0);
-    detail::gauss1d(kGaussOrder, (q / kGaussOrder) % kGaussOrder, xi[1], w1);
-    detail::gauss1d(kGaussOrder, q / (kGaussOrder * kGaussOrder), xi[2], w2);
-    w = w0 * w1 * w2;
+    detail::tensorGaussPoint3(kGaussOrder, q, xi, w);
   }
 };
 

@@ -151,14 +151,19 @@ Rotation readOrientation(const YamlItem &m) {
   return r;
 }
 
+/// E and nu of an isotropic material (any dimension).
+void readIsotropicConstants(const YamlItem &m, MaterialSpec &s) {
+  m.allowOnly({"region", "type", "E", "nu"});
+  s.youngs = m.required("E").positive();
+  s.poisson = m.required("nu").number();
+  if (!(s.poisson > -1.0 && s.poisson < 0.5))
+    m["nu"].fail("Poisson's ratio must lie in (-1, 0.5)");
+}
+
 /// A material of a 3D mesh: the 6 x 6 stiffness in global axes.
 MaterialSpec readSolidMaterial(const YamlItem &m, MaterialSpec s) {
   if (s.type == "isotropic") {
-    m.allowOnly({"region", "type", "E", "nu"});
-    s.youngs = m.required("E").positive();
-    s.poisson = m.required("nu").number();
-    if (!(s.poisson > -1.0 && s.poisson < 0.5))
-      m["nu"].fail("Poisson's ratio must lie in (-1, 0.5)");
+    readIsotropicConstants(m, s);
     s.solid = IsotropicMaterial{s.youngs, s.poisson}.stiffness();
   } else if (s.type == "orthotropic") {
     m.allowOnly({"region", "type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23",
@@ -208,11 +213,7 @@ MaterialSpec readMaterial(const YamlItem &m, PlaneAnalysis analysis, int dim) {
   const double deg = m.has("angle") ? m["angle"].number() : 0.0;
   const double theta = deg * M_PI / 180.0;
   if (s.type == "isotropic") {
-    m.allowOnly({"region", "type", "E", "nu"});
-    s.youngs = m.required("E").positive();
-    s.poisson = m.required("nu").number();
-    if (!(s.poisson > -1.0 && s.poisson < 0.5))
-      m["nu"].fail("Poisson's ratio must lie in (-1, 0.5)");
+    readIsotropicConstants(m, s);
     s.stiffness = isotropicStiffness(s.youngs, s.poisson, analysis);
   } else if (s.type == "orthotropic") {
     m.allowOnly({"region", "type", "E1", "E2", "E3", "G12", "nu12", "nu13", "nu23", "angle"});
