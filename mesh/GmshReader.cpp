@@ -297,6 +297,18 @@ std::string at(const std::string &name, int line) {
 
 /// A 2D mesh: the quadrangles are the elements, 1D groups boundaries (their line elements matched
 /// to element edges), 0D groups node sets.
+/// The nodes of the point elements (0D physical groups) as node sets, in both dimensions.
+void addPointNodeSets(Mesh &mesh, const GmshContent &c, const std::string &name) {
+  for (const auto &p : c.points) {
+    auto names = c.groupNames(0, p.entity);
+    auto it = c.nodeIndex.find(p.node);
+    if (it == c.nodeIndex.end())
+      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
+    for (const auto &nm : names)
+      mesh.nodeSets[nm].push_back(it->second);
+  }
+}
+
 void assemblePlane(Mesh &mesh, GmshContent &c, const std::string &name) {
   mesh.elementType = c.quadType == 16 ? ElementType::Quad8 : ElementType::Quad4;
   mesh.nodesPerElement = c.quadType == 16 ? 8 : 4;
@@ -360,14 +372,7 @@ void assemblePlane(Mesh &mesh, GmshContent &c, const std::string &name) {
     for (const auto &nm : names)
       mesh.boundaries[nm].push_back(it->second);
   }
-  for (const auto &p : c.points) {
-    auto names = c.groupNames(0, p.entity);
-    auto it = c.nodeIndex.find(p.node);
-    if (it == c.nodeIndex.end())
-      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
-    for (const auto &nm : names)
-      mesh.nodeSets[nm].push_back(it->second);
-  }
+  addPointNodeSets(mesh, c, name);
   // A named physical group without elements is kept, empty: a problem that uses it is then told
   // that it is empty rather than that it does not exist.
   for (const auto &[key, nm] : c.physicalNames) {
@@ -527,14 +532,7 @@ void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
         mesh.nodeSets[nm].push_back(it->second);
       }
   }
-  for (const auto &p : c.points) {
-    auto names = c.groupNames(0, p.entity);
-    auto it = c.nodeIndex.find(p.node);
-    if (it == c.nodeIndex.end())
-      throw InputError(name + ": point element references unknown node " + std::to_string(p.node));
-    for (const auto &nm : names)
-      mesh.nodeSets[nm].push_back(it->second);
-  }
+  addPointNodeSets(mesh, c, name);
   for (auto &[nm, nodes] : mesh.nodeSets) {
     std::sort(nodes.begin(), nodes.end());
     nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
