@@ -16,7 +16,7 @@
 namespace mixcon {
 
 /// Runtime tag used on the host to choose the compile-time traits once (switch, then template).
-enum class ElementType { Quad4, Quad8, Hex8, Hex20 };
+enum class ElementType { Quad4, Quad8, Hex8, Hex20, Tet4, Tet10 };
 
 namespace detail {
 // Gauss-Legendre abscissae and weights on [-1, 1].
@@ -191,6 +191,7 @@ struct Hex8 {
   static constexpr int kNumSides = 6;
   static constexpr int kNodesPerSide = 4;
   using Side = Quad4; ///< a face: the bilinear quadrilateral of its 4 nodes (and its 2x2 rule)
+  static constexpr bool kSimplex = false;
   static constexpr const char *kName = "hex8";
 
   /// Local node k (0..3) of face f (see the struct's comment for the numbering).
@@ -242,6 +243,7 @@ struct Hex20 {
   static constexpr int kNumSides = 6;
   static constexpr int kNodesPerSide = 8;
   using Side = Quad8; ///< a face: the serendipity quadrilateral of its 8 nodes (and its 3x3 rule)
+  static constexpr bool kSimplex = false;
   static constexpr const char *kName = "hex20";
 
   /// The corners (Hex8 numbering) that mid-edge node 8 + k lies between.
@@ -308,6 +310,184 @@ struct Hex20 {
   /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
     detail::tensorGaussPoint3(kGaussOrder, q, xi, w);
+  }
+};
+
+/// 3-node triangle: the face of a Tet4 (not an element of the program). Natural coordinates
+/// (s, t) with nodes at (0, 0), (1, 0), (0, 1); the 3-point rule of degree 2 (Strang & Fix).
+struct Tri3 {
+  static constexpr int kDim = 2;
+  static constexpr int kNumNodes = 3;
+  static constexpr int kNumQp = 3;
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    xi[0] = q == 1 ? 2.0 / 3.0 : 1.0 / 6.0;
+    xi[1] = q == 2 ? 2.0 / 3.0 : 1.0 / 6.0;
+    w = 1.0 / 6.0;
+  }
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    n[0] = 1.0 - xi[0] - xi[1];
+    n[1] = xi[0];
+    n[2] = xi[1];
+    dn[0][0] = dn[0][1] = -1.0;
+    dn[1][0] = 1.0;
+    dn[1][1] = 0.0;
+    dn[2][0] = 0.0;
+    dn[2][1] = 1.0;
+  }
+};
+
+/// 6-node triangle: the face of a Tet10. Corners as Tri3, then the mid-edge nodes 3 (0-1),
+/// 4 (1-2), 5 (2-0); the same 3-point rule (exact for the loads of a flat face).
+struct Tri6 {
+  static constexpr int kDim = 2;
+  static constexpr int kNumNodes = 6;
+  static constexpr int kNumQp = 3;
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    Tri3::quadraturePoint(q, xi, w);
+  }
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    const double l[3] = {1.0 - xi[0] - xi[1], xi[0], xi[1]};
+    const double dl[3][2] = {{-1.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}};
+    for (int a = 0; a < 3; ++a) {
+      n[a] = l[a] * (2.0 * l[a] - 1.0);
+      for (int j = 0; j < 2; ++j)
+        dn[a][j] = (4.0 * l[a] - 1.0) * dl[a][j];
+      const int b = (a + 1) % 3;
+      n[3 + a] = 4.0 * l[a] * l[b];
+      for (int j = 0; j < 2; ++j)
+        dn[3 + a][j] = 4.0 * (dl[a][j] * l[b] + l[a] * dl[b][j]);
+    }
+  }
+};
+
+namespace detail {
+/// Barycentric coordinates of the tetrahedron's natural point: L0 = 1 - xi - eta - zeta,
+/// L1 = xi, L2 = eta, L3 = zeta, and dL_a / dxi_j.
+KOKKOS_INLINE_FUNCTION void tetBarycentric(const double (&xi)[3], double (&l)[4]) {
+  l[0] = 1.0 - xi[0] - xi[1] - xi[2];
+  l[1] = xi[0];
+  l[2] = xi[1];
+  l[3] = xi[2];
+}
+KOKKOS_INLINE_FUNCTION double tetBarycentricDerivative(int a, int j) {
+  return a == 0 ? -1.0 : (a - 1 == j ? 1.0 : 0.0);
+}
+/// Face f of a tetrahedron, corner k: counter-clockwise seen from outside.
+KOKKOS_INLINE_FUNCTION int tetFaceCorner(int f, int k) {
+  constexpr int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return faces[f][k];
+}
+} // namespace detail
+
+/// 4-node linear tetrahedron (constant strain), one-point rule (exact for its stiffness). Node
+/// order as Gmsh and VTK: natural coordinates (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), positive
+/// volume when node 3 lies on the side of face 0-1-2 that (x1 - x0) x (x2 - x0) points to. Faces
+/// (3-node triangles, counter-clockwise seen from outside): 0 (0 2 1), 1 (0 1 3), 2 (1 2 3),
+/// 3 (0 3 2).
+struct Tet4 {
+  static constexpr ElementType kType = ElementType::Tet4;
+  static constexpr int kDim = 3;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
+  static constexpr int kNumNodes = 4;
+  static constexpr int kNumQp = 1;
+  static constexpr int kNumSides = 4;
+  static constexpr int kNodesPerSide = 3;
+  static constexpr bool kSimplex = true;
+  using Side = Tri3;
+  static constexpr const char *kName = "tet4";
+
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    for (int i = 0; i < kDim; ++i)
+      xi[i] = a == i + 1 ? 1.0 : 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    double l[4];
+    detail::tetBarycentric(xi, l);
+    for (int a = 0; a < kNumNodes; ++a) {
+      n[a] = l[a];
+      for (int j = 0; j < kDim; ++j)
+        dn[a][j] = detail::tetBarycentricDerivative(a, j);
+    }
+  }
+  KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) { return detail::tetFaceCorner(f, k); }
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int, double (&xi)[kDim], double &w) {
+    xi[0] = xi[1] = xi[2] = 0.25;
+    w = 1.0 / 6.0;
+  }
+};
+
+/// 10-node quadratic tetrahedron, 4-point rule of degree 2 (exact for its stiffness on straight
+/// edges). Node order as VTK and XDMF (Tetrahedron_10): the corners as Tet4, then the mid-edge
+/// nodes 4 (0-1), 5 (1-2), 6 (2-0), 7 (0-3), 8 (1-3), 9 (2-3). (Gmsh numbers the last two
+/// 8 (2-3), 9 (1-3); its reader swaps them.) Faces as Tet4, each a 6-node triangle: its corners,
+/// then the mid-edge nodes of its edges c0-c1, c1-c2, c2-c0.
+struct Tet10 {
+  static constexpr ElementType kType = ElementType::Tet10;
+  static constexpr int kDim = 3;
+  using Layout = FieldLayout<kDim>; ///< unknowns per node of each model in this dimension
+  static constexpr int kNumNodes = 10;
+  static constexpr int kNumQp = 4;
+  static constexpr int kNumSides = 4;
+  static constexpr int kNodesPerSide = 6;
+  static constexpr bool kSimplex = true;
+  using Side = Tri6;
+  static constexpr const char *kName = "tet10";
+
+  /// The corners that mid-edge node 4 + k lies between.
+  KOKKOS_INLINE_FUNCTION static int edgeCorner(int k, int end) {
+    constexpr int edges[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+    return edges[k][end];
+  }
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
+    if (a < 4) {
+      Tet4::nodeNatural(a, xi);
+      return;
+    }
+    double x0[kDim], x1[kDim];
+    Tet4::nodeNatural(edgeCorner(a - 4, 0), x0);
+    Tet4::nodeNatural(edgeCorner(a - 4, 1), x1);
+    for (int i = 0; i < kDim; ++i)
+      xi[i] = 0.5 * (x0[i] + x1[i]);
+  }
+  /// Corners L_a (2 L_a - 1), mid-edge nodes 4 L_a L_b.
+  KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
+                                           double (&dn)[kNumNodes][kDim]) {
+    double l[4];
+    detail::tetBarycentric(xi, l);
+    for (int a = 0; a < 4; ++a) {
+      n[a] = l[a] * (2.0 * l[a] - 1.0);
+      for (int j = 0; j < kDim; ++j)
+        dn[a][j] = (4.0 * l[a] - 1.0) * detail::tetBarycentricDerivative(a, j);
+    }
+    for (int k = 0; k < 6; ++k) {
+      const int a = edgeCorner(k, 0), b = edgeCorner(k, 1);
+      n[4 + k] = 4.0 * l[a] * l[b];
+      for (int j = 0; j < kDim; ++j)
+        dn[4 + k][j] = 4.0 * (detail::tetBarycentricDerivative(a, j) * l[b] +
+                              l[a] * detail::tetBarycentricDerivative(b, j));
+    }
+  }
+  /// Local node k (0..5) of face f: its corners, then the mid-edge nodes of its edges.
+  KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
+    if (k < 3)
+      return detail::tetFaceCorner(f, k);
+    const int c0 = detail::tetFaceCorner(f, k - 3), c1 = detail::tetFaceCorner(f, (k - 2) % 3);
+    for (int e = 0; e < 6; ++e)
+      if ((edgeCorner(e, 0) == c0 && edgeCorner(e, 1) == c1) ||
+          (edgeCorner(e, 0) == c1 && edgeCorner(e, 1) == c0))
+        return 4 + e;
+    return -1; // not reached: every face edge is an element edge
+  }
+  /// The symmetric 4-point rule of degree 2: points with barycentric (a, b, b, b) and
+  /// permutations, a = (5 + 3 sqrt 5) / 20, b = (5 - sqrt 5) / 20, weights 1/24.
+  KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
+    constexpr double a = 0.58541019662496845446, b = 0.13819660112501051518;
+    for (int i = 0; i < kDim; ++i)
+      xi[i] = q == i + 1 ? a : b;
+    w = 1.0 / 24.0;
   }
 };
 
@@ -386,6 +566,10 @@ template <class F> decltype(auto) dispatchElement(ElementType type, F &&f) {
     return f(Hex8{});
   case ElementType::Hex20:
     return f(Hex20{});
+  case ElementType::Tet4:
+    return f(Tet4{});
+  case ElementType::Tet10:
+    return f(Tet10{});
   }
   throw std::invalid_argument("dispatchElement: unknown ElementType value " +
                               std::to_string(static_cast<int>(type)));
@@ -408,6 +592,8 @@ template <class F> decltype(auto) dispatchPlaneElement(ElementType type, const c
     return f(Quad8{});
   case ElementType::Hex8:
   case ElementType::Hex20:
+  case ElementType::Tet4:
+  case ElementType::Tet10:
     break;
   }
   throw std::invalid_argument(std::string(what) + " is 2D only so far (issue 17); element type " +
