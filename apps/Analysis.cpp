@@ -109,6 +109,19 @@ std::vector<double> boundaryShares(const Mesh &mesh, const std::vector<BoundaryE
   return share;
 }
 
+/// How the displacement model's nodal stresses are recovered (summary.json, HDF5 attribute).
+std::string nodalStressSource(ElementType type) {
+  return dispatchElement(type, [](auto elem) -> std::string {
+    using Elem = decltype(elem);
+    if constexpr (Elem::kDim == 2)
+      return "2x2 Gauss-point stresses extrapolated to the nodes and averaged";
+    else if constexpr (Elem::kSimplex)
+      return "C eps(u) at each element's nodes, averaged";
+    else
+      return "2x2x2 Gauss-point stresses extrapolated to the nodes and averaged";
+  });
+}
+
 std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   std::ostringstream s;
   s << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
@@ -638,11 +651,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     StepFields f;
     f.displacement = model.displacementHost();
     f.stress = model.nodalStressHost();
-    f.stressSource =
-        mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
-              : (p.mesh.dim() == 3
-                     ? "2x2x2 Gauss-point stresses extrapolated to the nodes and averaged"
-                     : "2x2 Gauss-point stresses extrapolated to the nodes and averaged");
+    f.stressSource = mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
+                           : nodalStressSource(p.mesh.elementType);
     f.gaussStressSource = "C eps(u) from the displacements";
     f.reaction = model.reactionHost(lambda);
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);

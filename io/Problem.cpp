@@ -27,7 +27,11 @@ ElementType elementType(const YamlItem &i) {
     return ElementType::Hex8;
   if (v == "hex20")
     return ElementType::Hex20;
-  i.fail("unsupported element '" + v + "' (supported: quad4, quad8, hex8, hex20)");
+  if (v == "tet4")
+    return ElementType::Tet4;
+  if (v == "tet10")
+    return ElementType::Tet10;
+  i.fail("unsupported element '" + v + "' (supported: quad4, quad8, hex8, hex20, tet4, tet10)");
 }
 
 std::string joinPath(const std::string &base, const std::string &file) {

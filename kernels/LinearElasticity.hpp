@@ -427,9 +427,10 @@ void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &
   recoverNodalStress<Elem>(exec, d.mesh, LinearPointStress<Elem, MemorySpace>{d, u}, nodal);
 }
 
-/// Nodal stresses of the linear model in 3D: C eps(u) at the 2 x 2 x 2 Gauss points (+-1/sqrt(3)
-/// in each natural direction) extrapolated trilinearly to every element node, then averaged over
-/// the elements sharing the node (the 3D form of recoverNodalStress). `nodal` (N x 6, Voigt<3>
+/// Nodal stresses of the linear model in 3D, averaged over the elements sharing the node (the 3D
+/// form of recoverNodalStress): for hexahedra C eps(u) at the 2 x 2 x 2 Gauss points (+-1/sqrt(3)
+/// in each natural direction) extrapolated trilinearly to every element node; for tetrahedra
+/// C eps(u) at the node itself (constant in a Tet4, linear in a Tet10). `nodal` (N x 6, Voigt<3>
 /// order) is overwritten.
 template <class Elem, class ExecSpace, class MemorySpace>
 void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace, 3> &d,
@@ -451,6 +452,20 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
         detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
         detail::gatherElementDisplacements<Elem>(d.mesh, u, e, ue);
         const auto point = law.at(e);
+        if constexpr (Elem::kSimplex) {
+          for (int a = 0; a < n; ++a) {
+            double xa[3], sh[n], dn[n][3], gr[n][3];
+            Elem::nodeNatural(a, xa);
+            Elem::shape(xa, sh, dn);
+            detail::pointGeometry<Elem>(xe, dn, gr);
+            const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
+            const LocalIndex node = d.mesh.connectivity(e, a);
+            for (int k = 0; k < kS; ++k)
+              Kokkos::atomic_add(&nodal(node, k), sig.v[k]);
+            Kokkos::atomic_add(&count(node), 1.0);
+          }
+          return;
+        }
         // Corner c of the Gauss cube: sign of direction i is bit i of c.
         for (int c = 0; c < kCorners; ++c) {
           const double xi[3] = {(c & 1) ? g : -g, (c & 2) ? g : -g, (c & 4) ? g : -g};
