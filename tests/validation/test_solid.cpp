@@ -43,9 +43,10 @@ Vector<6> patchStrain() {
       {2e-3, 1.1e-3, 1.3e-3, (-0.4 + 0.9) * 1e-3, (0.7 - 0.6) * 1e-3, (-0.5 + 0.3) * 1e-3}};
 }
 
-/// A box mesh with every interior corner node moved randomly by up to 0.2 of an element; Hex20
-/// mid-edge nodes then sit at the middle of their moved corners plus up to 0.04 of an element
-/// (curved edges). Boundary nodes move within their face planes only, so the box keeps its shape.
+/// A box mesh with every interior corner node moved randomly by up to 0.2 of a cell (0.1 for
+/// tetrahedra, which are thinner); mid-edge nodes (Hex20, Tet10) then sit at the middle of their
+/// moved corners plus up to 0.04 of a cell (curved edges). Boundary nodes move within their face
+/// planes only, so the box keeps its shape.
 Mesh distortedBox(int n, ElementType type) {
   Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, type);
   std::mt19937 rng(7);
@@ -54,34 +55,39 @@ Mesh distortedBox(int n, ElementType type) {
   const auto onPlane = [&](double x, int i) {
     return std::abs(x) < 1e-12 || std::abs(x - len[i]) < 1e-12;
   };
-  std::vector<char> corner(mesh.numNodes(), 0), done(mesh.numNodes(), 0);
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-    for (int a = 0; a < 8; ++a)
-      corner[mesh.node(e, a)] = 1;
-  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
-    if (corner[p])
-      for (int i = 0; i < 3; ++i) {
-        double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
-        if (!onPlane(x, i))
-          x += 0.2 * u(rng) * h[i];
-      }
-  if (type == ElementType::Hex20)
+  dispatchElement(type, [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int corners = Elem::kSimplex ? 4 : 8;
+    const double amplitude = Elem::kSimplex ? 0.1 : 0.2;
+    std::vector<char> corner(mesh.numNodes(), 0), done(mesh.numNodes(), 0);
     for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-      for (int k = 0; k < 12; ++k) {
-        const LocalIndex m = mesh.node(e, 8 + k);
-        if (done[m])
-          continue;
-        done[m] = 1;
-        const LocalIndex c0 = mesh.node(e, Hex20::edgeCorner(k, 0)),
-                         c1 = mesh.node(e, Hex20::edgeCorner(k, 1));
+      for (int a = 0; a < corners; ++a)
+        corner[mesh.node(e, a)] = 1;
+    for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+      if (corner[p])
         for (int i = 0; i < 3; ++i) {
-          double &x = mesh.coordinates[3 * static_cast<std::size_t>(m) + i];
-          const bool fixed = onPlane(x, i);
-          x = 0.5 * (mesh.coordinate(c0, i) + mesh.coordinate(c1, i));
-          if (!fixed)
-            x += 0.04 * u(rng) * h[i];
+          double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
+          if (!onPlane(x, i))
+            x += amplitude * u(rng) * h[i];
         }
-      }
+    if constexpr (Elem::kNumNodes > corners)
+      for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+        for (int k = 0; k < Elem::kNumNodes - corners; ++k) {
+          const LocalIndex m = mesh.node(e, corners + k);
+          if (done[m])
+            continue;
+          done[m] = 1;
+          const LocalIndex c0 = mesh.node(e, Elem::edgeCorner(k, 0)),
+                           c1 = mesh.node(e, Elem::edgeCorner(k, 1));
+          for (int i = 0; i < 3; ++i) {
+            double &x = mesh.coordinates[3 * static_cast<std::size_t>(m) + i];
+            const bool fixed = onPlane(x, i);
+            x = 0.5 * (mesh.coordinate(c0, i) + mesh.coordinate(c1, i));
+            if (!fixed)
+              x += 0.04 * u(rng) * h[i];
+          }
+        }
+  });
   validateMesh(mesh);
   return mesh;
 }
@@ -92,7 +98,8 @@ class SolidPatchTest : public ::testing::TestWithParam<std::tuple<ElementType, L
 };
 INSTANTIATE_TEST_SUITE_P(
     Elements, SolidPatchTest,
-    ::testing::Combine(::testing::Values(ElementType::Hex8, ElementType::Hex20),
+    ::testing::Combine(::testing::Values(ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                         ElementType::Tet10),
                        ::testing::Values(LinearSolverType::Direct, LinearSolverType::Amg)),
     [](const auto &info) {
       return elementTypeName(std::get<0>(info.param)) +
@@ -135,7 +142,7 @@ TEST_P(SolidPatchTest, ReproducesALinearFieldExactly) {
   std::vector<double> xq, sq;
   int perElement = 0;
   model.gaussPointStressHost(xq, sq, perElement);
-  const int qp = type == ElementType::Hex20 ? 27 : 8;
+  const int qp = dispatchElement(type, [](auto elem) { return decltype(elem)::kNumQp; });
   EXPECT_EQ(perElement, qp);
   ASSERT_EQ(sq.size(), 6u * qp * mesh.numElements());
   for (std::size_t k = 0; k < sq.size(); ++k)
@@ -198,8 +205,8 @@ struct Cantilever {
     return p * l * l * l / (3.0 * e * inertia) + p * l / (5.0 / 6.0 * g * area);
   }
   /// uy at the end face x = L of an n x (n/10) x (n/10) mesh: the mean over the face's nodes
-  /// (Hex20: over its corner nodes; the mid-edge nodes weigh differently), and the relative error
-  /// against beamTheory() printed.
+  /// (quadratic elements: over its corner nodes; the other nodes weigh differently), and the
+  /// relative error against beamTheory() printed.
   double tipDeflection(int nx, ElementType type) const {
     const int ny = nx / 10;
     const Mesh mesh = boxMesh(l, h, b, nx, ny, ny, type);
@@ -221,7 +228,8 @@ struct Cantilever {
     double tip = 0.0;
     int count = 0;
     for (LocalIndex k : mesh.nodesOf("xmax"))
-      if (type == ElementType::Hex8 || (atEdge(mesh.y(k), h) && atEdge(mesh.z(k), b))) {
+      if (type == ElementType::Hex8 || type == ElementType::Tet4 ||
+          (atEdge(mesh.y(k), h) && atEdge(mesh.z(k), b))) {
         tip += u[3 * k + 1];
         ++count;
       }
@@ -257,4 +265,11 @@ TEST(SolidCantilever, Hex20IsCloseToBeamTheoryOnACoarseMesh) {
   // remains is mostly the difference between the clamped 3D solid and the beam (the Hex8 errors
   // extrapolate to about 0.8% as h -> 0).
   EXPECT_LT(error, 0.015);
+}
+
+TEST(SolidCantilever, Tet10IsCloseToBeamTheory) {
+  // The cantilever on the box of 20 x 2 x 2 cells, each split into 6 Tet10.
+  const Cantilever c;
+  const double error = std::abs(c.tipDeflection(20, ElementType::Tet10) / c.beamTheory() - 1.0);
+  EXPECT_LT(error, TET10_LIMIT);
 }
