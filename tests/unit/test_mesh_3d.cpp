@@ -1,4 +1,4 @@
-// 3D meshes of Hex8 elements (issue 17): the box generator and the Gmsh 4.1 reader's hexahedra,
+// 3D meshes of hexahedra and tetrahedra (issue 17): the box generator and the Gmsh 4.1 reader,
 // checked against plain host references (trilinear Jacobians integrated by 2x2x2 Gauss, face
 // normals from cross products). Layer under test: mesh.
 #include <mesh/Generators.hpp>
@@ -12,6 +12,7 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -1082,4 +1083,184 @@ TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixed
                      ": line element 2 has 3 nodes in a mesh of 8-node hexahedra"),
             std::string::npos)
       << msg;
+}
+
+// ---- Tetrahedra: the box split into 6 tetrahedra per cell (Tet4, Tet10) ----
+
+namespace {
+
+/// Host reference: signed volume of the straight tetrahedron of an element's first four nodes,
+/// det(x1 - x0, x2 - x0, x3 - x0) / 6.
+double tetVolume(const Mesh &m, LocalIndex e) {
+  const Vec3 x0 = point(m, m.node(e, 0));
+  const Vec3 a = minus(point(m, m.node(e, 1)), x0), b = minus(point(m, m.node(e, 2)), x0),
+             c = minus(point(m, m.node(e, 3)), x0);
+  const Vec3 n = cross(a, b);
+  return (n[0] * c[0] + n[1] * c[1] + n[2] * c[2]) / 6.0;
+}
+
+/// The internal (VTK) Tet10 edges: mid-edge node 4 + k lies between corners kTetEdge[k].
+constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+/// Checks a box of tetrahedra against host references: node and element counts, positive
+/// volumes adding up to the box, validateMesh, the boundary triangles on their planes with
+/// outward normals and the face areas, conformity (every triangle shared by two tetrahedra
+/// unless it is a boundary face), Tet10 mid-edge nodes (of elements and faces) at the midpoints,
+/// and the node sets at the coordinates of the Hex8 box's.
+void expectTetBox(const Mesh &m, const double (&l)[3], const int (&n)[3], const double (&o)[3],
+                  const double (&g)[3]) {
+  const bool quadratic = m.elementType == ElementType::Tet10;
+  const int step = quadratic ? 2 : 1;
+  EXPECT_EQ(m.nodesPerElement, quadratic ? 10 : 4);
+  EXPECT_EQ(m.numElements(), 6 * n[0] * n[1] * n[2]);
+  EXPECT_EQ(m.numNodes(), (step * n[0] + 1) * (step * n[1] + 1) * (step * n[2] + 1));
+  EXPECT_NO_THROW(validateMesh(m));
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = tetVolume(m, e);
+    EXPECT_GT(v, 0.0) << "element " << e;
+    volume += v;
+  }
+  EXPECT_NEAR(volume, l[0] * l[1] * l[2], 1e-12 * l[0] * l[1] * l[2]);
+  if (quadratic) {
+    for (LocalIndex e = 0; e < m.numElements(); ++e)
+      for (int k = 0; k < 6; ++k) {
+        const Vec3 a = point(m, m.node(e, kTetEdge[k][0])), b = point(m, m.node(e, kTetEdge[k][1]));
+        const Vec3 c = point(m, m.node(e, 4 + k));
+        for (int i = 0; i < 3; ++i)
+          EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << "element " << e << " edge " << k;
+      }
+    // No two nodes coincide.
+    std::set<Vec3> distinct;
+    for (LocalIndex p = 0; p < m.numNodes(); ++p)
+      distinct.insert(point(m, p));
+    EXPECT_EQ(static_cast<LocalIndex>(distinct.size()), m.numNodes());
+  }
+  // Conformity: count the tetrahedra on each corner triangle.
+  std::map<std::array<LocalIndex, 3>, int> shared;
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int f = 0; f < 4; ++f) {
+      std::array<LocalIndex, 3> key{};
+      for (int k = 0; k < 3; ++k)
+        key[k] = m.node(e, Tet4::sideNode(f, k));
+      std::sort(key.begin(), key.end());
+      ++shared[key];
+    }
+  std::set<std::array<LocalIndex, 3>> boundary;
+  const char *names[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+  for (int d = 0; d < 3; ++d)
+    for (int end = 0; end < 2; ++end) {
+      const std::string name = names[d][end];
+      ASSERT_EQ(m.boundaries.count(name), 1u) << name;
+      const auto &faces = m.boundaries.at(name);
+      const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+      EXPECT_EQ(faces.size(), static_cast<std::size_t>(2 * n[d1] * n[d2])) << name;
+      const double plane = o[d] + end * l[d];
+      double area = 0.0;
+      for (const BoundaryEdge &f : faces) {
+        EXPECT_EQ(m.nodesPerSide(), quadratic ? 6 : 3);
+        const Vec3 x0 = point(m, m.sideNode(f, 0));
+        const Vec3 x1 = point(m, m.sideNode(f, 1)), x2 = point(m, m.sideNode(f, 2));
+        for (int k = 0; k < m.nodesPerSide(); ++k)
+          EXPECT_NEAR(point(m, m.sideNode(f, k))[d], plane, 1e-12) << name << " node " << k;
+        const Vec3 nrm = cross(minus(x1, x0), minus(x2, x0));
+        EXPECT_GT(end == 0 ? -nrm[d] : nrm[d], 0.0) << name << ": the normal points inward";
+        EXPECT_NEAR(std::abs(nrm[d]), norm(nrm), 1e-12 * norm(nrm)) << name;
+        area += 0.5 * norm(nrm);
+        if (quadratic)
+          for (int k = 0; k < 3; ++k) {
+            const Vec3 a = point(m, m.sideNode(f, k)), b = point(m, m.sideNode(f, (k + 1) % 3));
+            const Vec3 c = point(m, m.sideNode(f, 3 + k));
+            for (int i = 0; i < 3; ++i)
+              EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << name << " face node " << 3 + k;
+          }
+        std::array<LocalIndex, 3> key{m.sideNode(f, 0), m.sideNode(f, 1), m.sideNode(f, 2)};
+        std::sort(key.begin(), key.end());
+        EXPECT_TRUE(boundary.insert(key).second) << name << ": a face listed twice";
+      }
+      EXPECT_NEAR(area, l[d1] * l[d2], 1e-12 * l[d1] * l[d2]) << name;
+    }
+  for (const auto &[key, count] : shared)
+    EXPECT_EQ(count, boundary.count(key) ? 1 : 2)
+        << "triangle " << key[0] << " " << key[1] << " " << key[2];
+  // Node sets: the corners at the coordinates of the hexahedral box's; the face centres the node
+  // of the face closest to its centre (Tet10 has face-centre nodes that Hex20 has not).
+  const Mesh hex = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2],
+                           quadratic ? ElementType::Hex20 : ElementType::Hex8, o[0], o[1], o[2],
+                           g[0], g[1], g[2]);
+  ASSERT_EQ(m.nodeSets.size(), hex.nodeSets.size());
+  for (const auto &[name, nodes] : hex.nodeSets) {
+    ASSERT_EQ(m.nodeSets.count(name), 1u) << name;
+    ASSERT_EQ(m.nodeSets.at(name).size(), nodes.size()) << name;
+    const Vec3 got = point(m, m.nodeSets.at(name).front());
+    if (name.find("_center") == std::string::npos) {
+      EXPECT_EQ(got, point(hex, nodes.front())) << name;
+      continue;
+    }
+    const double x = name == "xmin_center" ? o[0] : o[0] + l[0];
+    const Vec3 centre{x, o[1] + 0.5 * l[1], o[2] + 0.5 * l[2]};
+    EXPECT_EQ(got[0], x) << name;
+    double best = std::numeric_limits<double>::infinity();
+    for (LocalIndex p = 0; p < m.numNodes(); ++p)
+      if (m.x(p) == x)
+        best = std::min(best, norm(minus(point(m, p), centre)));
+    EXPECT_EQ(norm(minus(got, centre)), best) << name;
+  }
+}
+
+} // namespace
+
+TEST(BoxMesh, Tet4SplitsEachCellIntoSixConformingPositiveTetrahedra) {
+  const double l[3] = {2.0, 1.0, 0.5}, o[3] = {-1.0, 0.5, 0.25}, g[3] = {1.0, 1.0, 1.0};
+  const int n[3] = {3, 2, 2};
+  const Mesh m = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet4, o[0], o[1], o[2]);
+  EXPECT_EQ(m.elementType, ElementType::Tet4);
+  expectTetBox(m, l, n, o, g);
+  // Tet4 nodes are the Hex8 box's nodes.
+  const Mesh hex = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Hex8, o[0], o[1], o[2]);
+  EXPECT_EQ(m.coordinates, hex.coordinates);
+  // The six tetrahedra of a cell share its main diagonal (Hex8 corners 0 and 6).
+  for (LocalIndex c = 0; c < hex.numElements(); ++c)
+    for (int t = 0; t < 6; ++t) {
+      std::set<LocalIndex> corners;
+      for (int a = 0; a < 4; ++a)
+        corners.insert(m.node(6 * c + t, a));
+      EXPECT_EQ(corners.count(hex.node(c, 0)), 1u) << "cell " << c;
+      EXPECT_EQ(corners.count(hex.node(c, 6)), 1u) << "cell " << c;
+    }
+}
+
+TEST(BoxMesh, GradedTet4AndTet10BoxesKeepPositiveConformingElements) {
+  const double l[3] = {1.5, 2.0, 1.0}, o[3] = {0.5, 0.0, -1.0}, g[3] = {1.4, 1.0, 1.7};
+  const int n[3] = {2, 3, 2};
+  for (ElementType type : {ElementType::Tet4, ElementType::Tet10}) {
+    SCOPED_TRACE(elementTypeName(type));
+    expectTetBox(
+        boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], type, o[0], o[1], o[2], g[0], g[1], g[2]), l, n,
+        o, g);
+  }
+}
+
+TEST(BoxMesh, Tet10HasAMidEdgeNodeOnEveryEdgeIncludingTheDiagonals) {
+  const double l[3] = {1.0, 2.0, 3.0}, o[3] = {0.0, 0.0, 0.0}, g[3] = {1.0, 1.0, 1.0};
+  const int n[3] = {2, 2, 3};
+  const Mesh m = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet10);
+  expectTetBox(m, l, n, o, g);
+  // Its corners are the Tet4 box's corners, element by element.
+  const Mesh t4 = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet4);
+  ASSERT_EQ(m.numElements(), t4.numElements());
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int a = 0; a < 4; ++a)
+      EXPECT_EQ(point(m, m.node(e, a)), point(t4, t4.node(e, a))) << e;
+  // Every edge (distinct corner pair) has exactly one mid-edge node, shared by all its elements.
+  std::map<std::pair<LocalIndex, LocalIndex>, std::set<LocalIndex>> middles;
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int k = 0; k < 6; ++k) {
+      LocalIndex a = m.node(e, kTetEdge[k][0]), b = m.node(e, kTetEdge[k][1]);
+      middles[{std::min(a, b), std::max(a, b)}].insert(m.node(e, 4 + k));
+    }
+  for (const auto &[edge, nodes] : middles)
+    EXPECT_EQ(nodes.size(), 1u) << edge.first << "-" << edge.second;
+  // Vertices + edges of the split: every lattice point is a corner or one edge's middle.
+  EXPECT_EQ(static_cast<LocalIndex>(t4.numNodes() + middles.size()), m.numNodes());
 }
