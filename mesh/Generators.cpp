@@ -45,7 +45,7 @@ Mesh buildPatches(const std::vector<Patch> &patches, ElementType type, std::stri
   if (type != ElementType::Quad4 && type != ElementType::Quad8)
     throw GeneratorError("mesh " + source + ": element type " + elementTypeName(type) +
                          " is not a quadrilateral (this generator is 2D; the box generator makes "
-                         "hex8 and hex20 meshes)");
+                         "hex8, hex20, tet4 and tet10 meshes)");
   Mesh mesh;
   mesh.elementType = type;
   mesh.nodesPerElement = type == ElementType::Quad8 ? 8 : 4;
@@ -177,25 +177,29 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
   requirePositive("grading[0]", gx, gen);
   requirePositive("grading[1]", gy, gen);
   requirePositive("grading[2]", gz, gen);
-  if (type != ElementType::Hex8 && type != ElementType::Hex20)
+  if (type != ElementType::Hex8 && type != ElementType::Hex20 && type != ElementType::Tet4 &&
+      type != ElementType::Tet10)
     throw GeneratorError("mesh generator box: element type " + elementTypeName(type) +
-                         " is not a hexahedron (the box makes hex8 and hex20 meshes)");
+                         " is not a 3D solid (the box makes hex8, hex20, tet4 and tet10 meshes)");
   const bool serendipity = type == ElementType::Hex20;
-  const int npe = serendipity ? Hex20::kNumNodes : Hex8::kNumNodes;
-  // Nodes live on a lattice of (mx + 1) x (my + 1) x (mz + 1) points: the grid itself for Hex8,
-  // the grid with its half steps for Hex20 (point (I, J, K), even indices on grid lines).
-  const int step = serendipity ? 2 : 1;
+  const bool tet = type == ElementType::Tet4 || type == ElementType::Tet10;
+  const bool quadratic = serendipity || type == ElementType::Tet10;
+  const int npe = dispatchElement(type, [](auto t) { return decltype(t)::kNumNodes; });
+  const int perCell = tet ? 6 : 1; // a cell is split into 6 tetrahedra
+  // Nodes live on a lattice of (mx + 1) x (my + 1) x (mz + 1) points: the grid itself for Hex8
+  // and Tet4, the grid with its half steps for Hex20 and Tet10 (point (I, J, K), even indices on
+  // grid lines; Tet10 uses every point: edge, face-diagonal and cell-diagonal midpoints).
+  const int step = quadratic ? 2 : 1;
   const long mx = static_cast<long>(step) * nx, my = static_cast<long>(step) * ny,
              mz = static_cast<long>(step) * nz;
   // Node and connectivity indices are LocalIndex: refuse before anything is allocated.
   const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
   const double corners = (nx + 1.0) * (ny + 1.0) * (nz + 1.0);
-  const double midEdges = serendipity
-                              ? nx * (ny + 1.0) * (nz + 1.0) + (nx + 1.0) * ny * (nz + 1.0) +
-                                    (nx + 1.0) * (ny + 1.0) * nz
-                              : 0.0;
+  const double midEdges = quadratic ? nx * (ny + 1.0) * (nz + 1.0) + (nx + 1.0) * ny * (nz + 1.0) +
+                                          (nx + 1.0) * (ny + 1.0) * nz
+                                    : 0.0;
   const double lattice = (mx + 1.0) * (my + 1.0) * (mz + 1.0);
-  if (corners + midEdges > most || lattice > most || double(npe) * nx * ny * nz > most)
+  if (corners + midEdges > most || lattice > most || double(npe) * perCell * nx * ny * nz > most)
     throw GeneratorError("mesh generator box: divisions too large (node or connectivity indices "
                          "beyond " +
                          std::to_string(std::numeric_limits<LocalIndex>::max()) + ")");
@@ -211,7 +215,7 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
                              " coordinates overflow (size, origin or grading too large)");
     }
     v[n] = origin + length; // the far face exactly where it was asked for
-    if (!serendipity)
+    if (!quadratic)
       return v;
     std::vector<double> half(2 * static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= 2 * n; ++i)
@@ -247,47 +251,107 @@ Mesh boxMesh(double lx, double ly, double lz, int nx, int ny, int nz, ElementTyp
       }
   const auto node = [&](long I, long J, long K) { return number[latticeIndex(I, J, K)]; };
 
-  // Local node a of an element sits at lattice offset step (xi_a + 1) / 2 from its first corner
-  // (natural coordinates of the element's own node order: Hex8 or Hex20, core/ElementTraits.hpp).
-  std::vector<std::array<int, 3>> offset(npe);
-  for (int a = 0; a < npe; ++a) {
-    double xi[3];
-    if (serendipity)
-      Hex20::nodeNatural(a, xi);
-    else
-      Hex8::nodeNatural(a, xi);
-    for (int d = 0; d < 3; ++d)
-      offset[a][d] = static_cast<int>(std::lround(xi[d] + 1.0)) * step / 2;
+  if (tet) {
+    // Six tetrahedra per cell around its main diagonal, corner 0 (0, 0, 0) to corner 6 (1, 1, 1)
+    // (Hex8 numbering): tetrahedron p walks from corner 0 to corner 6 along the cell edges in the
+    // axis order of permutation p (Kuhn's split). Every cell face is cut along the diagonal from
+    // its corner nearest (0, 0, 0) to its corner nearest (1, 1, 1), the same for the two cells
+    // that share it: the mesh is conforming. The walk's volume has the sign of p; odd
+    // permutations swap their second and third corners, so that every Jacobian is positive
+    // (grading scales the axes by positive factors and keeps the sign).
+    constexpr int perms[6][3] = {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}, {0, 2, 1}, {2, 1, 0}, {1, 0, 2}};
+    const std::size_t elements = static_cast<std::size_t>(perCell) * nx * ny * nz;
+    mesh.connectivity.reserve(static_cast<std::size_t>(npe) * elements);
+    mesh.elementRegion.assign(elements, 0);
+    // A face lies on the box's face of axis d when its three corners have cell offset 0 (min) or
+    // 1 (max) along d in a cell at that end of the grid.
+    const char *names[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+    for (const auto &row : names)
+      for (const char *name : row)
+        mesh.boundaries[name];
+    const int cells[3] = {nx, ny, nz};
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+          for (int p = 0; p < 6; ++p) {
+            const LocalIndex e = mesh.numElements();
+            // Corner offsets (0 or 1 per axis) of the walk.
+            int c[4][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}, {1, 1, 1}};
+            c[1][perms[p][0]] = 1;
+            c[2][perms[p][0]] = c[2][perms[p][1]] = 1;
+            if (p >= 3) // odd permutation
+              for (int d = 0; d < 3; ++d)
+                std::swap(c[1][d], c[2][d]);
+            const long base[3] = {static_cast<long>(step) * i, static_cast<long>(step) * j,
+                                  static_cast<long>(step) * k};
+            // Lattice point between corners a and b (a == b: the corner itself).
+            const auto between = [&](int a, int b) {
+              return node(base[0] + (c[a][0] + c[b][0]) * step / 2,
+                          base[1] + (c[a][1] + c[b][1]) * step / 2,
+                          base[2] + (c[a][2] + c[b][2]) * step / 2);
+            };
+            for (int a = 0; a < 4; ++a)
+              mesh.connectivity.push_back(between(a, a));
+            if (quadratic)
+              for (int m = 0; m < 6; ++m)
+                mesh.connectivity.push_back(
+                    between(Tet10::edgeCorner(m, 0), Tet10::edgeCorner(m, 1)));
+            const int cell[3] = {i, j, k};
+            for (int f = 0; f < Tet4::kNumSides; ++f)
+              for (int d = 0; d < 3; ++d)
+                for (int end = 0; end < 2; ++end) {
+                  if (cell[d] != (end == 0 ? 0 : cells[d] - 1))
+                    continue;
+                  bool on = true;
+                  for (int q = 0; q < 3; ++q)
+                    on = on && c[Tet4::sideNode(f, q)][d] == end;
+                  if (on)
+                    mesh.boundaries[names[d][end]].push_back({e, f});
+                }
+          }
+  } else {
+    // Local node a of an element sits at lattice offset step (xi_a + 1) / 2 from its first corner
+    // (natural coordinates of the element's own node order: Hex8 or Hex20, core/ElementTraits.hpp).
+    std::vector<std::array<int, 3>> offset(npe);
+    for (int a = 0; a < npe; ++a) {
+      double xi[3];
+      if (serendipity)
+        Hex20::nodeNatural(a, xi);
+      else
+        Hex8::nodeNatural(a, xi);
+      for (int d = 0; d < 3; ++d)
+        offset[a][d] = static_cast<int>(std::lround(xi[d] + 1.0)) * step / 2;
+    }
+    const std::size_t elements = static_cast<std::size_t>(nx) * ny * nz;
+    mesh.connectivity.reserve(static_cast<std::size_t>(npe) * elements);
+    mesh.elementRegion.assign(elements, 0);
+    // Faces in Hex8::sideNode numbering (Hex20's faces have the same numbers): 0 z-, 1 z+, 2 y-,
+    // 3 x+, 4 y+, 5 x-.
+    auto &zmin = mesh.boundaries["zmin"], &zmax = mesh.boundaries["zmax"];
+    auto &ymin = mesh.boundaries["ymin"], &ymax = mesh.boundaries["ymax"];
+    auto &xmin = mesh.boundaries["xmin"], &xmax = mesh.boundaries["xmax"];
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          const LocalIndex e = mesh.numElements();
+          for (int a = 0; a < npe; ++a)
+            mesh.connectivity.push_back(node(static_cast<long>(step) * i + offset[a][0],
+                                             static_cast<long>(step) * j + offset[a][1],
+                                             static_cast<long>(step) * k + offset[a][2]));
+          if (k == 0)
+            zmin.push_back({e, 0});
+          if (k == nz - 1)
+            zmax.push_back({e, 1});
+          if (j == 0)
+            ymin.push_back({e, 2});
+          if (i == nx - 1)
+            xmax.push_back({e, 3});
+          if (j == ny - 1)
+            ymax.push_back({e, 4});
+          if (i == 0)
+            xmin.push_back({e, 5});
+        }
   }
-  const std::size_t elements = static_cast<std::size_t>(nx) * ny * nz;
-  mesh.connectivity.reserve(static_cast<std::size_t>(npe) * elements);
-  mesh.elementRegion.assign(elements, 0);
-  // Faces in Hex8::sideNode numbering (Hex20's faces have the same numbers): 0 z-, 1 z+, 2 y-,
-  // 3 x+, 4 y+, 5 x-.
-  auto &zmin = mesh.boundaries["zmin"], &zmax = mesh.boundaries["zmax"];
-  auto &ymin = mesh.boundaries["ymin"], &ymax = mesh.boundaries["ymax"];
-  auto &xmin = mesh.boundaries["xmin"], &xmax = mesh.boundaries["xmax"];
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const LocalIndex e = mesh.numElements();
-        for (int a = 0; a < npe; ++a)
-          mesh.connectivity.push_back(node(static_cast<long>(step) * i + offset[a][0],
-                                           static_cast<long>(step) * j + offset[a][1],
-                                           static_cast<long>(step) * k + offset[a][2]));
-        if (k == 0)
-          zmin.push_back({e, 0});
-        if (k == nz - 1)
-          zmax.push_back({e, 1});
-        if (j == 0)
-          ymin.push_back({e, 2});
-        if (i == nx - 1)
-          xmax.push_back({e, 3});
-        if (j == ny - 1)
-          ymax.push_back({e, 4});
-        if (i == 0)
-          xmin.push_back({e, 5});
-      }
   for (int cz = 0; cz < 2; ++cz)
     for (int cy = 0; cy < 2; ++cy)
       for (int cx = 0; cx < 2; ++cx)

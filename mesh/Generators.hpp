@@ -1,6 +1,6 @@
 // Structured mesh generators: Quad4 / Quad8 for the report's geometries and the closed-form
-// validation cases, Hex8 and Hex20 boxes for the 3D solids (issue 17). Layer: mesh, the first
-// stage of the data flow (mesh -> kernels -> ...).
+// validation cases, Hex8, Hex20, Tet4 and Tet10 boxes for the 3D solids (issue 17). Layer: mesh,
+// the first stage of the data flow (mesh -> kernels -> ...).
 #pragma once
 
 #include <mesh/Mesh.hpp>
@@ -28,9 +28,9 @@ public:
 Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, double x0 = 0.0,
                    double y0 = 0.0, double gx = 1.0, double gy = 1.0);
 
-/// Box [x0, x0 + lx] x [y0, y0 + ly] x [z0, z0 + lz] of nx x ny x nz Hex8 or Hex20 elements
-/// (`type` must be ElementType::Hex8 or ElementType::Hex20); grading exponents gx, gy, gz > 1
-/// cluster the elements toward x0, y0, z0 (grid line i at x = x0 + lx (i / nx)^gx; 1: uniform).
+/// Box [x0, x0 + lx] x [y0, y0 + ly] x [z0, z0 + lz] of nx x ny x nz Hex8 or Hex20 elements, or
+/// of 6 nx ny nz Tet4 or Tet10 elements (`type` one of these four); grading exponents gx, gy, gz >
+/// 1 cluster the elements toward x0, y0, z0 (grid line i at x = x0 + lx (i / nx)^gx; 1: uniform).
 /// Hex8: nodes numbered x fastest, then y, then z. Hex20: the nodes are the points of the
 /// half-step lattice (2 nx + 1) x (2 ny + 1) x (2 nz + 1) (point (I, J, K) at the grid line I / 2
 /// for even I, at the middle of grid lines (I - 1) / 2 and (I + 1) / 2 for odd I: every element
@@ -43,7 +43,14 @@ Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, doubl
 /// "xmin", "xmax", "ymin", "ymax", "zmin", "zmax" (element faces, sideNode numbers: 0 z-, 1 z+,
 /// 2 y-, 3 x+, 4 y+, 5 x-); node sets "corner_000" ... "corner_111" (the corners; the digits say
 /// x, y, z at their minimum 0 or maximum 1), "xmin_center" and "xmax_center" (the node, corner
-/// or mid-edge, of face x = x0 or x = x0 + lx closest to the centre of that face). Throws
+/// or mid-edge, of face x = x0 or x = x0 + lx closest to the centre of that face).
+/// Tet4 / Tet10: each grid cell is split into 6 tetrahedra that share the cell's main diagonal
+/// (Hex8 corner 0 to corner 6; the same direction in every cell, so the split is conforming),
+/// each with a positive Jacobian; cells in the hexahedra's order, 6 consecutive elements per
+/// cell. Tet4 nodes are the Hex8 nodes; Tet10 nodes are every point of the half-step lattice
+/// (the cut face diagonals and the cell diagonal carry mid-edge nodes too), numbered I fastest.
+/// Boundaries: the triangles on the box faces, as {element, face} in Tet4::sideNode numbering;
+/// node sets as for the hexahedra. Throws
 /// GeneratorError naming the generator "box" for non-positive sizes, divisions or gradings,
 /// another element type, or a mesh whose node or connectivity indices would not fit a
 /// LocalIndex.

@@ -1,5 +1,6 @@
 // Gmsh 4.1 ASCII reader ($MeshFormat, $PhysicalNames, $Entities, $Nodes, $Elements): meshes of
-// quadrangles (2D) or of 8-node or 20-node hexahedra (3D). Layer: mesh.
+// quadrangles (2D) or of 8-node or 20-node hexahedra or 4-node or 10-node tetrahedra (3D).
+// Layer: mesh.
 #include <mesh/GmshReader.hpp>
 
 #include <sys/stat.h>
@@ -139,9 +140,21 @@ const char *gmshTypeName(long type) {
   }
 }
 
-/// Gmsh element types of the 8-node and the 20-node hexahedron, the volume elements mixcon reads.
+/// Gmsh element types of the volume elements mixcon reads: 8-node and 20-node hexahedra, 4-node
+/// and 10-node tetrahedra; and of the triangles that are the tetrahedra's faces.
 constexpr long kGmshHex8 = 5;
 constexpr long kGmshHex20 = 17;
+constexpr long kGmshTet4 = 4;
+constexpr long kGmshTet10 = 11;
+constexpr long kGmshTri3 = 2;
+constexpr long kGmshTri6 = 9;
+
+/// Internal (VTK, core/ElementTraits.hpp Tet10) node a of a 10-node tetrahedron is Gmsh's node
+/// kTet10FromGmsh[a]. Gmsh numbers the mid-edge nodes by its edges 0-1, 1-2, 2-0, 3-0, 3-2, 3-1
+/// (Gmsh manual, "High-order elements"), VTK by 0-1, 1-2, 2-0, 0-3, 1-3, 2-3: the last two swap.
+constexpr int kTet10FromGmsh[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+
+bool isGmshTet(long type) { return type == kGmshTet4 || type == kGmshTet10; }
 
 /// Internal (VTK, core/ElementTraits.hpp Hex20) node a of a 20-node hexahedron is Gmsh's node
 /// kHex20FromGmsh[a]. Both number the corners alike; Gmsh numbers the mid-edge nodes by its edge
@@ -153,10 +166,10 @@ constexpr int kHex20FromGmsh[20] = {0,  1, 2,  3,  4,  5,  6,  7,  8,  11,
 /// Dimension of the supported element types (point, 2- and 3-node lines, quadrangles,
 /// hexahedra).
 int gmshDimension(long type) {
-  return type == 15                                ? 0
-         : type == 1 || type == 8                  ? 1
-         : type == kGmshHex8 || type == kGmshHex20 ? 3
-                                                   : 2;
+  return type == 15                                                   ? 0
+         : type == 1 || type == 8                                     ? 1
+         : type == kGmshHex8 || type == kGmshHex20 || isGmshTet(type) ? 3
+                                                                      : 2;
 }
 
 int gmshNodesPerElement(long type) {
@@ -167,8 +180,15 @@ int gmshNodesPerElement(long type) {
     return 2;
   case 8:
     return 3;
+  case kGmshTri3:
+    return 3;
   case 3:
+  case kGmshTet4:
     return 4;
+  case kGmshTri6:
+    return 6;
+  case kGmshTet10:
+    return 10;
   case 16:
   case kGmshHex8:
     return 8;
@@ -201,8 +221,8 @@ struct GmshContent {
   std::vector<PointElement> points;
   std::vector<int> elementEntity; ///< surface entity of each quadrangle
   std::vector<int> quadLine;      ///< file line of each quadrangle
-  long quadType = 0;
-  long hexType = 0; ///< Gmsh type of the hexahedra: kGmshHex8 or kGmshHex20 (0: none)
+  long quadType = 0; ///< Gmsh type of the 2D elements (quadrangles, or triangles as tet faces)
+  long hexType = 0;  ///< Gmsh type of the volume elements: hexahedra or tetrahedra (0: none)
   std::vector<LocalIndex> hexConnectivity; ///< in the internal node order
   std::vector<long> hexIds;
   std::vector<int> hexEntity;
@@ -383,68 +403,107 @@ void assemblePlane(Mesh &mesh, GmshContent &c, const std::string &name) {
   }
 }
 
-/// One face of a hexahedron, keyed by its sorted corner nodes (the search table of the boundary
-/// quadrangles).
-struct HexFace {
+/// One face of a hexahedron or tetrahedron, keyed by its sorted corner nodes (a triangle's
+/// padded with -1; the search table of the boundary faces).
+struct SolidFace {
   std::array<LocalIndex, 4> key;
   BoundaryEdge side;
-  bool operator<(const HexFace &o) const { return key < o.key; }
+  bool operator<(const SolidFace &o) const { return key < o.key; }
 };
 
-/// True when the four nodes `q` run around the face in the same direction as the element's side
-/// `s` (one is the other rotated), i.e. the quadrangle's normal points out of that element.
-bool sameTurn(const Mesh &mesh, const BoundaryEdge &s, const std::array<LocalIndex, 4> &q) {
-  for (int shift = 0; shift < 4; ++shift) {
+/// True when the `n` corner nodes `q` run around the face in the same direction as the element's
+/// side `s` (one is the other rotated), i.e. the face's normal points out of that element.
+bool sameTurn(const Mesh &mesh, const BoundaryEdge &s, const std::array<LocalIndex, 4> &q, int n) {
+  for (int shift = 0; shift < n; ++shift) {
     bool all = true;
-    for (int k = 0; k < 4 && all; ++k)
-      all = mesh.sideNode(s, k) == q[(k + shift) % 4];
+    for (int k = 0; k < n && all; ++k)
+      all = mesh.sideNode(s, k) == q[(k + shift) % n];
     if (all)
       return true;
   }
   return false;
 }
 
-/// The mid-edge node of side `s` between its corners a and b (-1 when a-b is no edge of it): the
-/// side's node 4 + m lies between its corners m and m + 1 (Hex20::sideNode).
-LocalIndex sideMidEdgeNode(const Mesh &mesh, const BoundaryEdge &s, LocalIndex a, LocalIndex b) {
-  for (int m = 0; m < 4; ++m) {
-    const LocalIndex p = mesh.sideNode(s, m), q = mesh.sideNode(s, (m + 1) % 4);
+/// The mid-edge node of side `s` (n corners) between its corners a and b (-1 when a-b is no
+/// edge of it): the side's node n + m lies between its corners m and m + 1 (Hex20::sideNode,
+/// Tet10::sideNode).
+LocalIndex sideMidEdgeNode(const Mesh &mesh, const BoundaryEdge &s, int n, LocalIndex a,
+                           LocalIndex b) {
+  for (int m = 0; m < n; ++m) {
+    const LocalIndex p = mesh.sideNode(s, m), q = mesh.sideNode(s, (m + 1) % n);
     if ((p == a && q == b) || (p == b && q == a))
-      return mesh.sideNode(s, 4 + m);
+      return mesh.sideNode(s, n + m);
   }
   return -1;
 }
 
-/// A 3D mesh: the hexahedra are the elements (volume groups are regions), the quadrangles of
-/// surface groups are boundaries (each matched to the element face with the same corner nodes;
-/// for 20-node hexahedra, 8-node quadrangles whose mid-edge nodes must be the face's), curve and
-/// point groups are node sets (their nodes). Quadrangles of surfaces without a physical group
-/// must still be element faces: a mesh of hexahedra takes no 2D elements.
+/// What a mesh of one volume element type takes: its element type, the Gmsh types of its faces
+/// and edges, and the words for messages.
+struct SolidKind {
+  ElementType type;
+  long faceType, lineType;
+  const char *element, *elements, *face, *faces;
+};
+
+SolidKind solidKind(long gmshType) {
+  switch (gmshType) {
+  case kGmshHex20:
+    return {ElementType::Hex20,
+            16,
+            8,
+            "hexahedron",
+            "20-node hexahedra",
+            "quadrangle",
+            "8-node quadrangles (type 16)"};
+  case kGmshTet4:
+    return {
+        ElementType::Tet4,          kGmshTri3, 1, "tetrahedron", "4-node tetrahedra", "triangle",
+        "3-node triangles (type 2)"};
+  case kGmshTet10:
+    return {
+        ElementType::Tet10,         kGmshTri6, 8, "tetrahedron", "10-node tetrahedra", "triangle",
+        "6-node triangles (type 9)"};
+  default:
+    return {ElementType::Hex8,
+            3,
+            1,
+            "hexahedron",
+            "8-node hexahedra",
+            "quadrangle",
+            "4-node quadrangles (type 3)"};
+  }
+}
+
+/// A 3D mesh: the hexahedra or tetrahedra are the elements (volume groups are regions), the
+/// quadrangles or triangles of surface groups are boundaries (each matched to the element face
+/// with the same corner nodes; for 20-node hexahedra and 10-node tetrahedra, 8-node quadrangles
+/// and 6-node triangles whose mid-edge nodes must be the face's), curve and point groups are node
+/// sets (their nodes). Faces of surfaces without a physical group must still be element faces:
+/// a mesh of volume elements takes no 2D elements.
 void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
-  const bool serendipity = c.hexType == kGmshHex20;
-  if (!serendipity && c.quadType == 16)
-    throw InputError(at(name, c.quadLine.front()) +
-                     "8-node quadrangles (type 16) in a mesh of 8-node hexahedra; the faces of "
-                     "8-node hexahedra are 4-node quadrangles (type 3)");
-  if (serendipity && c.quadType == 3)
-    throw InputError(at(name, c.quadLine.front()) +
-                     "4-node quadrangles (type 3) in a mesh of 20-node hexahedra; the faces of "
-                     "20-node hexahedra are 8-node quadrangles (type 16)");
-  // Curves: 3-node lines with 20-node hexahedra, 2-node lines with 8-node ones (one order).
-  const std::size_t lineNodes = serendipity ? 3 : 2;
+  const SolidKind kind = solidKind(c.hexType);
+  const bool quadratic = kind.type == ElementType::Hex20 || kind.type == ElementType::Tet10;
+  if (c.quadType != 0 && c.quadType != kind.faceType && !c.quadLine.empty())
+    throw InputError(at(name, c.quadLine.front()) + gmshTypeName(c.quadType) + "s (type " +
+                     std::to_string(c.quadType) + ") in a mesh of " + kind.elements +
+                     "; the faces of " + kind.elements + " are " + kind.faces);
+  // Curves: 3-node lines with quadratic elements, 2-node lines with linear ones (one order).
+  const std::size_t lineNodes = quadratic ? 3 : 2;
   for (const auto &l : c.lines)
     if (l.nodes.size() != lineNodes)
       throw InputError(at(name, l.line) + "line element " + std::to_string(l.id) + " has " +
-                       std::to_string(l.nodes.size()) + " nodes in a mesh of " +
-                       (serendipity ? "20-node" : "8-node") + " hexahedra, whose edges are " +
-                       (serendipity ? "3-node lines (type 8)" : "2-node lines (type 1)") +
+                       std::to_string(l.nodes.size()) + " nodes in a mesh of " + kind.elements +
+                       ", whose edges are " +
+                       (quadratic ? "3-node lines (type 8)" : "2-node lines (type 1)") +
                        " (use one element order per mesh)");
-  // The quadrangles read so far are faces: move them out of the element arrays.
+  // The 2D elements read so far are faces: move them out of the element arrays.
   const std::vector<LocalIndex> quads = std::move(mesh.connectivity);
   const std::vector<long> quadIds = std::move(mesh.elementIds);
-  const std::size_t quadNodes = serendipity ? 8 : 4;
-  mesh.elementType = serendipity ? ElementType::Hex20 : ElementType::Hex8;
-  mesh.nodesPerElement = serendipity ? Hex20::kNumNodes : Hex8::kNumNodes;
+  const bool tet = kind.type == ElementType::Tet4 || kind.type == ElementType::Tet10;
+  const int corners = tet ? 3 : 4; // of a face
+  const std::size_t quadNodes = static_cast<std::size_t>(gmshNodesPerElement(kind.faceType));
+  mesh.elementType = kind.type;
+  mesh.nodesPerElement = dispatchElement(kind.type, [](auto t) { return decltype(t)::kNumNodes; });
   mesh.connectivity = std::move(c.hexConnectivity);
   mesh.elementIds = std::move(c.hexIds);
   mesh.coordinates = std::move(c.xyz);
@@ -463,57 +522,59 @@ void assembleSolid(Mesh &mesh, GmshContent &c, const std::string &name) {
     mesh.elementRegion.push_back(idx);
   }
 
-  // Boundaries: each quadrangle matched to the element faces with its four corner nodes. A face
-  // between two elements matches both; the one whose side turns like the quadrangle is taken.
+  // Boundaries: each face element matched to the element faces with its corner nodes. A face
+  // between two elements matches both; the one whose side turns like the face element is taken.
   if (!quads.empty()) {
-    std::vector<HexFace> faces;
-    faces.reserve(static_cast<std::size_t>(mesh.numElements()) * Hex8::kNumSides);
+    const int sides = dispatchElement(kind.type, [](auto t) { return decltype(t)::kNumSides; });
+    std::vector<SolidFace> faces;
+    faces.reserve(static_cast<std::size_t>(mesh.numElements()) * sides);
     for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-      for (int f = 0; f < Hex8::kNumSides; ++f) {
-        HexFace face{{}, {e, f}};
-        for (int k = 0; k < 4; ++k)
-          face.key[k] = mesh.node(e, Hex8::sideNode(f, k));
+      for (int f = 0; f < sides; ++f) {
+        SolidFace face{{-1, -1, -1, -1}, {e, f}};
+        for (int k = 0; k < corners; ++k)
+          face.key[k] = mesh.sideNode({e, f}, k);
         std::sort(face.key.begin(), face.key.end());
         faces.push_back(face);
       }
     std::sort(faces.begin(), faces.end());
     for (std::size_t q = 0; q < quadIds.size(); ++q) {
       const auto names = c.groupNames(2, c.elementEntity[q]);
-      std::array<LocalIndex, 4> nodes; // the corners
+      std::array<LocalIndex, 4> nodes{-1, -1, -1, -1}; // the corners
       const auto quad = quads.begin() + static_cast<std::ptrdiff_t>(quadNodes * q);
-      std::copy(quad, quad + 4, nodes.begin());
-      HexFace probe{nodes, {0, 0}};
+      std::copy(quad, quad + corners, nodes.begin());
+      SolidFace probe{nodes, {0, 0}};
       std::sort(probe.key.begin(), probe.key.end());
       const auto [first, last] = std::equal_range(faces.begin(), faces.end(), probe);
       const std::string what =
-          "quadrangle element " + std::to_string(quadIds[q]) +
+          std::string(kind.face) + " element " + std::to_string(quadIds[q]) +
           (names.empty() ? " (surface " + std::to_string(c.elementEntity[q]) + ")"
                          : " of boundary '" + names.front() + "'");
       if (first == last) {
+        const std::string noFace = " is not a face of any " + std::string(kind.element);
         if (!names.empty())
-          throw InputError(at(name, c.quadLine[q]) + what + " is not a face of any hexahedron");
-        throw InputError(at(name, c.quadLine[q]) + what +
-                         " is not a face of any hexahedron; in a mesh of hexahedra quadrangles "
-                         "are boundary faces only (mixed 2D and 3D elements are not supported)");
+          throw InputError(at(name, c.quadLine[q]) + what + noFace);
+        throw InputError(at(name, c.quadLine[q]) + what + noFace + "; in a mesh of " +
+                         kind.elements + " " + kind.face +
+                         "s are boundary faces only (mixed 2D and 3D elements are not supported)");
       }
       auto match = first;
       for (auto it = first; it != last; ++it)
-        if (sameTurn(mesh, it->side, nodes)) {
+        if (sameTurn(mesh, it->side, nodes, corners)) {
           match = it;
           break;
         }
-      // An 8-node quadrangle's node 4 + m lies between its corners m and m + 1 (Gmsh's order, as
-      // Quad8's): it must be the hexahedron's mid-edge node of that edge.
-      if (serendipity)
-        for (int m = 0; m < 4; ++m) {
-          const LocalIndex a = quad[m], b = quad[(m + 1) % 4], mid = quad[4 + m];
-          const LocalIndex expected = sideMidEdgeNode(mesh, match->side, a, b);
+      // A quadratic face's node n + m lies between its corners m and m + 1 (Gmsh's order, as
+      // the internal one): it must be the element's mid-edge node of that edge.
+      if (quadratic)
+        for (int m = 0; m < corners; ++m) {
+          const LocalIndex a = quad[m], b = quad[(m + 1) % corners], mid = quad[corners + m];
+          const LocalIndex expected = sideMidEdgeNode(mesh, match->side, corners, a, b);
           if (mid != expected)
             throw InputError(at(name, c.quadLine[q]) + what + ": its mid-edge node " +
                              std::to_string(mesh.nodeId(mid)) + " (between nodes " +
                              std::to_string(mesh.nodeId(a)) + " and " +
-                             std::to_string(mesh.nodeId(b)) +
-                             ") is not the hexahedron's mid-edge node of that edge, " +
+                             std::to_string(mesh.nodeId(b)) + ") is not the " + kind.element +
+                             "'s mid-edge node of that edge, " +
                              std::to_string(mesh.nodeId(expected)));
         }
       for (const auto &nm : names)
@@ -650,18 +711,23 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
                    gmshTypeName(type) + ") after element type " + std::to_string(c.hexType) + " (" +
                    gmshTypeName(c.hexType) +
                    "); mixcon reads one volume element type per mesh, 8-node (type 5) or 20-node "
-                   "(type 17) hexahedra");
+                   "(type 17) hexahedra or 4-node (type 4) or 10-node (type 11) tetrahedra");
         if (npe < 0)
           lex.fail(std::string("unsupported element type ") + std::to_string(type) + " (" +
                    gmshTypeName(type) +
-                   "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles and 8-node "
-                   "(type 5) and 20-node (type 17) hexahedra");
+                   "); mixcon reads 4-node (type 3) and 8-node (type 16) quadrangles, 8-node "
+                   "(type 5) and 20-node (type 17) hexahedra and 4-node (type 4) and 10-node "
+                   "(type 11) tetrahedra with 3-node (type 2) and 6-node (type 9) triangles "
+                   "as their faces");
         if (gmshDimension(type) != dim)
           lex.fail("element type " + std::to_string(type) + " in a block of dimension " +
                    std::to_string(dim));
         if (dim == 2) {
           if (c.quadType != 0 && c.quadType != type)
-            lex.fail("mixed 4-node and 8-node quadrangles; use one element order per mesh");
+            lex.fail(std::string("mixed 2D element types: ") + gmshTypeName(type) + "s after " +
+                     gmshTypeName(c.quadType) +
+                     "s (mixed 4-node and 8-node quadrangles, or quadrangles and triangles); use "
+                     "one element type per mesh");
           c.quadType = type;
         } else if (dim == 3) {
           c.hexType = type;
@@ -679,8 +745,11 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
               lex.fail("too many elements (connectivity indices are " +
                        std::to_string(sizeof(LocalIndex) * 8) + "-bit)");
             for (int a = 0; a < npe; ++a) {
-              // 20-node hexahedra from Gmsh's node order to the internal one.
-              const long nt = nodes[type == kGmshHex20 ? kHex20FromGmsh[a] : a];
+              // 20-node hexahedra and 10-node tetrahedra from Gmsh's node order to the internal
+              // one.
+              const long nt = nodes[type == kGmshHex20   ? kHex20FromGmsh[a]
+                                    : type == kGmshTet10 ? kTet10FromGmsh[a]
+                                                         : a];
               auto it = c.nodeIndex.find(nt);
               if (it == c.nodeIndex.end())
                 lex.fail("element " + std::to_string(id) + " references unknown node " +
@@ -711,19 +780,26 @@ Mesh readGmsh(std::istream &in, const std::string &name) {
       }
     }
   } while (lex.next(t));
-  // The mesh's dimension is the highest element dimension present: 3 with hexahedra.
+  // The mesh's dimension is the highest element dimension present: 3 with volume elements.
   const bool solid = !c.hexIds.empty();
+  // Triangles are faces of tetrahedra only (no triangle elements in 2D).
+  if (!solid && (c.quadType == kGmshTri3 || c.quadType == kGmshTri6) && !c.quadLine.empty())
+    throw InputError(at(name, c.quadLine.front()) + "unsupported element type " +
+                     std::to_string(c.quadType) + " (" + gmshTypeName(c.quadType) +
+                     ") in a mesh without tetrahedra; mixcon reads triangles only as the faces "
+                     "of 4-node (type 4) or 10-node (type 11) tetrahedra");
   if (!solid && c.zLine > 0)
     throw InputError(at(name, c.zLine) + "node " + std::to_string(c.zNode) +
                      " has a non-zero z coordinate; mixcon meshes are planar (z = 0) unless "
-                     "they are made of 8-node (type 5) or 20-node (type 17) hexahedra");
+                     "they are made of 8-node (type 5) or 20-node (type 17) hexahedra or 4-node "
+                     "(type 4) or 10-node (type 11) tetrahedra");
   if (!sawFormat)
     throw InputError(name + ": not a Gmsh file (no $MeshFormat section)");
   if (!sawNodes || !sawElements)
     throw InputError(name + ": missing $Nodes or $Elements section");
   if (c.quadType == 0 && !solid)
     throw InputError(name + ": no quadrilateral elements (2D elements of type 3 or 16) and no "
-                            "hexahedra (3D elements of type 5 or 17)");
+                            "hexahedra or tetrahedra (3D elements of type 5, 17, 4 or 11)");
   if (solid)
     assembleSolid(mesh, c, name);
   else

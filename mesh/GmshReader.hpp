@@ -1,17 +1,19 @@
 // Reader for Gmsh 4.1 ASCII meshes (.msh) of 4-node or 8-node quadrilaterals (2D) or of 8-node
-// or 20-node hexahedra (3D, Gmsh types 5 and 17, one of them per mesh). The mesh's dimension is
-// the highest element dimension in the file. Physical groups name things. In 2D: surface groups
-// are regions, curve groups are boundaries (their line elements are matched to element edges),
-// point groups are node sets; all nodes must have z = 0; clockwise quadrangles are reordered. In
-// 3D: volume groups are regions, surface groups of quadrangles are boundaries (4-node ones with
-// 8-node hexahedra, 8-node ones with 20-node hexahedra; each quadrangle is matched to the element
-// face with the same four corner nodes, whatever their order; it must be one, and an 8-node
-// quadrangle's mid-edge nodes must be that face's), curve groups (2-node lines with 8-node
-// hexahedra, 3-node lines with 20-node ones) and point groups are node sets (their nodes). The
-// 20-node hexahedra are reordered from Gmsh's node order to the internal (VTK) one of
-// core/ElementTraits.hpp. Hexahedra are not reoriented (validateMesh refuses inverted ones), and
-// other volume types, mixed hexahedron orders, 2D elements that are not faces and quadrangles or
-// lines of the other order are refused. Layer: mesh, the first stage of the data flow.
+// or 20-node hexahedra or 4-node or 10-node tetrahedra (3D, Gmsh types 5, 17, 4 and 11, one of
+// them per mesh). The mesh's dimension is the highest element dimension in the file. Physical
+// groups name things. In 2D: surface groups are regions, curve groups are boundaries (their line
+// elements are matched to element edges), point groups are node sets; all nodes must have z = 0;
+// clockwise quadrangles are reordered. In 3D: volume groups are regions, surface groups of faces
+// are boundaries (4-node quadrangles with 8-node hexahedra, 8-node ones with 20-node hexahedra,
+// 3-node triangles with 4-node tetrahedra, 6-node ones with 10-node tetrahedra; each face is
+// matched to the element face with the same corner nodes, whatever their order; it must be one,
+// and a quadratic face's mid-edge nodes must be that face's), curve groups (2-node lines with
+// linear elements, 3-node lines with quadratic ones) and point groups are node sets (their
+// nodes). The 20-node hexahedra and 10-node tetrahedra are reordered from Gmsh's node order to
+// the internal (VTK) one of core/ElementTraits.hpp. Volume elements are not reoriented
+// (validateMesh refuses inverted ones), and other volume types, mixed volume types, 2D elements
+// that are not faces, faces or lines of the other order and triangles without tetrahedra are
+// refused. Layer: mesh, the first stage of the data flow.
 #pragma once
 
 #include <mesh/Mesh.hpp>
@@ -24,9 +26,9 @@
 namespace mixcon {
 
 /// Reads a Gmsh 4.1 ASCII file. Throws InputError naming the file and line on malformed or
-/// unsupported content (binary files, other element types, mixed element orders, mixed
-/// dimensions, a boundary quadrangle that is no face of the hexahedra or whose mid-edge nodes
-/// are not the face's).
+/// unsupported content (binary files, other element types, mixed element types or orders, mixed
+/// dimensions, a boundary quadrangle or triangle that is no face of the volume elements or whose
+/// mid-edge nodes are not the face's).
 Mesh readGmsh(const std::string &path);
 
 /// Same, from a stream; `name` is used in messages.

@@ -1,4 +1,4 @@
-// 3D meshes of Hex8 elements (issue 17): the box generator and the Gmsh 4.1 reader's hexahedra,
+// 3D meshes of hexahedra and tetrahedra (issue 17): the box generator and the Gmsh 4.1 reader,
 // checked against plain host references (trilinear Jacobians integrated by 2x2x2 Gauss, face
 // normals from cross products). Layer under test: mesh.
 #include <mesh/Generators.hpp>
@@ -12,6 +12,7 @@
 #include <functional>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -806,12 +807,12 @@ TEST(GmshReader3D, RefusesQuadranglesThatAreNoFaceAndMixedElements) {
                      ": mixed volume element types: element type 4 (4-node tetrahedron)"),
             std::string::npos)
       << msg;
-  // A tetrahedron block alone is an unsupported type.
+  // A prism block is an unsupported type.
   bad = t;
-  bad = replaced(bad, "3 1 5 2\n", "3 1 4 2\n");
+  bad = replaced(bad, "3 1 5 2\n", "3 1 6 2\n");
   msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 4 2")) +
-                     ": unsupported element type 4 (4-node tetrahedron)"),
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 6 2")) +
+                     ": unsupported element type 6 (6-node prism)"),
             std::string::npos)
       << msg;
   EXPECT_NE(msg.find("8-node (type 5) and 20-node (type 17) hexahedra"), std::string::npos) << msg;
@@ -1082,4 +1083,506 @@ TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixed
                      ": line element 2 has 3 nodes in a mesh of 8-node hexahedra"),
             std::string::npos)
       << msg;
+}
+
+// ---- Tetrahedra: the box split into 6 tetrahedra per cell (Tet4, Tet10) ----
+
+namespace {
+
+/// Host reference: signed volume of the straight tetrahedron of an element's first four nodes,
+/// det(x1 - x0, x2 - x0, x3 - x0) / 6.
+double tetVolume(const Mesh &m, LocalIndex e) {
+  const Vec3 x0 = point(m, m.node(e, 0));
+  const Vec3 a = minus(point(m, m.node(e, 1)), x0), b = minus(point(m, m.node(e, 2)), x0),
+             c = minus(point(m, m.node(e, 3)), x0);
+  const Vec3 n = cross(a, b);
+  return (n[0] * c[0] + n[1] * c[1] + n[2] * c[2]) / 6.0;
+}
+
+/// The internal (VTK) Tet10 edges: mid-edge node 4 + k lies between corners kTetEdge[k].
+constexpr int kTetEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+/// Checks a box of tetrahedra against host references: node and element counts, positive
+/// volumes adding up to the box, validateMesh, the boundary triangles on their planes with
+/// outward normals and the face areas, conformity (every triangle shared by two tetrahedra
+/// unless it is a boundary face), Tet10 mid-edge nodes (of elements and faces) at the midpoints,
+/// and the node sets at the coordinates of the Hex8 box's.
+void expectTetBox(const Mesh &m, const double (&l)[3], const int (&n)[3], const double (&o)[3],
+                  const double (&g)[3]) {
+  const bool quadratic = m.elementType == ElementType::Tet10;
+  const int step = quadratic ? 2 : 1;
+  EXPECT_EQ(m.nodesPerElement, quadratic ? 10 : 4);
+  EXPECT_EQ(m.numElements(), 6 * n[0] * n[1] * n[2]);
+  EXPECT_EQ(m.numNodes(), (step * n[0] + 1) * (step * n[1] + 1) * (step * n[2] + 1));
+  EXPECT_NO_THROW(validateMesh(m));
+  double volume = 0.0;
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    const double v = tetVolume(m, e);
+    EXPECT_GT(v, 0.0) << "element " << e;
+    volume += v;
+  }
+  EXPECT_NEAR(volume, l[0] * l[1] * l[2], 1e-12 * l[0] * l[1] * l[2]);
+  if (quadratic) {
+    for (LocalIndex e = 0; e < m.numElements(); ++e)
+      for (int k = 0; k < 6; ++k) {
+        const Vec3 a = point(m, m.node(e, kTetEdge[k][0])), b = point(m, m.node(e, kTetEdge[k][1]));
+        const Vec3 c = point(m, m.node(e, 4 + k));
+        for (int i = 0; i < 3; ++i)
+          EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << "element " << e << " edge " << k;
+      }
+    // No two nodes coincide.
+    std::set<Vec3> distinct;
+    for (LocalIndex p = 0; p < m.numNodes(); ++p)
+      distinct.insert(point(m, p));
+    EXPECT_EQ(static_cast<LocalIndex>(distinct.size()), m.numNodes());
+  }
+  // Conformity: count the tetrahedra on each corner triangle.
+  std::map<std::array<LocalIndex, 3>, int> shared;
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int f = 0; f < 4; ++f) {
+      std::array<LocalIndex, 3> key{};
+      for (int k = 0; k < 3; ++k)
+        key[k] = m.node(e, Tet4::sideNode(f, k));
+      std::sort(key.begin(), key.end());
+      ++shared[key];
+    }
+  std::set<std::array<LocalIndex, 3>> boundary;
+  const char *names[3][2] = {{"xmin", "xmax"}, {"ymin", "ymax"}, {"zmin", "zmax"}};
+  for (int d = 0; d < 3; ++d)
+    for (int end = 0; end < 2; ++end) {
+      const std::string name = names[d][end];
+      ASSERT_EQ(m.boundaries.count(name), 1u) << name;
+      const auto &faces = m.boundaries.at(name);
+      const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+      EXPECT_EQ(faces.size(), static_cast<std::size_t>(2 * n[d1] * n[d2])) << name;
+      const double plane = o[d] + end * l[d];
+      double area = 0.0;
+      for (const BoundaryEdge &f : faces) {
+        EXPECT_EQ(m.nodesPerSide(), quadratic ? 6 : 3);
+        const Vec3 x0 = point(m, m.sideNode(f, 0));
+        const Vec3 x1 = point(m, m.sideNode(f, 1)), x2 = point(m, m.sideNode(f, 2));
+        for (int k = 0; k < m.nodesPerSide(); ++k)
+          EXPECT_NEAR(point(m, m.sideNode(f, k))[d], plane, 1e-12) << name << " node " << k;
+        const Vec3 nrm = cross(minus(x1, x0), minus(x2, x0));
+        EXPECT_GT(end == 0 ? -nrm[d] : nrm[d], 0.0) << name << ": the normal points inward";
+        EXPECT_NEAR(std::abs(nrm[d]), norm(nrm), 1e-12 * norm(nrm)) << name;
+        area += 0.5 * norm(nrm);
+        if (quadratic)
+          for (int k = 0; k < 3; ++k) {
+            const Vec3 a = point(m, m.sideNode(f, k)), b = point(m, m.sideNode(f, (k + 1) % 3));
+            const Vec3 c = point(m, m.sideNode(f, 3 + k));
+            for (int i = 0; i < 3; ++i)
+              EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-13) << name << " face node " << 3 + k;
+          }
+        std::array<LocalIndex, 3> key{m.sideNode(f, 0), m.sideNode(f, 1), m.sideNode(f, 2)};
+        std::sort(key.begin(), key.end());
+        EXPECT_TRUE(boundary.insert(key).second) << name << ": a face listed twice";
+      }
+      EXPECT_NEAR(area, l[d1] * l[d2], 1e-12 * l[d1] * l[d2]) << name;
+    }
+  for (const auto &[key, count] : shared)
+    EXPECT_EQ(count, boundary.count(key) ? 1 : 2)
+        << "triangle " << key[0] << " " << key[1] << " " << key[2];
+  // Node sets: the corners at the coordinates of the hexahedral box's; the face centres the node
+  // of the face closest to its centre (Tet10 has face-centre nodes that Hex20 has not).
+  const Mesh hex = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2],
+                           quadratic ? ElementType::Hex20 : ElementType::Hex8, o[0], o[1], o[2],
+                           g[0], g[1], g[2]);
+  ASSERT_EQ(m.nodeSets.size(), hex.nodeSets.size());
+  for (const auto &[name, nodes] : hex.nodeSets) {
+    ASSERT_EQ(m.nodeSets.count(name), 1u) << name;
+    ASSERT_EQ(m.nodeSets.at(name).size(), nodes.size()) << name;
+    const Vec3 got = point(m, m.nodeSets.at(name).front());
+    if (name.find("_center") == std::string::npos) {
+      EXPECT_EQ(got, point(hex, nodes.front())) << name;
+      continue;
+    }
+    const double x = name == "xmin_center" ? o[0] : o[0] + l[0];
+    const Vec3 centre{x, o[1] + 0.5 * l[1], o[2] + 0.5 * l[2]};
+    EXPECT_EQ(got[0], x) << name;
+    double best = std::numeric_limits<double>::infinity();
+    for (LocalIndex p = 0; p < m.numNodes(); ++p)
+      if (m.x(p) == x)
+        best = std::min(best, norm(minus(point(m, p), centre)));
+    EXPECT_EQ(norm(minus(got, centre)), best) << name;
+  }
+}
+
+} // namespace
+
+TEST(BoxMesh, Tet4SplitsEachCellIntoSixConformingPositiveTetrahedra) {
+  const double l[3] = {2.0, 1.0, 0.5}, o[3] = {-1.0, 0.5, 0.25}, g[3] = {1.0, 1.0, 1.0};
+  const int n[3] = {3, 2, 2};
+  const Mesh m = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet4, o[0], o[1], o[2]);
+  EXPECT_EQ(m.elementType, ElementType::Tet4);
+  expectTetBox(m, l, n, o, g);
+  // Tet4 nodes are the Hex8 box's nodes.
+  const Mesh hex = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Hex8, o[0], o[1], o[2]);
+  EXPECT_EQ(m.coordinates, hex.coordinates);
+  // The six tetrahedra of a cell share its main diagonal (Hex8 corners 0 and 6).
+  for (LocalIndex c = 0; c < hex.numElements(); ++c)
+    for (int t = 0; t < 6; ++t) {
+      std::set<LocalIndex> corners;
+      for (int a = 0; a < 4; ++a)
+        corners.insert(m.node(6 * c + t, a));
+      EXPECT_EQ(corners.count(hex.node(c, 0)), 1u) << "cell " << c;
+      EXPECT_EQ(corners.count(hex.node(c, 6)), 1u) << "cell " << c;
+    }
+}
+
+TEST(BoxMesh, GradedTet4AndTet10BoxesKeepPositiveConformingElements) {
+  const double l[3] = {1.5, 2.0, 1.0}, o[3] = {0.5, 0.0, -1.0}, g[3] = {1.4, 1.0, 1.7};
+  const int n[3] = {2, 3, 2};
+  for (ElementType type : {ElementType::Tet4, ElementType::Tet10}) {
+    SCOPED_TRACE(elementTypeName(type));
+    expectTetBox(
+        boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], type, o[0], o[1], o[2], g[0], g[1], g[2]), l, n,
+        o, g);
+  }
+}
+
+TEST(BoxMesh, Tet10HasAMidEdgeNodeOnEveryEdgeIncludingTheDiagonals) {
+  const double l[3] = {1.0, 2.0, 3.0}, o[3] = {0.0, 0.0, 0.0}, g[3] = {1.0, 1.0, 1.0};
+  const int n[3] = {2, 2, 3};
+  const Mesh m = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet10);
+  expectTetBox(m, l, n, o, g);
+  // Its corners are the Tet4 box's corners, element by element.
+  const Mesh t4 = boxMesh(l[0], l[1], l[2], n[0], n[1], n[2], ElementType::Tet4);
+  ASSERT_EQ(m.numElements(), t4.numElements());
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int a = 0; a < 4; ++a)
+      EXPECT_EQ(point(m, m.node(e, a)), point(t4, t4.node(e, a))) << e;
+  // Every edge (distinct corner pair) has exactly one mid-edge node, shared by all its elements.
+  std::map<std::pair<LocalIndex, LocalIndex>, std::set<LocalIndex>> middles;
+  for (LocalIndex e = 0; e < m.numElements(); ++e)
+    for (int k = 0; k < 6; ++k) {
+      LocalIndex a = m.node(e, kTetEdge[k][0]), b = m.node(e, kTetEdge[k][1]);
+      middles[{std::min(a, b), std::max(a, b)}].insert(m.node(e, 4 + k));
+    }
+  for (const auto &[edge, nodes] : middles)
+    EXPECT_EQ(nodes.size(), 1u) << edge.first << "-" << edge.second;
+  // Vertices + edges of the split: every lattice point is a corner or one edge's middle.
+  EXPECT_EQ(static_cast<LocalIndex>(t4.numNodes() + middles.size()), m.numNodes());
+}
+
+// ---- Gmsh 4.1 tetrahedra (types 4 and 11) with triangle faces (types 2 and 9) ----
+
+namespace {
+// Two tetrahedra sharing the face 2 3 4: 1 2 3 4 (the corner of the unit cube) and 2 3 4 5 with
+// node 5 at (1, 1, 1). Physical groups: volume "body"; surfaces "bottom" (z = 0, triangle 1 3 2
+// turning like the element's face, outward -z) and "back" (x = 0, triangle 1 3 4 turning the
+// other way); curve "edge" (the line 1-2); point "origin" (node 1).
+const char *kGmshTet = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+5
+0 4 "origin"
+1 5 "edge"
+2 2 "bottom"
+2 3 "back"
+3 1 "body"
+$EndPhysicalNames
+$Entities
+1 1 2 1
+1 0 0 0 1 4
+1 0 0 0 1 0 0 1 5 0
+1 0 0 0 1 1 0 1 2 0
+2 0 0 0 0 1 1 1 3 0
+1 0 0 0 1 1 1 1 1 0
+$EndEntities
+$Nodes
+1 5 1 5
+3 1 0 5
+1
+2
+3
+4
+5
+0 0 0
+1 0 0
+0 1 0
+0 0 1
+1 1 1
+$EndNodes
+$Elements
+5 6 1 32
+0 1 15 1
+1 1
+1 1 1 1
+2 1 2
+2 1 2 1
+10 1 3 2
+2 2 2 1
+11 1 3 4
+3 1 4 2
+31 1 2 3 4
+32 2 3 4 5
+$EndElements
+)";
+
+/// Gmsh's node k of a 10-node tetrahedron is internal node gmshToInternalTet()[k]: Gmsh's
+/// mid-edge nodes 4..9 lie on its edges 0-1, 1-2, 2-0, 3-0, 3-2, 3-1 (Gmsh manual, "High-order
+/// elements"), matched to the internal edges kTetEdge by their corners.
+std::array<int, 10> gmshToInternalTet() {
+  constexpr int gmshEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
+  std::array<int, 10> p{0, 1, 2, 3, -1, -1, -1, -1, -1, -1};
+  for (int k = 0; k < 6; ++k) {
+    for (int j = 0; j < 6; ++j)
+      if (std::min(kTetEdge[j][0], kTetEdge[j][1]) == std::min(gmshEdge[k][0], gmshEdge[k][1]) &&
+          std::max(kTetEdge[j][0], kTetEdge[j][1]) == std::max(gmshEdge[k][0], gmshEdge[k][1]))
+        p[4 + k] = 4 + j;
+    EXPECT_GE(p[4 + k], 4) << "Gmsh edge " << k;
+  }
+  return p;
+}
+
+/// Writes a Tet4 or Tet10 mesh as Gmsh 4.1 ASCII (type 4 or 11, Gmsh's node order): one volume
+/// "body", one surface per boundary whose triangles (type 2 or 9) are the boundary faces' corners
+/// rotated by the face number and, for odd elements, in the other turning sense, then for type 9
+/// the mid-edge nodes of the triangle's edges in that order; one curve per node set (its nodes as
+/// degenerate lines of two or three nodes, type 1 or 8). Node tags 5 + 2 n, element tags 1000 + e.
+std::string toGmshTet(const Mesh &m) {
+  const bool tet10 = m.elementType == ElementType::Tet10;
+  const std::array<int, 10> order = gmshToInternalTet();
+  std::ostringstream s;
+  std::vector<std::string> bnames, cnames;
+  for (const auto &[name, faces] : m.boundaries)
+    bnames.push_back(name);
+  for (const auto &[name, nodes] : m.nodeSets)
+    cnames.push_back(name);
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n"
+    << 1 + bnames.size() + cnames.size() << "\n3 1 \"body\"\n";
+  for (std::size_t i = 0; i < bnames.size(); ++i)
+    s << "2 " << 10 + i << " \"" << bnames[i] << "\"\n";
+  for (std::size_t i = 0; i < cnames.size(); ++i)
+    s << "1 " << 100 + i << " \"" << cnames[i] << "\"\n";
+  s << "$EndPhysicalNames\n$Entities\n0 " << cnames.size() << " " << bnames.size() << " 1\n";
+  for (std::size_t i = 0; i < cnames.size(); ++i)
+    s << i + 1 << " 0 0 0 1 1 1 1 " << 100 + i << " 0\n";
+  for (std::size_t i = 0; i < bnames.size(); ++i)
+    s << i + 1 << " 0 0 0 1 1 1 1 " << 10 + i << " 0\n";
+  s << "1 0 0 0 1 1 1 1 1 0\n$EndEntities\n";
+  const LocalIndex nn = m.numNodes();
+  auto tag = [](LocalIndex n) { return 5 + 2 * static_cast<long>(n); };
+  s << "$Nodes\n1 " << nn << " 5 " << tag(nn - 1) << "\n3 1 0 " << nn << "\n";
+  for (LocalIndex n = 0; n < nn; ++n)
+    s << tag(n) << "\n";
+  for (LocalIndex n = 0; n < nn; ++n)
+    s << std::setprecision(17) << m.x(n) << " " << m.y(n) << " " << m.z(n) << "\n";
+  s << "$EndNodes\n$Elements\n";
+  std::size_t count = m.numElements();
+  for (const auto &[name, faces] : m.boundaries)
+    count += faces.size();
+  for (const auto &[name, nodes] : m.nodeSets)
+    count += nodes.size();
+  s << 1 + bnames.size() + cnames.size() << " " << count << " 1 " << 1000 + m.numElements() << "\n";
+  long id = 1;
+  for (std::size_t i = 0; i < cnames.size(); ++i) {
+    const auto &nodes = m.nodeSets.at(cnames[i]);
+    s << "1 " << i + 1 << (tet10 ? " 8 " : " 1 ") << nodes.size() << "\n";
+    for (LocalIndex n : nodes)
+      s << id++ << " " << tag(n) << " " << tag(n) << (tet10 ? " " + std::to_string(tag(n)) : "")
+        << "\n";
+  }
+  for (std::size_t i = 0; i < bnames.size(); ++i) {
+    const auto &faces = m.boundaries.at(bnames[i]);
+    s << "2 " << i + 1 << (tet10 ? " 9 " : " 2 ") << faces.size() << "\n";
+    for (const BoundaryEdge &f : faces) {
+      s << id++;
+      int corner[3]; // the face corners in the triangle's order
+      for (int k = 0; k < 3; ++k) {
+        const int r = (k + f.edge) % 3;
+        corner[k] = f.element % 2 ? 2 - r : r;
+        s << " " << tag(m.sideNode(f, corner[k]));
+      }
+      // Face node 3 + c lies between face corners c and c + 1.
+      for (int k = 0; k < 3 && tet10; ++k) {
+        const int c0 = corner[k], c1 = corner[(k + 1) % 3];
+        s << " " << tag(m.sideNode(f, 3 + (c1 == (c0 + 1) % 3 ? c0 : c1)));
+      }
+      s << "\n";
+    }
+  }
+  s << "3 1 " << (tet10 ? 11 : 4) << " " << m.numElements() << "\n";
+  for (LocalIndex e = 0; e < m.numElements(); ++e) {
+    s << 1000 + e;
+    for (int a = 0; a < m.nodesPerElement; ++a)
+      s << " " << tag(m.node(e, tet10 ? order[a] : a));
+    s << "\n";
+  }
+  s << "$EndElements\n";
+  return s.str();
+}
+} // namespace
+
+TEST(GmshReaderTet, ReadsTetrahedraWithRegionsTriangleFacesAndNodeSets) {
+  const Mesh m = readText(kGmshTet);
+  EXPECT_EQ(m.elementType, ElementType::Tet4);
+  EXPECT_EQ(m.dim(), 3);
+  EXPECT_EQ(m.nodesPerElement, 4);
+  EXPECT_EQ(m.numNodes(), 5);
+  EXPECT_EQ(m.elementIds, (std::vector<long>{31, 32}));
+  ASSERT_EQ(m.regionNames, std::vector<std::string>{"body"});
+  EXPECT_EQ(m.elementRegion, (std::vector<int>{0, 0}));
+  EXPECT_NO_THROW(validateMesh(m));
+  EXPECT_NEAR(tetVolume(m, 0), 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(tetVolume(m, 1), 1.0 / 3.0, 1e-15);
+  // Boundaries: element 31's faces, nodes those of the triangle, normal outward.
+  struct Expected {
+    const char *name;
+    std::set<long> tags;
+    int axis;
+    double sign;
+  };
+  const Expected expected[] = {{"bottom", {1, 2, 3}, 2, -1.0}, {"back", {1, 3, 4}, 0, -1.0}};
+  for (const Expected &x : expected) {
+    SCOPED_TRACE(x.name);
+    ASSERT_TRUE(m.hasBoundary(x.name));
+    ASSERT_EQ(m.boundaries.at(x.name).size(), 1u);
+    const BoundaryEdge f = m.boundaries.at(x.name).front();
+    EXPECT_EQ(f.element, 0);
+    EXPECT_EQ(m.nodesPerSide(), 3);
+    std::set<long> tags;
+    for (int k = 0; k < 3; ++k)
+      tags.insert(m.nodeIds[m.sideNode(f, k)]);
+    EXPECT_EQ(tags, x.tags);
+    const Vec3 x0 = point(m, m.sideNode(f, 0));
+    const Vec3 n =
+        cross(minus(point(m, m.sideNode(f, 1)), x0), minus(point(m, m.sideNode(f, 2)), x0));
+    EXPECT_NEAR(n[x.axis] / norm(n), x.sign, 1e-14);
+  }
+  EXPECT_EQ(m.nodeSets.at("origin"), std::vector<LocalIndex>{nodeOfTag(m, 1)});
+  std::vector<LocalIndex> edge = {nodeOfTag(m, 1), nodeOfTag(m, 2)};
+  std::sort(edge.begin(), edge.end());
+  EXPECT_EQ(m.nodeSets.at("edge"), edge);
+  // A triangle on the shared face 2 3 4 matches the element its turn points out of.
+  for (const bool reversed : {false, true}) {
+    const Mesh i = readText(replaced(kGmshTet, "11 1 3 4", reversed ? "11 2 4 3" : "11 2 3 4"));
+    const BoundaryEdge f = i.boundaries.at("back").front();
+    EXPECT_EQ(f.element, reversed ? 1 : 0) << reversed;
+    const Vec3 x0 = point(i, i.sideNode(f, 0));
+    const Vec3 n =
+        cross(minus(point(i, i.sideNode(f, 1)), x0), minus(point(i, i.sideNode(f, 2)), x0));
+    // The face x + y + z = 1 of the corner tetrahedron points to +(1, 1, 1).
+    EXPECT_GT(reversed ? -n[0] : n[0], 0.0) << reversed;
+  }
+}
+
+TEST(GmshReaderTet, ReadsTet10InGmshOrderIntoTheInternalOrder) {
+  // One 10-node tetrahedron, corners as kGmshTet's first; mid-edge node tags 10 + Gmsh's number,
+  // each at the middle of Gmsh's edge (0-1, 1-2, 2-0, 3-0, 3-2, 3-1), written in Gmsh's order.
+  const double corner[4][3] = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}};
+  constexpr int gmshEdge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 0}, {3, 2}, {3, 1}};
+  std::ostringstream s;
+  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n2\n2 2 \"bottom\"\n3 1 \"body\"\n"
+       "$EndPhysicalNames\n$Entities\n0 0 1 1\n1 0 0 0 2 2 0 1 2 0\n1 0 0 0 2 2 2 1 1 0\n"
+       "$EndEntities\n$Nodes\n1 10 1 19\n3 1 0 10\n";
+  for (int a = 0; a < 4; ++a)
+    s << a + 1 << "\n";
+  for (int k = 0; k < 6; ++k)
+    s << 14 + k << "\n";
+  for (int a = 0; a < 4; ++a)
+    s << corner[a][0] << " " << corner[a][1] << " " << corner[a][2] << "\n";
+  for (int k = 0; k < 6; ++k)
+    for (int i = 0; i < 3; ++i)
+      s << 0.5 * (corner[gmshEdge[k][0]][i] + corner[gmshEdge[k][1]][i]) << (i < 2 ? " " : "\n");
+  // The bottom face 1 3 2 (Tri6: corners, then the middles of 1-3, 3-2, 2-1: tags 16, 15, 14).
+  s << "$EndNodes\n$Elements\n2 2 1 7\n2 1 9 1\n7 1 3 2 16 15 14\n3 1 11 1\n"
+       "6 1 2 3 4 14 15 16 17 18 19\n$EndElements\n";
+  const std::string text = s.str();
+  const Mesh m = readText(text, "tet10.msh");
+  EXPECT_EQ(m.elementType, ElementType::Tet10);
+  ASSERT_EQ(m.nodesPerElement, 10);
+  EXPECT_NO_THROW(validateMesh(m));
+  for (int k = 0; k < 6; ++k) {
+    const Vec3 a = point(m, m.node(0, kTetEdge[k][0])), b = point(m, m.node(0, kTetEdge[k][1]));
+    const Vec3 c = point(m, m.node(0, 4 + k));
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(c[i], 0.5 * (a[i] + b[i]), 1e-15) << "internal mid-edge node " << 4 + k;
+  }
+  // Internal nodes 8 (1-3) and 9 (2-3) are Gmsh's 9 (3-1) and 8 (3-2): tags 19 and 18.
+  EXPECT_EQ(m.nodeId(m.node(0, 8)), 19);
+  EXPECT_EQ(m.nodeId(m.node(0, 9)), 18);
+  ASSERT_EQ(m.boundaries.at("bottom").size(), 1u);
+  const BoundaryEdge f = m.boundaries.at("bottom").front();
+  EXPECT_EQ(f.edge, 0);
+  EXPECT_EQ(m.nodesPerSide(), 6);
+  // A mid-edge node of the triangle that is not the tetrahedron's is refused.
+  const std::string bad = replaced(text, "7 1 3 2 16 15 14", "7 1 3 2 16 14 15");
+  const std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "7 1 3 2 16 14 15")) +
+                     ": triangle element 7 of boundary 'bottom': its mid-edge node 14"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("is not the tetrahedron's mid-edge node of that edge, 15"), std::string::npos)
+      << msg;
+}
+
+TEST(GmshReaderTet, RoundTripOfTet4AndTet10BoxesKeepsGeometryTopologyAndGroups) {
+  for (ElementType type : {ElementType::Tet4, ElementType::Tet10}) {
+    SCOPED_TRACE(elementTypeName(type));
+    const Mesh box = boxMesh(2.0, 1.0, 0.5, 3, 2, 2, type, -1.0, 0.0, 0.25, 1.3, 1.0, 1.6);
+    const std::string text = toGmshTet(box);
+    const Mesh m = readText(text, "box.msh");
+    EXPECT_EQ(m.elementType, type);
+    expectSameAsWritten(m, box);
+  }
+}
+
+TEST(GmshReaderTet, RefusesMixedTypesTrianglesThatAreNoFaceAndTrianglesWithoutTetrahedra) {
+  const std::string t = kGmshTet;
+  // A triangle whose corners are no face of a tetrahedron.
+  std::string bad = replaced(t, "10 1 3 2", "10 1 3 5");
+  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 5")) +
+                     ": triangle element 10 of boundary 'bottom' is not a face of any tetrahedron"),
+            std::string::npos)
+      << msg;
+  // 4-node and 10-node tetrahedra in one mesh.
+  bad = replaced(t, "5 6 1 32", "6 7 1 33");
+  bad = replaced(bad, "$EndElements", "3 1 11 1\n33 1 2 3 4 1 2 3 4 1 2\n$EndElements");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 11 1")) +
+                     ": mixed volume element types: element type 11 (10-node tetrahedron) after "
+                     "element type 4 (4-node tetrahedron)"),
+            std::string::npos)
+      << msg;
+  // Quadrangles next to tetrahedra.
+  bad = replaced(t, "2 1 2 1\n10 1 3 2", "2 1 3 1\n10 1 3 2 4");
+  bad = replaced(bad, "2 2 2 1\n11 1 3 4", "2 2 3 1\n11 1 3 4 2");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 2 4")) +
+                     ": 4-node quadrangles (type 3) in a mesh of 4-node tetrahedra; the faces of "
+                     "4-node tetrahedra are 3-node triangles (type 2)"),
+            std::string::npos)
+      << msg;
+  // Triangles and quadrangles mixed among the 2D elements.
+  bad = replaced(t, "2 2 2 1\n11 1 3 4", "2 2 3 1\n11 1 3 4 2");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(
+      msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 2 3 1")) + ": mixed 2D element types"),
+      std::string::npos)
+      << msg;
+  // 3-node lines with 4-node tetrahedra.
+  bad = replaced(t, "1 1 1 1\n2 1 2", "1 1 8 1\n2 1 2 1");
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 1 2 1")) +
+                     ": line element 2 has 3 nodes in a mesh of 4-node tetrahedra"),
+            std::string::npos)
+      << msg;
+  // Triangles without tetrahedra: no 2D mesh of triangles.
+  bad = replaced(t, "5 6 1 32", "4 4 1 11");
+  bad = replaced(bad, "3 1 4 2\n31 1 2 3 4\n32 2 3 4 5\n", "");
+  bad = replaced(bad, "0 0 1\n1 1 1\n", "0 0 0\n1 1 0\n"); // planar nodes
+  msg = expectInputError([&] { readText(bad, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 2")) +
+                     ": unsupported element type 2 (3-node triangle) in a mesh without "
+                     "tetrahedra"),
+            std::string::npos)
+      << msg;
+  // An inverted tetrahedron is refused by validation (not reoriented).
+  const Mesh inverted = readText(replaced(t, "31 1 2 3 4", "31 1 3 2 4"));
+  msg = expectInputError([&] { validateMesh(inverted); });
+  EXPECT_FALSE(msg.empty());
 }
