@@ -18,7 +18,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(os.path.dirname(HERE))
 EXAMPLES = ["lame_cylinder", "cantilever/report_displacement", "hertz/hertz_report",
-            "cantilever_3d_hex20",
+            "cantilever_3d_hex20", "cantilever_3d_tet10",
             "cantilever_3d", "bracket_3d/bracket"]
 SKIP = 77
 

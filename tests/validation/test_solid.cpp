@@ -43,50 +43,60 @@ Vector<6> patchStrain() {
       {2e-3, 1.1e-3, 1.3e-3, (-0.4 + 0.9) * 1e-3, (0.7 - 0.6) * 1e-3, (-0.5 + 0.3) * 1e-3}};
 }
 
-/// A box mesh with every interior corner node moved randomly by up to 0.2 of a cell (0.1 for
-/// tetrahedra, which are thinner); mid-edge nodes (Hex20, Tet10) then sit at the middle of their
-/// moved corners plus up to 0.04 of a cell (curved edges). Boundary nodes move within their face
-/// planes only, so the box keeps its shape.
-Mesh distortedBox(int n, ElementType type) {
-  Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, type);
-  std::mt19937 rng(7);
-  const double h[3] = {1.0 / n, 1.5 / (n + 1), 1.2 / n}, len[3] = {1.0, 1.5, 1.2};
+/// Moves the nodes of a solid box mesh of element Elem (distortedBox).
+template <class Elem>
+void distortSolid(Mesh &mesh, const double (&h)[3], const double (&len)[3], std::mt19937 &rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const auto onPlane = [&](double x, int i) {
     return std::abs(x) < 1e-12 || std::abs(x - len[i]) < 1e-12;
   };
+  constexpr int corners = Elem::kSimplex ? 4 : 8;
+  const double amplitude = Elem::kSimplex ? 0.1 : 0.2;
+  std::vector<char> corner(mesh.numNodes(), 0), done(mesh.numNodes(), 0);
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int a = 0; a < corners; ++a)
+      corner[mesh.node(e, a)] = 1;
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    if (corner[p])
+      for (int i = 0; i < 3; ++i) {
+        double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
+        if (!onPlane(x, i))
+          x += amplitude * u(rng) * h[i];
+      }
+  if constexpr (Elem::kNumNodes > corners)
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int k = 0; k < Elem::kNumNodes - corners; ++k) {
+        const LocalIndex m = mesh.node(e, corners + k);
+        if (done[m])
+          continue;
+        done[m] = 1;
+        const LocalIndex c0 = mesh.node(e, Elem::edgeCorner(k, 0)),
+                         c1 = mesh.node(e, Elem::edgeCorner(k, 1));
+        for (int i = 0; i < 3; ++i) {
+          double &x = mesh.coordinates[3 * static_cast<std::size_t>(m) + i];
+          const bool fixed = onPlane(x, i);
+          x = 0.5 * (mesh.coordinate(c0, i) + mesh.coordinate(c1, i));
+          if (!fixed && !Elem::kSimplex)
+            x += 0.04 * u(rng) * h[i];
+        }
+      }
+}
+
+/// A box mesh with every interior corner node moved randomly by up to 0.2 of a cell (0.1 for
+/// tetrahedra, which are thinner); mid-edge nodes then sit at the middle of their moved corners,
+/// for Hex20 plus up to 0.04 of a cell (curved edges). Tet10 keeps straight edges: its 4-point
+/// rule (degree 2, as Abaqus' C3D10) integrates grad N det J exactly only on straight-sided
+/// elements; on curved ones the patch test misses by about 1e-7 relative (measured), which a rule
+/// of degree 3 would remove. Boundary nodes move within their face planes only, so the box keeps
+/// its shape.
+Mesh distortedBox(int n, ElementType type) {
+  Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, type);
+  std::mt19937 rng(7);
+  const double h[3] = {1.0 / n, 1.5 / (n + 1), 1.2 / n}, len[3] = {1.0, 1.5, 1.2};
   dispatchElement(type, [&](auto elem) {
     using Elem = decltype(elem);
-    constexpr int corners = Elem::kSimplex ? 4 : 8;
-    const double amplitude = Elem::kSimplex ? 0.1 : 0.2;
-    std::vector<char> corner(mesh.numNodes(), 0), done(mesh.numNodes(), 0);
-    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-      for (int a = 0; a < corners; ++a)
-        corner[mesh.node(e, a)] = 1;
-    for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
-      if (corner[p])
-        for (int i = 0; i < 3; ++i) {
-          double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
-          if (!onPlane(x, i))
-            x += amplitude * u(rng) * h[i];
-        }
-    if constexpr (Elem::kNumNodes > corners)
-      for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-        for (int k = 0; k < Elem::kNumNodes - corners; ++k) {
-          const LocalIndex m = mesh.node(e, corners + k);
-          if (done[m])
-            continue;
-          done[m] = 1;
-          const LocalIndex c0 = mesh.node(e, Elem::edgeCorner(k, 0)),
-                           c1 = mesh.node(e, Elem::edgeCorner(k, 1));
-          for (int i = 0; i < 3; ++i) {
-            double &x = mesh.coordinates[3 * static_cast<std::size_t>(m) + i];
-            const bool fixed = onPlane(x, i);
-            x = 0.5 * (mesh.coordinate(c0, i) + mesh.coordinate(c1, i));
-            if (!fixed)
-              x += 0.04 * u(rng) * h[i];
-          }
-        }
+    if constexpr (Elem::kDim == 3)
+      distortSolid<Elem>(mesh, h, len, rng);
   });
   validateMesh(mesh);
   return mesh;
@@ -271,5 +281,7 @@ TEST(SolidCantilever, Tet10IsCloseToBeamTheory) {
   // The cantilever on the box of 20 x 2 x 2 cells, each split into 6 Tet10.
   const Cantilever c;
   const double error = std::abs(c.tipDeflection(20, ElementType::Tet10) / c.beamTheory() - 1.0);
-  EXPECT_LT(error, TET10_LIMIT);
+  // 1.11% measured (480 Tet10, 1,025 nodes), about Hex20's 1.05% on 20 x 2 x 2: what
+  // remains is mostly the clamped 3D solid against the beam (see the Hex8 test).
+  EXPECT_LT(error, 0.015);
 }
