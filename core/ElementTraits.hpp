@@ -226,6 +226,41 @@ struct Hex8 {
   }
 };
 
+namespace detail {
+/// The node layout shared by the quadratic solids (Hex20, Tet10) over their linear element
+/// Linear (Hex8, Tet4): Linear's corners first, then one node at the middle of each edge
+/// Elem::edgeCorner(k, 0..1); a face lists its Linear corners, then the mid-edge nodes of its
+/// edges corner 0-1, 1-2, ... (the order of Quad8 and Tri6).
+template <class Elem, class Linear> struct MidEdgeNodes {
+  static constexpr int kCorners = Linear::kNumNodes;
+  static constexpr int kEdges = Elem::kNumNodes - kCorners;
+  static constexpr int kFaceCorners = Linear::kNodesPerSide;
+
+  KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[3]) {
+    if (a < kCorners) {
+      Linear::nodeNatural(a, xi);
+      return;
+    }
+    double x0[3], x1[3];
+    Linear::nodeNatural(Elem::edgeCorner(a - kCorners, 0), x0);
+    Linear::nodeNatural(Elem::edgeCorner(a - kCorners, 1), x1);
+    for (int i = 0; i < 3; ++i)
+      xi[i] = 0.5 * (x0[i] + x1[i]);
+  }
+  KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
+    if (k < kFaceCorners)
+      return Linear::sideNode(f, k);
+    const int c0 = Linear::sideNode(f, k - kFaceCorners);
+    const int c1 = Linear::sideNode(f, (k - kFaceCorners + 1) % kFaceCorners);
+    for (int e = 0; e < kEdges; ++e)
+      if ((Elem::edgeCorner(e, 0) == c0 && Elem::edgeCorner(e, 1) == c1) ||
+          (Elem::edgeCorner(e, 0) == c1 && Elem::edgeCorner(e, 1) == c0))
+        return kCorners + e;
+    return -1; // not reached: every face edge is an element edge
+  }
+};
+} // namespace detail
+
 /// 20-node serendipity hexahedron, 3x3x3 Gauss quadrature. Node order as VTK and XDMF
 /// (Hexahedron_20): the corners as Hex8 (0..7), then the mid-edge nodes of the bottom face's edges
 /// 8 (0-1), 9 (1-2), 10 (2-3), 11 (3-0), of the top face's 12 (4-5), 13 (5-6), 14 (6-7),
@@ -254,15 +289,7 @@ struct Hex20 {
   }
   /// Natural coordinates of node a.
   KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
-    if (a < 8) {
-      Hex8::nodeNatural(a, xi);
-      return;
-    }
-    double x0[kDim], x1[kDim];
-    Hex8::nodeNatural(edgeCorner(a - 8, 0), x0);
-    Hex8::nodeNatural(edgeCorner(a - 8, 1), x1);
-    for (int i = 0; i < kDim; ++i)
-      xi[i] = 0.5 * (x0[i] + x1[i]);
+    detail::MidEdgeNodes<Hex20, Hex8>::nodeNatural(a, xi);
   }
   /// Serendipity shape functions: corner a, N = (1 + xi xi_a)(1 + eta eta_a)(1 + zeta zeta_a)
   /// (xi xi_a + eta eta_a + zeta zeta_a - 2) / 8; mid-edge node with xi_a = 0 (and likewise for
@@ -298,14 +325,7 @@ struct Hex20 {
   }
   /// Local node k (0..7) of face f: the Hex8 face's corners, then its edges' mid-edge nodes.
   KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
-    if (k < 4)
-      return Hex8::sideNode(f, k);
-    const int c0 = Hex8::sideNode(f, k - 4), c1 = Hex8::sideNode(f, (k - 3) % 4);
-    for (int e = 0; e < 12; ++e)
-      if ((edgeCorner(e, 0) == c0 && edgeCorner(e, 1) == c1) ||
-          (edgeCorner(e, 0) == c1 && edgeCorner(e, 1) == c0))
-        return 8 + e;
-    return -1; // not reached: every face edge is an element edge
+    return detail::MidEdgeNodes<Hex20, Hex8>::sideNode(f, k);
   }
   /// Quadrature point q of the tensor Gauss rule (xi fastest, zeta slowest) and its weight.
   KOKKOS_INLINE_FUNCTION static void quadraturePoint(int q, double (&xi)[kDim], double &w) {
@@ -442,15 +462,7 @@ struct Tet10 {
     return edges[k][end];
   }
   KOKKOS_INLINE_FUNCTION static void nodeNatural(int a, double (&xi)[kDim]) {
-    if (a < 4) {
-      Tet4::nodeNatural(a, xi);
-      return;
-    }
-    double x0[kDim], x1[kDim];
-    Tet4::nodeNatural(edgeCorner(a - 4, 0), x0);
-    Tet4::nodeNatural(edgeCorner(a - 4, 1), x1);
-    for (int i = 0; i < kDim; ++i)
-      xi[i] = 0.5 * (x0[i] + x1[i]);
+    detail::MidEdgeNodes<Tet10, Tet4>::nodeNatural(a, xi);
   }
   /// Corners L_a (2 L_a - 1), mid-edge nodes 4 L_a L_b.
   KOKKOS_INLINE_FUNCTION static void shape(const double (&xi)[kDim], double (&n)[kNumNodes],
@@ -472,14 +484,7 @@ struct Tet10 {
   }
   /// Local node k (0..5) of face f: its corners, then the mid-edge nodes of its edges.
   KOKKOS_INLINE_FUNCTION static int sideNode(int f, int k) {
-    if (k < 3)
-      return detail::tetFaceCorner(f, k);
-    const int c0 = detail::tetFaceCorner(f, k - 3), c1 = detail::tetFaceCorner(f, (k - 2) % 3);
-    for (int e = 0; e < 6; ++e)
-      if ((edgeCorner(e, 0) == c0 && edgeCorner(e, 1) == c1) ||
-          (edgeCorner(e, 0) == c1 && edgeCorner(e, 1) == c0))
-        return 4 + e;
-    return -1; // not reached: every face edge is an element edge
+    return detail::MidEdgeNodes<Tet10, Tet4>::sideNode(f, k);
   }
   /// The symmetric 4-point rule of degree 2: points with barycentric (a, b, b, b) and
   /// permutations, a = (5 + 3 sqrt 5) / 20, b = (5 - sqrt 5) / 20, weights 1/24.
