@@ -641,30 +641,46 @@ std::array<int, 20> gmshToInternal() {
   return p;
 }
 
-/// Writes a Hex8 or Hex20 mesh as Gmsh 4.1 ASCII (type 5 or 17, Gmsh's node order): one volume
-/// (physical "body"), one surface per boundary (physical groups of the same names) whose
-/// quadrangles (type 3 or 16) are the boundary faces' corner nodes, rotated by the face number
-/// and, for odd elements, in the other turning sense (the reader must not depend on either), then
-/// for type 16 the mid-edge nodes of the quadrangle's edges in that order; one point per node
-/// set. Node tags 5 + 2 n, element tags 1000 + e.
-std::string toGmsh3D(const Mesh &m) {
-  const bool hex20 = m.elementType == ElementType::Hex20;
-  const std::array<int, 20> order = gmshToInternal();
+/// How writeGmshSolid writes one element family: Gmsh's volume and face types, the corners per
+/// face, node sets as points (type 15) or as curves of degenerate lines (type 1 or 8), and Gmsh's
+/// node k as internal node order[k] (empty: the same numbering).
+struct GmshSolidLayout {
+  int volumeType = 5, faceType = 3, faceCorners = 4;
+  bool nodeSetsAsCurves = false;
+  int lineType = 1; ///< curves only: 1 (2-node) or 8 (3-node)
+  std::vector<int> order;
+};
+
+/// Writes a 3D mesh as Gmsh 4.1 ASCII in Gmsh's node order: one volume (physical "body"), one
+/// surface per boundary (physical groups of the same names) whose face elements are the boundary
+/// faces' corner nodes, rotated by the face number and, for odd elements, in the other turning
+/// sense (the reader must not depend on either), then for quadratic faces the mid-edge nodes of
+/// the face element's edges in that order; one point or curve per node set. Node tags 5 + 2 n,
+/// element tags 1000 + e.
+std::string writeGmshSolid(const Mesh &m, const GmshSolidLayout &l) {
+  const bool quadratic = m.nodesPerSide() > l.faceCorners;
+  const int fc = l.faceCorners;
   std::ostringstream s;
-  std::vector<std::string> bnames, pnames;
+  std::vector<std::string> bnames, snames;
   for (const auto &[name, faces] : m.boundaries)
     bnames.push_back(name);
   for (const auto &[name, nodes] : m.nodeSets)
-    pnames.push_back(name);
+    snames.push_back(name);
+  const int setDim = l.nodeSetsAsCurves ? 1 : 0;
   s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n"
-    << 1 + bnames.size() + pnames.size() << "\n3 1 \"body\"\n";
+    << 1 + bnames.size() + snames.size() << "\n3 1 \"body\"\n";
   for (std::size_t i = 0; i < bnames.size(); ++i)
     s << "2 " << 10 + i << " \"" << bnames[i] << "\"\n";
-  for (std::size_t i = 0; i < pnames.size(); ++i)
-    s << "0 " << 100 + i << " \"" << pnames[i] << "\"\n";
-  s << "$EndPhysicalNames\n$Entities\n" << pnames.size() << " 0 " << bnames.size() << " 1\n";
-  for (std::size_t i = 0; i < pnames.size(); ++i)
-    s << i + 1 << " 0 0 0 1 " << 100 + i << "\n";
+  for (std::size_t i = 0; i < snames.size(); ++i)
+    s << setDim << " " << 100 + i << " \"" << snames[i] << "\"\n";
+  s << "$EndPhysicalNames\n$Entities\n";
+  if (l.nodeSetsAsCurves)
+    s << "0 " << snames.size() << " " << bnames.size() << " 1\n";
+  else
+    s << snames.size() << " 0 " << bnames.size() << " 1\n";
+  for (std::size_t i = 0; i < snames.size(); ++i)
+    s << i + 1 << (l.nodeSetsAsCurves ? " 0 0 0 1 1 1 1 " : " 0 0 0 1 ") << 100 + i
+      << (l.nodeSetsAsCurves ? " 0\n" : "\n");
   for (std::size_t i = 0; i < bnames.size(); ++i)
     s << i + 1 << " 0 0 0 1 1 1 1 " << 10 + i << " 0\n";
   s << "1 0 0 0 1 1 1 1 1 0\n$EndEntities\n";
@@ -681,42 +697,60 @@ std::string toGmsh3D(const Mesh &m) {
     count += faces.size();
   for (const auto &[name, nodes] : m.nodeSets)
     count += nodes.size();
-  s << 1 + bnames.size() + pnames.size() << " " << count << " 1 " << 1000 + m.numElements() << "\n";
+  s << 1 + bnames.size() + snames.size() << " " << count << " 1 " << 1000 + m.numElements() << "\n";
   long id = 1;
-  for (std::size_t i = 0; i < pnames.size(); ++i) {
-    const auto &nodes = m.nodeSets.at(pnames[i]);
-    s << "0 " << i + 1 << " 15 " << nodes.size() << "\n";
-    for (LocalIndex n : nodes)
-      s << id++ << " " << tag(n) << "\n";
+  for (std::size_t i = 0; i < snames.size(); ++i) {
+    const auto &nodes = m.nodeSets.at(snames[i]);
+    s << setDim << " " << i + 1 << " " << (l.nodeSetsAsCurves ? l.lineType : 15) << " "
+      << nodes.size() << "\n";
+    for (LocalIndex n : nodes) {
+      s << id++ << " " << tag(n);
+      if (l.nodeSetsAsCurves)
+        s << " " << tag(n) << (l.lineType == 8 ? " " + std::to_string(tag(n)) : "");
+      s << "\n";
+    }
   }
   for (std::size_t i = 0; i < bnames.size(); ++i) {
     const auto &faces = m.boundaries.at(bnames[i]);
-    s << "2 " << i + 1 << (hex20 ? " 16 " : " 3 ") << faces.size() << "\n";
+    s << "2 " << i + 1 << " " << l.faceType << " " << faces.size() << "\n";
     for (const BoundaryEdge &f : faces) {
       s << id++;
-      int corner[4]; // the face corners in the quadrangle's order
-      for (int k = 0; k < 4; ++k) {
-        const int r = (k + f.edge) % 4;
-        corner[k] = f.element % 2 ? 3 - r : r;
+      std::vector<int> corner(fc); // the face corners in the face element's order
+      for (int k = 0; k < fc; ++k) {
+        const int r = (k + f.edge) % fc;
+        corner[k] = f.element % 2 ? fc - 1 - r : r;
         s << " " << tag(m.sideNode(f, corner[k]));
       }
-      // Face node 4 + c lies between face corners c and c + 1.
-      for (int k = 0; k < 4 && hex20; ++k) {
-        const int c0 = corner[k], c1 = corner[(k + 1) % 4];
-        s << " " << tag(m.sideNode(f, 4 + (c1 == (c0 + 1) % 4 ? c0 : c1)));
+      // Face node fc + c lies between face corners c and c + 1.
+      for (int k = 0; k < fc && quadratic; ++k) {
+        const int c0 = corner[k], c1 = corner[(k + 1) % fc];
+        s << " " << tag(m.sideNode(f, fc + (c1 == (c0 + 1) % fc ? c0 : c1)));
       }
       s << "\n";
     }
   }
-  s << "3 1 " << (hex20 ? 17 : 5) << " " << m.numElements() << "\n";
+  s << "3 1 " << l.volumeType << " " << m.numElements() << "\n";
   for (LocalIndex e = 0; e < m.numElements(); ++e) {
     s << 1000 + e;
     for (int a = 0; a < m.nodesPerElement; ++a)
-      s << " " << tag(m.node(e, hex20 ? order[a] : a));
+      s << " " << tag(m.node(e, l.order.empty() ? a : l.order[a]));
     s << "\n";
   }
   s << "$EndElements\n";
   return s.str();
+}
+
+/// A Hex8 or Hex20 mesh as Gmsh (type 5 or 17, quadrangle faces 3 or 16), node sets as points.
+std::string toGmsh3D(const Mesh &m) {
+  const bool hex20 = m.elementType == ElementType::Hex20;
+  GmshSolidLayout l;
+  l.volumeType = hex20 ? 17 : 5;
+  l.faceType = hex20 ? 16 : 3;
+  if (hex20) {
+    const std::array<int, 20> order = gmshToInternal();
+    l.order.assign(order.begin(), order.end());
+  }
+  return writeGmshSolid(m, l);
 }
 } // namespace
 
@@ -1337,82 +1371,21 @@ std::array<int, 10> gmshToInternalTet() {
   return p;
 }
 
-/// Writes a Tet4 or Tet10 mesh as Gmsh 4.1 ASCII (type 4 or 11, Gmsh's node order): one volume
-/// "body", one surface per boundary whose triangles (type 2 or 9) are the boundary faces' corners
-/// rotated by the face number and, for odd elements, in the other turning sense, then for type 9
-/// the mid-edge nodes of the triangle's edges in that order; one curve per node set (its nodes as
-/// degenerate lines of two or three nodes, type 1 or 8). Node tags 5 + 2 n, element tags 1000 + e.
+/// A Tet4 or Tet10 mesh as Gmsh (type 4 or 11, triangle faces 2 or 9), node sets as curves of
+/// degenerate lines (type 1 or 8).
 std::string toGmshTet(const Mesh &m) {
   const bool tet10 = m.elementType == ElementType::Tet10;
-  const std::array<int, 10> order = gmshToInternalTet();
-  std::ostringstream s;
-  std::vector<std::string> bnames, cnames;
-  for (const auto &[name, faces] : m.boundaries)
-    bnames.push_back(name);
-  for (const auto &[name, nodes] : m.nodeSets)
-    cnames.push_back(name);
-  s << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n"
-    << 1 + bnames.size() + cnames.size() << "\n3 1 \"body\"\n";
-  for (std::size_t i = 0; i < bnames.size(); ++i)
-    s << "2 " << 10 + i << " \"" << bnames[i] << "\"\n";
-  for (std::size_t i = 0; i < cnames.size(); ++i)
-    s << "1 " << 100 + i << " \"" << cnames[i] << "\"\n";
-  s << "$EndPhysicalNames\n$Entities\n0 " << cnames.size() << " " << bnames.size() << " 1\n";
-  for (std::size_t i = 0; i < cnames.size(); ++i)
-    s << i + 1 << " 0 0 0 1 1 1 1 " << 100 + i << " 0\n";
-  for (std::size_t i = 0; i < bnames.size(); ++i)
-    s << i + 1 << " 0 0 0 1 1 1 1 " << 10 + i << " 0\n";
-  s << "1 0 0 0 1 1 1 1 1 0\n$EndEntities\n";
-  const LocalIndex nn = m.numNodes();
-  auto tag = [](LocalIndex n) { return 5 + 2 * static_cast<long>(n); };
-  s << "$Nodes\n1 " << nn << " 5 " << tag(nn - 1) << "\n3 1 0 " << nn << "\n";
-  for (LocalIndex n = 0; n < nn; ++n)
-    s << tag(n) << "\n";
-  for (LocalIndex n = 0; n < nn; ++n)
-    s << std::setprecision(17) << m.x(n) << " " << m.y(n) << " " << m.z(n) << "\n";
-  s << "$EndNodes\n$Elements\n";
-  std::size_t count = m.numElements();
-  for (const auto &[name, faces] : m.boundaries)
-    count += faces.size();
-  for (const auto &[name, nodes] : m.nodeSets)
-    count += nodes.size();
-  s << 1 + bnames.size() + cnames.size() << " " << count << " 1 " << 1000 + m.numElements() << "\n";
-  long id = 1;
-  for (std::size_t i = 0; i < cnames.size(); ++i) {
-    const auto &nodes = m.nodeSets.at(cnames[i]);
-    s << "1 " << i + 1 << (tet10 ? " 8 " : " 1 ") << nodes.size() << "\n";
-    for (LocalIndex n : nodes)
-      s << id++ << " " << tag(n) << " " << tag(n) << (tet10 ? " " + std::to_string(tag(n)) : "")
-        << "\n";
+  GmshSolidLayout l;
+  l.volumeType = tet10 ? 11 : 4;
+  l.faceType = tet10 ? 9 : 2;
+  l.faceCorners = 3;
+  l.nodeSetsAsCurves = true;
+  l.lineType = tet10 ? 8 : 1;
+  if (tet10) {
+    const std::array<int, 10> order = gmshToInternalTet();
+    l.order.assign(order.begin(), order.end());
   }
-  for (std::size_t i = 0; i < bnames.size(); ++i) {
-    const auto &faces = m.boundaries.at(bnames[i]);
-    s << "2 " << i + 1 << (tet10 ? " 9 " : " 2 ") << faces.size() << "\n";
-    for (const BoundaryEdge &f : faces) {
-      s << id++;
-      int corner[3]; // the face corners in the triangle's order
-      for (int k = 0; k < 3; ++k) {
-        const int r = (k + f.edge) % 3;
-        corner[k] = f.element % 2 ? 2 - r : r;
-        s << " " << tag(m.sideNode(f, corner[k]));
-      }
-      // Face node 3 + c lies between face corners c and c + 1.
-      for (int k = 0; k < 3 && tet10; ++k) {
-        const int c0 = corner[k], c1 = corner[(k + 1) % 3];
-        s << " " << tag(m.sideNode(f, 3 + (c1 == (c0 + 1) % 3 ? c0 : c1)));
-      }
-      s << "\n";
-    }
-  }
-  s << "3 1 " << (tet10 ? 11 : 4) << " " << m.numElements() << "\n";
-  for (LocalIndex e = 0; e < m.numElements(); ++e) {
-    s << 1000 + e;
-    for (int a = 0; a < m.nodesPerElement; ++a)
-      s << " " << tag(m.node(e, tet10 ? order[a] : a));
-    s << "\n";
-  }
-  s << "$EndElements\n";
-  return s.str();
+  return writeGmshSolid(m, l);
 }
 } // namespace
 
