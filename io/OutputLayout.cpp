@@ -53,9 +53,7 @@ std::vector<int> xdmfStressColumns(const OutputNames &row) {
 }
 
 const OutputNames &outputNames(const Mesh &mesh) {
-  const std::string element = dispatchElement(
-      mesh.elementType, [](auto elem) { return std::string(decltype(elem)::kName); });
-  return outputNames(element, mesh.dim());
+  return outputNames(elementTypeName(mesh.elementType), mesh.dim());
 }
 
 } // namespace mixcon
