@@ -40,7 +40,8 @@ template <class MemorySpace, int Dim = 2> struct LinearElasticLaw {
 
 /// The linear law of the element data's materials.
 template <class MemorySpace, int Dim>
-LinearElasticLaw<MemorySpace, Dim> linearElasticLaw(const ElementData<MemorySpace, Dim> &d) {
+KOKKOS_INLINE_FUNCTION LinearElasticLaw<MemorySpace, Dim>
+linearElasticLaw(const ElementData<MemorySpace, Dim> &d) {
   return LinearElasticLaw<MemorySpace, Dim>{d.material, d.stiffness};
 }
 
@@ -437,7 +438,6 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
                               const Kokkos::View<const double *, MemorySpace> &u,
                               const Kokkos::View<double *[6], MemorySpace> &nodal) {
   static_assert(Elem::kDim == 3, "solidNodalStressRecovery is the 3D recovery");
-  constexpr int kCorners = 8, kS = 6;
   const LocalIndex nn = nodal.extent(0);
   Kokkos::View<double *, MemorySpace> count("mixcon::kernels::stressCount", nn);
   Kokkos::deep_copy(exec, nodal, 0.0);
@@ -446,8 +446,11 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
       "mixcon::kernels::solidNodalStressRecovery",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.mesh.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
+        constexpr int n = Elem::kNumNodes, kCorners = 8, kS = 6;
         constexpr double g = 0.57735026918962576451; // 1/sqrt(3)
+        // Named before the `if constexpr`: nvcc's extended lambdas may not first-capture there.
+        const auto &sum = nodal;
+        const auto &hits = count;
         double xe[n][3], ue[n][3], sg[kCorners][kS];
         detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
         detail::gatherElementDisplacements<Elem>(d.mesh, u, e, ue);
@@ -461,8 +464,8 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
             const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
             const LocalIndex node = d.mesh.connectivity(e, a);
             for (int k = 0; k < kS; ++k)
-              Kokkos::atomic_add(&nodal(node, k), sig.v[k]);
-            Kokkos::atomic_add(&count(node), 1.0);
+              Kokkos::atomic_add(&sum(node, k), sig.v[k]);
+            Kokkos::atomic_add(&hits(node), 1.0);
           }
           return;
         }
@@ -486,16 +489,16 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
               v += 0.125 * (1.0 + xa[0] / g * ((c & 1) ? 1.0 : -1.0)) *
                    (1.0 + xa[1] / g * ((c & 2) ? 1.0 : -1.0)) *
                    (1.0 + xa[2] / g * ((c & 4) ? 1.0 : -1.0)) * sg[c][k];
-            Kokkos::atomic_add(&nodal(node, k), v);
+            Kokkos::atomic_add(&sum(node, k), v);
           }
-          Kokkos::atomic_add(&count(node), 1.0);
+          Kokkos::atomic_add(&hits(node), 1.0);
         }
       });
   Kokkos::parallel_for(
       "mixcon::kernels::solidNodalStressAverage", Kokkos::RangePolicy<ExecSpace>(exec, 0, nn),
       KOKKOS_LAMBDA(LocalIndex i) {
         if (count(i) > 0.0)
-          for (int k = 0; k < kS; ++k)
+          for (int k = 0; k < 6; ++k)
             nodal(i, k) /= count(i);
       });
 }

@@ -220,6 +220,17 @@ void MixedModel::setup(const MixedOptions &options, MPI_Comm comm) {
     setupBlockTriangular();
 }
 
+namespace {
+/// dm(i) = diagonal of the lumped nodal compliance blocks, stress unknown by stress unknown. A free
+/// function: nvcc refuses an extended lambda inside a private member function.
+template <class Lumped> void lumpedStressDiagonal(const Lumped &lumped, const DeviceVector &dm) {
+  using fieldops::kStress;
+  Kokkos::parallel_for(
+      "mixcon::mixed::lumpedDiagonal", Kokkos::RangePolicy<fieldops::Exec>(0, dm.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { dm(i) = lumped(i / kStress, i % kStress, i % kStress); });
+}
+} // namespace
+
 void MixedModel::setupBlockTriangular() {
   using namespace fieldops;
   const std::size_t nn = mesh_.numNodes();
@@ -231,10 +242,7 @@ void MixedModel::setupBlockTriangular() {
   // for the consistent M's: the same order, and no assembled consistent M on every path).
   DeviceVector da("mixcon::mixed::diagS", kDisp * nn), dm("mixcon::mixed::diagM", kStress * nn);
   fieldDiagonal(precMatrix_, 1, 0, 1, da, 1.0);
-  const auto lumped = ops_.lumped;
-  Kokkos::parallel_for(
-      "mixcon::mixed::lumpedDiagonal", Kokkos::RangePolicy<Exec>(0, kStress * nn),
-      KOKKOS_LAMBDA(LocalIndex i) { dm(i) = lumped(i / kStress, i % kStress, i % kStress); });
+  lumpedStressDiagonal(ops_.lumped, dm);
   stressRowScale_ = blockTriangularScale(ConstDeviceVector(da), ConstDeviceVector(dm));
   splitU_ = DeviceVector("mixcon::mixed::splitU", kDisp * nn);
   splitJu_ = DeviceVector("mixcon::mixed::splitJu", kDisp * nn);

@@ -343,10 +343,14 @@ void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vect
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int kDim = Elem::kDim, kStress = Voigt<kDim>::kSize;
+    // The extents spelled from Elem: nvcc 13's front end gives both views kDim columns when they
+    // are the lambda's local constants.
+    using Coordinates = Kokkos::View<double **[Elem::kDim], Memory>;
+    using Stresses = Kokkos::View<double **[Voigt<Elem::kDim>::kSize], Memory>;
     const auto &data = elementData<kDim>();
     const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[kDim], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
-    Kokkos::View<double **[kStress], Memory> sq("mixcon::model::qpStress", ne, Elem::kNumQp);
+    Coordinates xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+    Stresses sq("mixcon::model::qpStress", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data.mesh, xq);
     gaussPointStress<Elem>(Exec(), data, Kokkos::View<const double *, Memory>(u_), sq);
     auto hx = copyToHost(xq);

@@ -218,22 +218,36 @@ TEST(AmgReuse, KeepsTheHierarchyForTheSamePatternAndStillSolves) {
   }
 }
 
-TEST(KrylovFloor, StopsAtTheBackwardErrorFloor) {
-  // A diagonal operator of condition 1e12: CG reaches the floor, never ||r|| <= 1e-30 ||b||.
-  const int n = 64;
-  Kokkos::View<double *, Memory> diag("diag", n), b("b", n), x("x", n);
+namespace {
+// y = diag^p v elementwise (p = 1 or -1). Free functions: nvcc refuses device lambdas in a TEST body.
+void diagonalApply(const Kokkos::View<double *, Memory> &diag, const ConstDeviceVector &v,
+                   const DeviceVector &y, bool inverse) {
+  Kokkos::parallel_for(
+      "apply", Kokkos::RangePolicy<Exec>(0, diag.extent(0)),
+      KOKKOS_LAMBDA(int i) { y(i) = inverse ? v(i) / diag(i) : diag(i) * v(i); });
+}
+
+void logSpacedDiagonal(const Kokkos::View<double *, Memory> &diag,
+                       const Kokkos::View<double *, Memory> &b) {
+  const int n = diag.extent(0);
   Kokkos::parallel_for(
       "diag", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
         diag(i) = std::pow(10.0, 12.0 * i / (n - 1));
         b(i) = 1.0;
       });
+}
+} // namespace
+
+TEST(KrylovFloor, StopsAtTheBackwardErrorFloor) {
+  // A diagonal operator of condition 1e12: CG reaches the floor, never ||r|| <= 1e-30 ||b||.
+  const int n = 64;
+  Kokkos::View<double *, Memory> diag("diag", n), b("b", n), x("x", n);
+  logSpacedDiagonal(diag, b);
   const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "apply", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) { y(i) = diag(i) * v(i); });
+    diagonalApply(diag, v, y, false);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-    Kokkos::parallel_for(
-        "prec", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) { y(i) = v(i) / diag(i); });
+    diagonalApply(diag, v, y, true);
   };
   KrylovOptions o;
   o.tolerance = 1e-30; // unreachable

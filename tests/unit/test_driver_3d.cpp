@@ -176,6 +176,25 @@ TEST(Hex8, ShapeFunctionsPartitionUnityAndReproduceLinearFields) {
   EXPECT_NEAR(wsum, 8.0, 1e-14);
 }
 
+namespace {
+// The single-element path, one element per thread (a free function: nvcc refuses device lambdas in
+// a TEST body).
+template <class Law>
+void singleElementStiffness(const MeshView<Memory, 3> &mesh, const Law &law,
+                            const Kokkos::View<double ***, Memory> &single) {
+  Kokkos::parallel_for(
+      "mixcon::test::hexSingle", Kokkos::RangePolicy<Exec>(0, single.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int nd = 24;
+        double k[nd][nd];
+        elementStiffness<Hex8>(mesh, 1.0, law, e, k);
+        for (int i = 0; i < nd; ++i)
+          for (int j = 0; j < nd; ++j)
+            single(e, i, j) = k[i][j];
+      });
+}
+} // namespace
+
 TEST(Hex8, DriverStiffnessMatchesHostReferenceIsSymmetricWithRigidBodyNullSpace) {
   const auto nodes = distortedNodes();
   const MeshView<Memory, 3> mesh = makeMesh(nodes);
@@ -185,14 +204,7 @@ TEST(Hex8, DriverStiffnessMatchesHostReferenceIsSymmetricWithRigidBodyNullSpace)
   // The batched (lanes) path and the single-element path.
   Kokkos::View<double ***, Memory> lanes("lanes", 2, nd, nd), single("single", 2, nd, nd);
   computeElementStiffness<Hex8>(Exec(), mesh, 1.0, law, lanes);
-  Kokkos::parallel_for(
-      "mixcon::test::hexSingle", Kokkos::RangePolicy<Exec>(0, 2), KOKKOS_LAMBDA(LocalIndex e) {
-        double k[nd][nd];
-        elementStiffness<Hex8>(mesh, 1.0, law, e, k);
-        for (int i = 0; i < nd; ++i)
-          for (int j = 0; j < nd; ++j)
-            single(e, i, j) = k[i][j];
-      });
+  singleElementStiffness(mesh, law, single);
   auto hl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lanes);
   auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), single);
   Eigen::Matrix<double, 6, 6> ce;

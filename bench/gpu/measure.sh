@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Runs on the GPU machine (docs/gpu.md): the unit and validation tests and the benchmarks of a
+# bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
+# build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
+#   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]   STAGES: any of machine tests kernels newton cube
+set -u
+bundle=$1; out=$2; stages=${3:-machine tests kernels newton cube}
+dir=/tmp/mixcon-bundle
+mkdir -p "$dir" "$out"
+tar -xJf "$bundle" -C "$dir" 2>/dev/null || python3 -m tarfile -e "$bundle" "$dir"
+{ nvidia-smi; nvidia-smi --query-gpu=name,clocks.max.sm,clocks.max.mem,memory.total --format=csv
+  grep PRETTY /etc/os-release; ldd --version | head -1; nproc; free -g; } > "$out/machine.txt" 2>&1
+run() { # variant name timeout command...
+  local v=$1 n=$2 t=$3; shift 3
+  ( source "$dir/env.sh" "$v"; cd /tmp && timeout "$t" "$@" ) > "$out/$n.log" 2>&1
+  echo "$n: rc=$? $(tail -1 "$out/$n.log" | cut -c1-150)"
+}
+bench() { # variant name timeout program filter [args]
+  local v=$1 n=$2 t=$3 p=$4 f=$5; shift 5
+  run "$v" "$n" "$t" "$p" --benchmark_filter="$f" --benchmark_out="$out/$n.json" \
+    --benchmark_out_format=json --benchmark_min_time=0.2s "$@"
+}
+export OMP_PROC_BIND=spread OMP_PLACES=threads OMP_NUM_THREADS=$(nproc)
+for s in $stages; do case $s in
+machine)
+  bench cuda machine-cuda 60 mixcon_bench_machine .
+  bench omp machine-omp 60 mixcon_bench_machine . ;;
+tests)
+  run cuda unit-cuda 420 mixcon_unit_tests --gtest_output=xml:"$out/unit-cuda.xml"
+  run cuda validation-cuda 300 mixcon_validation_tests --gtest_output=xml:"$out/validation-cuda.xml" ;;
+kernels)
+  bench cuda kernels-cuda 240 mixcon_bench_linear_stiffness 'threads'
+  bench omp kernels-omp 240 mixcon_bench_linear_stiffness 'threads' ;;
+newton)
+  bench cuda newton-cuda 240 mixcon_bench_nonlinear 'newton'
+  bench omp newton-omp 240 mixcon_bench_nonlinear 'newton' ;;
+cube)
+  for n in ${CUBE_SIZES:-64 100}; do
+    mkdir -p /tmp/cube$n
+    cat > /tmp/cube$n/cube.yaml <<YAML
+title: unit cube $n^3 Hex8 (bench/cube_hex8.py)
+mesh:
+  generator: {type: box, size: [1, 1, 1], divisions: [$n, $n, $n]}
+materials:
+  - {region: body, type: isotropic, E: 1.0, nu: 0.3}
+boundary_conditions:
+  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
+loads:
+  - {boundary: xmax, traction: [0, -1e-3, 0]}
+solver: {type: amg, tolerance: 1e-8}
+output: {directory: /tmp/cube$n/out, hdf5: false}
+YAML
+    for v in cuda omp; do
+      start=$(date +%s%N)
+      run $v cube$n-$v 300 mixcon run /tmp/cube$n/cube.yaml
+      echo "wall_ms $(( ($(date +%s%N) - start) / 1000000 ))" >> "$out/cube$n-$v.log"
+    done
+  done ;;
+esac; done
