@@ -19,10 +19,16 @@
 
 namespace mixcon {
 
-/// Calls and bytes moved since the last reset (host-side counters).
+/// Calls and bytes moved since the last reset (host-side counters). The staging* counts are the
+/// copies made inside a HostLibraryStaging scope, so that a host library (hypre built for the
+/// CPU, Eigen) can read or write device-resident data: none where the memory is host-accessible
+/// (hypre then works on the views in place), the right-hand side, solution and matrix values
+/// per solve and setup under CUDA with a CPU hypre. The other counts are everything else.
 struct TransferCounts {
   std::uint64_t toHostCalls = 0, toHostBytes = 0;
   std::uint64_t toDeviceCalls = 0, toDeviceBytes = 0;
+  std::uint64_t stagingToHostCalls = 0, stagingToHostBytes = 0;
+  std::uint64_t stagingToDeviceCalls = 0, stagingToDeviceBytes = 0;
 };
 
 namespace detail {
@@ -30,16 +36,29 @@ namespace detail {
 /// even with one shared library per layer (vague linkage; core stays header-only).
 struct TransferCounters {
   std::atomic<std::uint64_t> toHostCalls{0}, toHostBytes{0}, toDeviceCalls{0}, toDeviceBytes{0};
+  std::atomic<std::uint64_t> stagingToHostCalls{0}, stagingToHostBytes{0},
+      stagingToDeviceCalls{0}, stagingToDeviceBytes{0};
 };
 inline TransferCounters &transferCounters() {
   static TransferCounters counters;
   return counters;
 }
 
+/// How many HostLibraryStaging scopes the calling thread is in.
+inline int &stagingDepth() {
+  static thread_local int depth = 0;
+  return depth;
+}
+
 inline void countTransfer(bool toHost, std::size_t bytes) {
   TransferCounters &c = transferCounters();
-  (toHost ? c.toHostCalls : c.toDeviceCalls).fetch_add(1, std::memory_order_relaxed);
-  (toHost ? c.toHostBytes : c.toDeviceBytes).fetch_add(bytes, std::memory_order_relaxed);
+  const bool staging = stagingDepth() > 0;
+  auto &calls = staging ? (toHost ? c.stagingToHostCalls : c.stagingToDeviceCalls)
+                        : (toHost ? c.toHostCalls : c.toDeviceCalls);
+  auto &moved = staging ? (toHost ? c.stagingToHostBytes : c.stagingToDeviceBytes)
+                        : (toHost ? c.toHostBytes : c.toDeviceBytes);
+  calls.fetch_add(1, std::memory_order_relaxed);
+  moved.fetch_add(bytes, std::memory_order_relaxed);
 }
 
 template <class V> std::size_t viewBytes(const V &v) {
@@ -55,16 +74,30 @@ inline TransferCounts transferCounts() {
   t.toHostBytes = c.toHostBytes.load();
   t.toDeviceCalls = c.toDeviceCalls.load();
   t.toDeviceBytes = c.toDeviceBytes.load();
+  t.stagingToHostCalls = c.stagingToHostCalls.load();
+  t.stagingToHostBytes = c.stagingToHostBytes.load();
+  t.stagingToDeviceCalls = c.stagingToDeviceCalls.load();
+  t.stagingToDeviceBytes = c.stagingToDeviceBytes.load();
   return t;
 }
 
 inline void resetTransferCounts() {
   detail::TransferCounters &c = detail::transferCounters();
-  c.toHostCalls = 0;
-  c.toHostBytes = 0;
-  c.toDeviceCalls = 0;
-  c.toDeviceBytes = 0;
+  for (auto *n : {&c.toHostCalls, &c.toHostBytes, &c.toDeviceCalls, &c.toDeviceBytes,
+                  &c.stagingToHostCalls, &c.stagingToHostBytes, &c.stagingToDeviceCalls,
+                  &c.stagingToDeviceBytes})
+    *n = 0;
 }
+
+/// While one is alive, the calling thread's transfers count as staging for a host library
+/// (TransferCounts::staging*): the solver wrappers around hypre and Eigen open one.
+class HostLibraryStaging {
+public:
+  HostLibraryStaging() { ++detail::stagingDepth(); }
+  ~HostLibraryStaging() { --detail::stagingDepth(); }
+  HostLibraryStaging(const HostLibraryStaging &) = delete;
+  HostLibraryStaging &operator=(const HostLibraryStaging &) = delete;
+};
 
 /// A host copy of `v` (its HostSpace mirror, filled). Counted device -> host.
 template <class V> auto copyToHost(const V &v) {
@@ -72,12 +105,30 @@ template <class V> auto copyToHost(const V &v) {
   return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
 }
 
-/// A host copy of a rank-1 view as a std::vector. Counted device -> host.
+/// A host copy of a view of rank 1 to 3 as a std::vector, its entries in row-major order
+/// (v(i, j, k) at (i * extent(1) + j) * extent(2) + k) whatever the view's layout: CUDA's default
+/// LayoutLeft stores them column-major, so the copy's raw memory is not that order. Counted
+/// device -> host.
 template <class V>
 std::vector<std::remove_const_t<typename V::value_type>> toHostVector(const V &v) {
-  static_assert(V::rank == 1, "toHostVector takes a rank-1 view");
+  static_assert(V::rank >= 1 && V::rank <= 3, "toHostVector takes a view of rank 1 to 3");
   const auto h = copyToHost(v);
-  return std::vector<std::remove_const_t<typename V::value_type>>(h.data(), h.data() + h.extent(0));
+  std::vector<std::remove_const_t<typename V::value_type>> out(h.size());
+  std::size_t at = 0;
+  if constexpr (V::rank == 1) {
+    for (std::size_t i = 0; i < h.extent(0); ++i)
+      out[at++] = h(i);
+  } else if constexpr (V::rank == 2) {
+    for (std::size_t i = 0; i < h.extent(0); ++i)
+      for (std::size_t j = 0; j < h.extent(1); ++j)
+        out[at++] = h(i, j);
+  } else {
+    for (std::size_t i = 0; i < h.extent(0); ++i)
+      for (std::size_t j = 0; j < h.extent(1); ++j)
+        for (std::size_t k = 0; k < h.extent(2); ++k)
+          out[at++] = h(i, j, k);
+  }
+  return out;
 }
 
 /// A host mirror of `v` to fill and send with copyToDevice (no copy, not counted). Its contents

@@ -49,12 +49,7 @@ std::vector<double> LinearDisplacementModel::nodalStressHost() const {
       nodalStressRecovery<Elem>(Exec(), data_, u, s);
     else
       solidNodalStressRecovery<Elem>(Exec(), solid_, u, s);
-    auto h = copyToHost(s);
-    std::vector<double> out(kStress * static_cast<std::size_t>(mesh_.numNodes()));
-    for (LocalIndex n = 0; n < mesh_.numNodes(); ++n)
-      for (int c = 0; c < kStress; ++c)
-        out[kStress * n + c] = h(n, c);
-    return out;
+    return toHostVector(s);
   });
 }
 

@@ -66,6 +66,7 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
 
 /// The row-sum norm of the owned rows.
 double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
+  const HostLibraryStaging staging; // copies made here count as staging for hypre/Eigen
   const auto ro = hostReadable(a.rowOffsets);
   const auto va = hostReadable(a.values);
   double norm = 0.0;
@@ -118,6 +119,7 @@ public:
   }
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
+    const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     // Eigen reads the CSR arrays in place where the memory is host-accessible (as hypre above).
     Kokkos::fence();
@@ -149,6 +151,7 @@ public:
 
   LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
                          const Kokkos::View<double *, DeviceSpace> &x) override {
+    const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     Kokkos::fence(); // b may come from a kernel still running
     const auto hb = hostReadable(b);
@@ -240,6 +243,7 @@ public:
   ~HypreAmgSolver() override { release(); }
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
+    const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     Kokkos::fence();
     if (direct_) { // the fall back of an earlier solve stays for the run
@@ -262,6 +266,7 @@ public:
 
   LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,
                          const Kokkos::View<double *, DeviceSpace> &x) override {
+    const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     std::string note;
     LinearSolveStats s = direct_ ? direct_->solve(b, x) : iterate(b, x);
@@ -299,6 +304,7 @@ public:
 
   void precondition(const Kokkos::View<const double *, DeviceSpace> &b,
                     const Kokkos::View<double *, DeviceSpace> &x) override {
+    const HostLibraryStaging staging;
     if (direct_) {
       direct_->precondition(b, x);
       return;
@@ -515,6 +521,7 @@ private:
   /// a stronger level is left, at most escalationIterations iterations.
   LinearSolveStats iterate(const Kokkos::View<const double *, DeviceSpace> &b,
                            const Kokkos::View<double *, DeviceSpace> &x) {
+    const HostLibraryStaging staging;
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
     const ConstDeviceVector owned = Kokkos::subview(b, std::make_pair(0, static_cast<int>(n)));
@@ -611,6 +618,7 @@ private:
   /// the three rotations about the axes, about the centroid. With nodal coarsening, as hypre's
   /// interpolation-vector variants require. False (nothing set) where they do not apply.
   bool setRotations() {
+    const HostLibraryStaging staging;
     if (!willUseRotations())
       return false;
     const int dim = dofs_.dofsPerNode;

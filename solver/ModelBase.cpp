@@ -342,30 +342,19 @@ void ModelBase::gaussPointStressHost(std::vector<double> &coordinates, std::vect
                                      int &pointsPerElement) const {
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    constexpr int kDim = Elem::kDim, kStress = Voigt<kDim>::kSize;
-    // The extents spelled from Elem: nvcc 13's front end gives both views kDim columns when they
-    // are the lambda's local constants.
+    // The extents spelled from Elem: nvcc 13's front end gives a view's extent the value of
+    // another one's when both are local constants of a template (docs/gpu.md).
     using Coordinates = Kokkos::View<double **[Elem::kDim], Memory>;
     using Stresses = Kokkos::View<double **[Voigt<Elem::kDim>::kSize], Memory>;
-    const auto &data = elementData<kDim>();
+    const auto &data = elementData<Elem::kDim>();
     const LocalIndex ne = mesh_.numElements();
     Coordinates xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
     Stresses sq("mixcon::model::qpStress", ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), data.mesh, xq);
     gaussPointStress<Elem>(Exec(), data, Kokkos::View<const double *, Memory>(u_), sq);
-    auto hx = copyToHost(xq);
-    auto hs = copyToHost(sq);
     pointsPerElement = Elem::kNumQp;
-    coordinates.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * kDim);
-    stress.resize(static_cast<std::size_t>(ne) * Elem::kNumQp * kStress);
-    for (LocalIndex e = 0; e < ne; ++e)
-      for (int q = 0; q < Elem::kNumQp; ++q) {
-        const std::size_t k = static_cast<std::size_t>(e) * Elem::kNumQp + q;
-        for (int c = 0; c < kDim; ++c)
-          coordinates[kDim * k + c] = hx(e, q, c);
-        for (int c = 0; c < kStress; ++c)
-          stress[kStress * k + c] = hs(e, q, c);
-      }
+    coordinates = toHostVector(xq);
+    stress = toHostVector(sq);
   });
 }
 

@@ -160,8 +160,7 @@ std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
           recoverNodalStress<Elem>(Exec(), data_.mesh,
                                    AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
       });
-  auto h = copyToHost(s);
-  return std::vector<double>(h.data(), h.data() + h.size());
+  return toHostVector(s);
 }
 
 std::vector<double> NonlinearDisplacementModel::reactionHost(double) const { return toHost(g_); }

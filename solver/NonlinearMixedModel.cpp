@@ -400,8 +400,7 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
         Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpInterpolated", ne,
                                                     Elem::kNumQp);
         interpolateNodalStress<Elem>(Exec(), current_.mesh, ConstVec(stressOnly()), sq);
-        auto h = copyToHost(sq);
-        out.assign(h.data(), h.data() + h.size());
+        out = toHostVector(sq);
       });
   return out;
 }

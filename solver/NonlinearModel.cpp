@@ -145,15 +145,11 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
     almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
     if (small_) // linear law on the reference configuration
       gaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq);
-    const auto assign = [](std::vector<double> &out, const auto &view) {
-      auto h = copyToHost(view);
-      out.assign(h.data(), h.data() + h.size());
-    };
     pointsPerElement = Elem::kNumQp;
-    assign(coordinates, xq);
-    assign(stress, sq);
-    assign(gradient, gq);
-    assign(currentCoordinates, xc);
+    coordinates = toHostVector(xq);
+    stress = toHostVector(sq);
+    gradient = toHostVector(gq);
+    currentCoordinates = toHostVector(xc);
   });
 }
 

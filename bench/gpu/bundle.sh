@@ -46,6 +46,9 @@ cat > "$stage/env.sh" <<'ENV'
 # source env.sh VARIANT: libraries of VARIANT first, then the shared system ones.
 _b=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 export LD_LIBRARY_PATH=$_b/$1/lib:$_b/sys/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
+for _d in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/local/cuda/compat; do # libcuda.so.1
+  [ -d "$_d" ] && LD_LIBRARY_PATH=$LD_LIBRARY_PATH:$_d
+done
 export PATH=$_b/$1/bin:$PATH
 export OPAL_PREFIX=$_b/ompi OMPI_MCA_ess_singleton_isolated=1 OMPI_ALLOW_RUN_AS_ROOT=1 \
   OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader OMPI_MCA_pml=ob1

@@ -6,6 +6,12 @@
 set -u
 bundle=$1; out=$2; stages=${3:-machine tests kernels newton cube}
 dir=/tmp/mixcon-bundle
+# Tests read examples/ from the source tree they were built in (MIXCON_SOURCE_DIR): point that
+# path at this copy of the repository (the current directory).
+src=${MIXCON_BUILD_SOURCE_DIR:-/work/wt/gpu}
+[ -e "$src" ] || { mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; }
+# The CLI tests run the program from its build folder.
+mkdir -p "$src/build-cuda/apps" && ln -sf "$dir/cuda/bin/mixcon" "$src/build-cuda/apps/mixcon"
 mkdir -p "$dir" "$out"
 tar -xJf "$bundle" -C "$dir" 2>/dev/null || python3 -m tarfile -e "$bundle" "$dir"
 { nvidia-smi; nvidia-smi --query-gpu=name,clocks.max.sm,clocks.max.mem,memory.total --format=csv
