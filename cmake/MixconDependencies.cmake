@@ -16,6 +16,9 @@ else()
 endif()
 message(STATUS "mixcon: hypre ${MIXCON_HYPRE_DIR}${MIXCON_HYPRE_LIBRARY}")
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+# Eigen is host-only in mixcon (ctest repo.eigen_host_only): without this, nvcc (the CUDA build
+# compiles every source as CUDA) would annotate Eigen __host__ __device__ and warn about it.
+set_property(TARGET Eigen3::Eigen APPEND PROPERTY INTERFACE_COMPILE_DEFINITIONS EIGEN_NO_CUDA)
 find_package(HDF5 REQUIRED COMPONENTS C)
 if(NOT TARGET hdf5::hdf5)
   add_library(hdf5::hdf5 INTERFACE IMPORTED)

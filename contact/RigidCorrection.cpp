@@ -7,11 +7,10 @@
 #include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
+#include <solver/HostAlgebra.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LocalFrames.hpp>
 #include <solver/ModelBase.hpp>
-
-#include <Eigen/Dense>
 
 #include <algorithm>
 #include <chrono>
@@ -330,31 +329,28 @@ LinearSolveStats RigidContact::correct(const ContactCorrection &sys,
   }
   multiply(Exec(), tangent, ConstVec(dx), product);
   axpby(1.0, g, 1.0, product); // G + K dx0: the linearized residual after the base correction
-  Eigen::MatrixXd a(nd, nd);
-  Eigen::VectorXd b(nd);
+  std::vector<double> a(nd * nd), b(nd), dc;
   for (std::size_t i = 0; i < nd; ++i)
-    b(i) = drivenForce(driven[i]) -
+    b[i] = drivenForce(driven[i]) -
            obstacleForce(product, stride, fv, driven[i].obstacle, driven[i].direction, true);
   for (std::size_t j = 0; j < nd; ++j) {
     multiply(Exec(), tangent, ConstVec(response[j]), product);
     for (std::size_t i = 0; i < nd; ++i)
-      a(i, j) = obstacleForce(product, stride, fv, driven[i].obstacle, driven[i].direction, false);
+      a[nd * i + j] =
+          obstacleForce(product, stride, fv, driven[i].obstacle, driven[i].direction, false);
   }
-  Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-  lu.setThreshold(1e-10);
-  if (!lu.isInvertible()) {
+  if (!solveSmallDense(a, nd, b, dc, 1e-10)) {
     std::ostringstream m;
     m << "force-driven " << obstacleLabel(driven[0].obstacle)
       << " has no stiffness along a driven direction: its closed nodes cannot carry the force "
          "there (too few contact nodes, or frictionless contact loaded tangentially)";
     throw std::runtime_error(m.str());
   }
-  const Eigen::VectorXd dc = lu.solve(b);
   for (std::size_t j = 0; j < nd; ++j)
-    axpby(dc(j), response[j], 1.0, dx);
+    axpby(dc[j], response[j], 1.0, dx);
   std::vector<double> motion(2 * specs().size(), 0.0);
   for (std::size_t j = 0; j < nd; ++j)
-    motion[2 * driven[j].obstacle + driven[j].direction] += dc(j);
+    motion[2 * driven[j].obstacle + driven[j].direction] += dc[j];
   for (std::size_t o = 0; o < specs().size(); ++o)
     if (motion[2 * o] != 0.0 || motion[2 * o + 1] != 0.0)
       moveObstacle(static_cast<int>(o), &motion[2 * o]);

@@ -467,31 +467,31 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
               Kokkos::atomic_add(&sum(node, k), sig.v[k]);
             Kokkos::atomic_add(&hits(node), 1.0);
           }
-          return;
-        }
-        // Corner c of the Gauss cube: sign of direction i is bit i of c.
-        for (int c = 0; c < kCorners; ++c) {
-          const double xi[3] = {(c & 1) ? g : -g, (c & 2) ? g : -g, (c & 4) ? g : -g};
-          double sh[n], dn[n][3], gr[n][3];
-          Elem::shape(xi, sh, dn);
-          detail::pointGeometry<Elem>(xe, dn, gr);
-          const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
-          for (int k = 0; k < kS; ++k)
-            sg[c][k] = sig.v[k];
-        }
-        for (int a = 0; a < n; ++a) {
-          double xa[3];
-          Elem::nodeNatural(a, xa);
-          const LocalIndex node = d.mesh.connectivity(e, a);
-          for (int k = 0; k < kS; ++k) {
-            double v = 0.0;
-            for (int c = 0; c < kCorners; ++c)
-              v += 0.125 * (1.0 + xa[0] / g * ((c & 1) ? 1.0 : -1.0)) *
-                   (1.0 + xa[1] / g * ((c & 2) ? 1.0 : -1.0)) *
-                   (1.0 + xa[2] / g * ((c & 4) ? 1.0 : -1.0)) * sg[c][k];
-            Kokkos::atomic_add(&sum(node, k), v);
+        } else {
+          // Corner c of the Gauss cube: sign of direction i is bit i of c.
+          for (int c = 0; c < kCorners; ++c) {
+            const double xi[3] = {(c & 1) ? g : -g, (c & 2) ? g : -g, (c & 4) ? g : -g};
+            double sh[n], dn[n][3], gr[n][3];
+            Elem::shape(xi, sh, dn);
+            detail::pointGeometry<Elem>(xe, dn, gr);
+            const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
+            for (int k = 0; k < kS; ++k)
+              sg[c][k] = sig.v[k];
           }
-          Kokkos::atomic_add(&hits(node), 1.0);
+          for (int a = 0; a < n; ++a) {
+            double xa[3];
+            Elem::nodeNatural(a, xa);
+            const LocalIndex node = d.mesh.connectivity(e, a);
+            for (int k = 0; k < kS; ++k) {
+              double v = 0.0;
+              for (int c = 0; c < kCorners; ++c)
+                v += 0.125 * (1.0 + xa[0] / g * ((c & 1) ? 1.0 : -1.0)) *
+                     (1.0 + xa[1] / g * ((c & 2) ? 1.0 : -1.0)) *
+                     (1.0 + xa[2] / g * ((c & 4) ? 1.0 : -1.0)) * sg[c][k];
+              Kokkos::atomic_add(&sum(node, k), v);
+            }
+            Kokkos::atomic_add(&hits(node), 1.0);
+          }
         }
       });
   Kokkos::parallel_for(
