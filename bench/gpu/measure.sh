@@ -2,9 +2,10 @@
 # Runs on the GPU machine (docs/gpu.md): the unit and validation tests and the benchmarks of a
 # bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
 # build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
-#   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]   STAGES: any of machine tests kernels newton cube
+#   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
+#   STAGES: any of machine tests kernels kernels-large newton cube
 set -u
-bundle=$1; out=$2; stages=${3:-machine tests kernels newton cube}
+bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton cube}
 dir=/tmp/mixcon-bundle
 # Tests read examples/ from the source tree they were built in (MIXCON_SOURCE_DIR): point that
 # path at this copy of the repository (the current directory).
@@ -37,11 +38,16 @@ tests)
 kernels)
   bench cuda kernels-cuda 240 mixcon_bench_linear_stiffness 'threads'
   bench omp kernels-omp 240 mixcon_bench_linear_stiffness 'threads' ;;
-newton)
-  bench cuda newton-cuda 240 mixcon_bench_nonlinear 'newton'
-  bench omp newton-omp 240 mixcon_bench_nonlinear 'newton' ;;
+kernels-large) # the ~1e6-element sizes on the CPU too, for the side-by-side figure
+  MIXCON_BENCH_FULL=1 bench omp kernels-large-omp 200 mixcon_bench_linear_stiffness \
+    'elementMatrices/threads.*(n:1024|n:96)' ;;
+newton) # one Newton step of the 2D mixed model on 1e6 Quad4 elements (MIXCON_BENCH_FULL)
+  for v in cuda omp; do
+    MIXCON_BENCH_FULL=1 bench $v newton-$v 200 mixcon_bench_nonlinear \
+      'newtonStep/nodes:4/n:1000/a_percent:5/schur:0/'
+  done ;;
 cube)
-  for n in ${CUBE_SIZES:-64 100}; do
+  for n in ${CUBE_SIZES:-100}; do
     mkdir -p /tmp/cube$n
     cat > /tmp/cube$n/cube.yaml <<YAML
 title: unit cube $n^3 Hex8 (bench/cube_hex8.py)

@@ -7,6 +7,7 @@
 //    the dense host solution of the same constrained problem (x = R (T y + s), y prescribed at
 //    the flagged unknowns, the rest minimizing the energy: P^T T^T R^T A R T P z = ...), and
 //    constrainedFreeNorm against T^T R^T g computed densely (and zero at that solution).
+#include <core/Transfer.hpp>
 #include <solver/ConstraintSet.hpp>
 #include <solver/DofMap.hpp>
 #include <solver/LocalFrames.hpp>
@@ -78,9 +79,7 @@ std::vector<double> deviceTangents(const std::vector<std::array<double, Dim>> &n
           for (int i = 0; i < Dim; ++i)
             tv(k, a * Dim + i) = t[a][i];
       });
-  auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), tv);
-  std::vector<double> out(ht.data(), ht.data() + ht.size());
-  return out;
+  return toHostVector(tv); // row-major whatever the layout (CUDA's is column-major)
 }
 
 } // namespace constraint_set_tests
