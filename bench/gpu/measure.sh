@@ -3,9 +3,9 @@
 # bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
 # build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
-#   STAGES: any of machine tests kernels kernels-large newton cube
+#   STAGES: any of machine tests kernels kernels-large newton operators search cube
 set -u
-bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton cube}
+bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton operators search cube}
 dir=/tmp/mixcon-bundle
 # Tests read examples/ from the source tree they were built in (MIXCON_SOURCE_DIR): point that
 # path at this copy of the repository (the current directory).
@@ -45,6 +45,14 @@ newton) # one Newton step of the 2D mixed model on 1e6 Quad4 elements (MIXCON_BE
   for v in cuda omp; do
     MIXCON_BENCH_FULL=1 bench $v newton-$v 200 mixcon_bench_nonlinear \
       'newtonStep/nodes:4/n:1000/a_percent:5/schur:0/'
+  done ;;
+operators) # the mixed Jacobian product: matrix-free against CSR SpMV, 1e5 elements
+  for v in cuda omp; do
+    bench $v operators-$v 120 mixcon_bench_mixed_jacobian 'JX/(matrixFree|csr)/nodes:./n:316'
+  done ;;
+search) # the node-to-segment grid: build and query, 1e6 and 1e7 segments
+  for v in cuda omp; do
+    bench $v search-$v 120 mixcon_bench_search 'grid(Build|Query)/(1000000|10000000)'
   done ;;
 cube)
   for n in ${CUBE_SIZES:-100}; do
