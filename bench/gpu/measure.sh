@@ -3,7 +3,7 @@
 # bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
 # build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
-#   STAGES: any of machine tests kernels kernels-large newton operators search cube
+#   STAGES: any of machine tests sanitizer kernels kernels-large newton operators search cube
 set -u
 bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton operators search cube}
 dir=/tmp/mixcon-bundle
@@ -35,6 +35,12 @@ machine)
 tests)
   run cuda unit-cuda 420 mixcon_unit_tests --gtest_output=xml:"$out/unit-cuda.xml"
   run cuda validation-cuda 300 mixcon_validation_tests --gtest_output=xml:"$out/validation-cuda.xml" ;;
+sanitizer) # compute-sanitizer's memcheck and racecheck on the element-kernel tests
+  san=$(command -v compute-sanitizer || ls /usr/local/cuda*/bin/compute-sanitizer 2>/dev/null | head -1)
+  for tool in memcheck racecheck; do
+    run cuda sanitizer-$tool 150 "$san" --tool $tool --error-exitcode 3 mixcon_unit_tests \
+      --gtest_filter='*ElementDriver*:*KernelTest*:Hex8*:SolidModel*:SolidLoads*:MixedMatrixFree*:SegmentSearch*'
+  done ;;
 kernels)
   bench cuda kernels-cuda 240 mixcon_bench_linear_stiffness 'threads'
   bench omp kernels-omp 240 mixcon_bench_linear_stiffness 'threads' ;;

@@ -81,42 +81,42 @@ inline bool referenceMixedIncrementElement(const MixedElementData<MemorySpace> &
       for (int c = 0; c < 3; ++c)
         ge[5 * p + 2 + c] += jw * sh[p] * r[c];
     }
-    if (!Tangent)
-      continue;
-    // dE(voigt)/du_(p,i) = bl[p][i][c]: (F_i0 g_p0, F_i1 g_p1, F_i0 g_p1 + F_i1 g_p0).
-    double bl[n][2][3];
-    for (int p = 0; p < n; ++p)
-      for (int i = 0; i < 2; ++i) {
-        bl[p][i][0] = f[i][0] * g[p][0];
-        bl[p][i][1] = f[i][1] * g[p][1];
-        bl[p][i][2] = f[i][0] * g[p][1] + f[i][1] * g[p][0];
-      }
-    for (int p = 0; p < n; ++p) {
-      const double gp0 = st[0][0] * g[p][0] + st[0][1] * g[p][1];
-      const double gp1 = st[1][0] * g[p][0] + st[1][1] * g[p][1];
-      double cb[2][3]; // a C bl[p][i]
-      for (int i = 0; i < 2; ++i)
-        for (int c = 0; c < 3; ++c)
-          cb[i][c] =
-              a * (cm.m[c][0] * bl[p][i][0] + cm.m[c][1] * bl[p][i][1] + cm.m[c][2] * bl[p][i][2]);
-      for (int b = 0; b < n; ++b) {
-        const double kg = jw * (gp0 * g[b][0] + gp1 * g[b][1]);
-        ke[5 * p][5 * b] += kg;
-        ke[5 * p + 1][5 * b + 1] += kg;
-        if (a != 0.0)
-          for (int i = 0; i < 2; ++i)
-            for (int m = 0; m < 2; ++m)
-              ke[5 * p + i][5 * b + m] +=
-                  jw * (cb[i][0] * bl[b][m][0] + cb[i][1] * bl[b][m][1] + cb[i][2] * bl[b][m][2]);
+    if constexpr (Tangent) { // the tangent terms (a plain if leaves dead code: nvcc warns)
+      // dE(voigt)/du_(p,i) = bl[p][i][c]: (F_i0 g_p0, F_i1 g_p1, F_i0 g_p1 + F_i1 g_p0).
+      double bl[n][2][3];
+      for (int p = 0; p < n; ++p)
+        for (int i = 0; i < 2; ++i) {
+          bl[p][i][0] = f[i][0] * g[p][0];
+          bl[p][i][1] = f[i][1] * g[p][1];
+          bl[p][i][2] = f[i][0] * g[p][1] + f[i][1] * g[p][0];
+        }
+      for (int p = 0; p < n; ++p) {
+        const double gp0 = st[0][0] * g[p][0] + st[0][1] * g[p][1];
+        const double gp1 = st[1][0] * g[p][0] + st[1][1] * g[p][1];
+        double cb[2][3]; // a C bl[p][i]
         for (int i = 0; i < 2; ++i)
-          for (int c = 0; c < 3; ++c) {
-            const double v = jw * b1 * bl[p][i][c] * sh[b];
-            ke[5 * p + i][5 * b + 2 + c] += v;
-            ke[5 * b + 2 + c][5 * p + i] += v;
-          }
-        for (int c = 0; c < 3; ++c)
-          for (int k = 0; k < 3; ++k)
-            ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
+          for (int c = 0; c < 3; ++c)
+            cb[i][c] = a * (cm.m[c][0] * bl[p][i][0] + cm.m[c][1] * bl[p][i][1] +
+                            cm.m[c][2] * bl[p][i][2]);
+        for (int b = 0; b < n; ++b) {
+          const double kg = jw * (gp0 * g[b][0] + gp1 * g[b][1]);
+          ke[5 * p][5 * b] += kg;
+          ke[5 * p + 1][5 * b + 1] += kg;
+          if (a != 0.0)
+            for (int i = 0; i < 2; ++i)
+              for (int m = 0; m < 2; ++m)
+                ke[5 * p + i][5 * b + m] +=
+                    jw * (cb[i][0] * bl[b][m][0] + cb[i][1] * bl[b][m][1] + cb[i][2] * bl[b][m][2]);
+          for (int i = 0; i < 2; ++i)
+            for (int c = 0; c < 3; ++c) {
+              const double v = jw * b1 * bl[p][i][c] * sh[b];
+              ke[5 * p + i][5 * b + 2 + c] += v;
+              ke[5 * b + 2 + c][5 * p + i] += v;
+            }
+          for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k)
+              ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
+        }
       }
     }
   }
@@ -174,38 +174,38 @@ inline bool referenceMixedCurrentElement(const MixedElementData<MemorySpace> &d,
       for (int c = 0; c < 3; ++c)
         ge[5 * p + 2 + c] += jw * b1 * sh[p] * r[c];
     }
-    if (!Tangent)
-      continue;
-    for (int b = 0; b < n; ++b)
-      for (int m = 0; m < 2; ++m) {
-        // Perturbation delta u_b = unit vector m: d(da) = da g_bm, d g_aj = -g_am g_bj.
-        double de[2][2], ds[2][2];
-        detail::almansiVariation(g[b], m, es, de);
-        detail::stressFromStrainTensor(cm, de, ds);
-        const double dev[3] = {de[0][0], de[1][1], 2.0 * de[0][1]};
-        for (int p = 0; p < n; ++p) {
-          for (int i = 0; i < 2; ++i) {
-            double v = 0.0;
-            for (int j = 0; j < 2; ++j)
-              v += a * ds[i][j] * g[p][j] + st[i][j] * (g[p][j] * g[b][m] - g[p][m] * g[b][j]);
-            ke[5 * p + i][5 * b + m] += jw * v;
+    if constexpr (Tangent) { // the tangent terms (a plain if leaves dead code: nvcc warns)
+      for (int b = 0; b < n; ++b)
+        for (int m = 0; m < 2; ++m) {
+          // Perturbation delta u_b = unit vector m: d(da) = da g_bm, d g_aj = -g_am g_bj.
+          double de[2][2], ds[2][2];
+          detail::almansiVariation(g[b], m, es, de);
+          detail::stressFromStrainTensor(cm, de, ds);
+          const double dev[3] = {de[0][0], de[1][1], 2.0 * de[0][1]};
+          for (int p = 0; p < n; ++p) {
+            for (int i = 0; i < 2; ++i) {
+              double v = 0.0;
+              for (int j = 0; j < 2; ++j)
+                v += a * ds[i][j] * g[p][j] + st[i][j] * (g[p][j] * g[b][m] - g[p][m] * g[b][j]);
+              ke[5 * p + i][5 * b + m] += jw * v;
+            }
+            for (int c = 0; c < 3; ++c)
+              ke[5 * p + 2 + c][5 * b + m] += jw * b1 * sh[p] * (dev[c] + r[c] * g[b][m]);
           }
-          for (int c = 0; c < 3; ++c)
-            ke[5 * p + 2 + c][5 * b + m] += jw * b1 * sh[p] * (dev[c] + r[c] * g[b][m]);
         }
-      }
-    for (int p = 0; p < n; ++p)
-      for (int b = 0; b < n; ++b) {
-        const double v = jw * b1 * sh[b];
-        // d G_u(p, i) / d tau(b, c): B^L of node p times psi_b.
-        ke[5 * p][5 * b + 2] += v * g[p][0];
-        ke[5 * p][5 * b + 4] += v * g[p][1];
-        ke[5 * p + 1][5 * b + 3] += v * g[p][1];
-        ke[5 * p + 1][5 * b + 4] += v * g[p][0];
-        for (int c = 0; c < 3; ++c)
-          for (int k = 0; k < 3; ++k)
-            ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
-      }
+      for (int p = 0; p < n; ++p)
+        for (int b = 0; b < n; ++b) {
+          const double v = jw * b1 * sh[b];
+          // d G_u(p, i) / d tau(b, c): B^L of node p times psi_b.
+          ke[5 * p][5 * b + 2] += v * g[p][0];
+          ke[5 * p][5 * b + 4] += v * g[p][1];
+          ke[5 * p + 1][5 * b + 3] += v * g[p][1];
+          ke[5 * p + 1][5 * b + 4] += v * g[p][0];
+          for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k)
+              ke[5 * p + 2 + c][5 * b + 2 + k] -= jw * b1 * sh[p] * sh[b] * dm.m[c][k];
+        }
+    }
   }
   return valid;
 }

@@ -79,7 +79,9 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST_P(GeometricTest, StiffnessAndStressForceMatchReferenceAndAreTheEnergyTangent) {
-  const auto [type, kind] = GetParam();
+  // Not a structured binding: `type` is captured by a lambda below (C++20 for a binding).
+  const ElementType type = std::get<0>(GetParam());
+  const FieldKind kind = std::get<1>(GetParam());
   const Fixture fx = makeFixture(type, 4, 3);
   const int nn = fx.mesh.numNodes(), n = fx.mesh.nodesPerElement, ne = fx.mesh.numElements();
   const int nq = type == ElementType::Quad8 ? 9 : 4;
