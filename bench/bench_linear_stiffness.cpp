@@ -19,8 +19,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 using namespace mixcon;
@@ -72,6 +72,24 @@ void timeElementMatrices(benchmark::State &state, double ne, double bytes, doubl
       benchmark::Counter(ne * flops / 1e9, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// Times the host reference, one element after another on one thread: `element(e)` computes
+/// element e's matrices and returns one of their entries, summed so that the work stays. Sets
+/// elements/s.
+template <class Element>
+void timeHostReference(benchmark::State &state, LocalIndex numElements, Element &&element) {
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (LocalIndex e = 0; e < numElements; ++e)
+      sum += element(e);
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(numElements),
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
 /// Floating-point operations of one K^L element (kernels/ElementDriver.hpp, stiffnessLanes),
 /// counted from the code, each multiply, add and divide one: per quadrature point the Jacobian
 /// (8n), its inverse (8), the physical gradients (6n), the weight (2), C B_b for every node (24n)
@@ -115,17 +133,9 @@ void hostReference(benchmark::State &state) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       c(i, j) = hc(0).m[i][j];
-  double sum = 0.0;
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e)
-      sum += test::referenceStiffness(test::elementCoordinates(s.mesh, e), c, 1.0)(0, 0);
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  benchmark::DoNotOptimize(sum);
-  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  timeHostReference(state, s.mesh.numElements(), [&](LocalIndex e) {
+    return test::referenceStiffness(test::elementCoordinates(s.mesh, e), c, 1.0)(0, 0);
+  });
 }
 
 /// Floating-point operations of one mixed element (kernels/MixedElasticity.hpp,
@@ -182,20 +192,11 @@ void mixedHostReference(benchmark::State &state) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       d(i, j) = hd(0).m[i][j];
-  double sum = 0.0;
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Eigen::MatrixXd k12, k22;
-    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e) {
-      test::referenceMixed(test::elementCoordinates(s.mesh, e), d, 1.0, k12, k22);
-      sum += k12(0, 0) + k22(0, 0);
-    }
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  benchmark::DoNotOptimize(sum);
-  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  Eigen::MatrixXd k12, k22;
+  timeHostReference(state, s.mesh.numElements(), [&](LocalIndex e) {
+    test::referenceMixed(test::elementCoordinates(s.mesh, e), d, 1.0, k12, k22);
+    return k12(0, 0) + k22(0, 0);
+  });
 }
 
 /// Floating-point operations of one K^sigma element (kernels/GeometricStiffness.hpp,
@@ -245,28 +246,19 @@ void geometricHostReference(benchmark::State &state) {
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
   const auto hs = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nodalStress(s.mesh));
   const int n = s.mesh.nodesPerElement;
-  double sum = 0.0;
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    Eigen::MatrixXd kg;
-    Eigen::VectorXd fnl;
-    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e) {
-      const auto tauAt = [&](int, const Eigen::VectorXd &sh) {
-        Eigen::Vector3d tau = Eigen::Vector3d::Zero();
-        for (int b = 0; b < n; ++b)
-          for (int c = 0; c < 3; ++c)
-            tau(c) += sh(b) * hs(3 * s.mesh.node(e, b) + c);
-        return tau;
-      };
-      test::referenceGeometricAt(test::elementCoordinates(s.mesh, e), tauAt, 1.0, kg, fnl);
-      sum += kg(0, 0);
-    }
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  benchmark::DoNotOptimize(sum);
-  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  Eigen::MatrixXd kg;
+  Eigen::VectorXd fnl;
+  timeHostReference(state, s.mesh.numElements(), [&](LocalIndex e) {
+    const auto tauAt = [&](int, const Eigen::VectorXd &sh) {
+      Eigen::Vector3d tau = Eigen::Vector3d::Zero();
+      for (int b = 0; b < n; ++b)
+        for (int c = 0; c < 3; ++c)
+          tau(c) += sh(b) * hs(3 * s.mesh.node(e, b) + c);
+      return tau;
+    };
+    test::referenceGeometricAt(test::elementCoordinates(s.mesh, e), tauAt, 1.0, kg, fnl);
+    return kg(0, 0);
+  });
 }
 
 void assembleCsr(benchmark::State &state) {
@@ -431,17 +423,8 @@ template <class Exec> void solidElementMatrices(benchmark::State &state) {
 void solidHostReference(benchmark::State &state) {
   const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
   const Eigen::MatrixXd c = solidStiffnessMatrix(s);
-  double sum = 0.0;
-  for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (LocalIndex e = 0; e < s.mesh.numElements(); ++e)
-      sum += referenceHexStiffness(s.mesh, e, c)(0, 0);
-    state.SetIterationTime(
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  benchmark::DoNotOptimize(sum);
-  state.counters["elem/s"] = benchmark::Counter(static_cast<double>(s.mesh.numElements()),
-                                                benchmark::Counter::kIsIterationInvariantRate);
+  timeHostReference(state, s.mesh.numElements(),
+                    [&](LocalIndex e) { return referenceHexStiffness(s.mesh, e, c)(0, 0); });
 }
 
 /// Fused compute + atomic CSR scatter of the Hex8 K^L (3 unknowns per node), checked first: the

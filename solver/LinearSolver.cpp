@@ -66,7 +66,6 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
 
 /// The row-sum norm of the owned rows.
 double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
-  const HostLibraryStaging staging; // copies made here count as staging for hypre/Eigen
   const auto ro = hostReadable(a.rowOffsets);
   const auto va = hostReadable(a.values);
   double norm = 0.0;
@@ -119,6 +118,8 @@ public:
   }
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
+    // Every copy this file makes is for a host library (Eigen, hypre): each entry point of the
+    // LinearSolver interface that can copy counts them as staging (core/Transfer.hpp).
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     // Eigen reads the CSR arrays in place where the memory is host-accessible (as hypre above).
@@ -328,6 +329,7 @@ public:
   }
 
   bool strengthen(std::string &note) override {
+    const HostLibraryStaging staging;
     if (direct_ || matrix_.numRows == 0)
       return false;
     std::ostringstream o;
@@ -521,7 +523,6 @@ private:
   /// a stronger level is left, at most escalationIterations iterations.
   LinearSolveStats iterate(const Kokkos::View<const double *, DeviceSpace> &b,
                            const Kokkos::View<double *, DeviceSpace> &x) {
-    const HostLibraryStaging staging;
     LinearSolveStats s;
     const HYPRE_Int n = dofs_.numOwned();
     const ConstDeviceVector owned = Kokkos::subview(b, std::make_pair(0, static_cast<int>(n)));
@@ -618,7 +619,6 @@ private:
   /// the three rotations about the axes, about the centroid. With nodal coarsening, as hypre's
   /// interpolation-vector variants require. False (nothing set) where they do not apply.
   bool setRotations() {
-    const HostLibraryStaging staging;
     if (!willUseRotations())
       return false;
     const int dim = dofs_.dofsPerNode;

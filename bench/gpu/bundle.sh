@@ -24,6 +24,9 @@ copy_libs() { # dest files...
 for spec in "$@"; do
   name=${spec%%=*}; rest=${spec#*=}; dir=${rest%%:*}; progs=${rest#*:}
   mkdir -p "$stage/$name/bin"
+  # Where the build and its sources were: the tests read examples/ and run apps/mixcon there.
+  realpath "$dir" > "$stage/$name/build_dir"
+  sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$dir/CMakeCache.txt" > "$stage/$name/source_dir"
   bins=()
   for p in ${progs//,/ }; do cp -L "$dir/$p" "$stage/$name/bin/"; bins+=("$dir/$p"); done
   # Each build's own libraries (libmixcon_*, Kokkos) apart: two builds share their sonames.

@@ -7,14 +7,14 @@
 set -u
 bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton operators search cube}
 dir=/tmp/mixcon-bundle
-# Tests read examples/ from the source tree they were built in (MIXCON_SOURCE_DIR): point that
-# path at this copy of the repository (the current directory).
-src=${MIXCON_BUILD_SOURCE_DIR:-/work/wt/gpu}
-[ -e "$src" ] || { mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; }
-# The CLI tests run the program from its build folder.
-mkdir -p "$src/build-cuda/apps" && ln -sf "$dir/cuda/bin/mixcon" "$src/build-cuda/apps/mixcon"
 mkdir -p "$dir" "$out"
 tar -xJf "$bundle" -C "$dir" 2>/dev/null || python3 -m tarfile -e "$bundle" "$dir"
+# The tests read examples/ from the source tree the CUDA build was configured from
+# (MIXCON_SOURCE_DIR) and run the program from its build folder: recreate both paths here, the
+# sources as this copy of the repository (the current directory).
+src=$(cat "$dir/cuda/source_dir") build=$(cat "$dir/cuda/build_dir")
+[ -e "$src" ] || { mkdir -p "$(dirname "$src")" && ln -s "$PWD" "$src"; }
+mkdir -p "$build/apps" && ln -sf "$dir/cuda/bin/mixcon" "$build/apps/mixcon"
 { nvidia-smi; nvidia-smi --query-gpu=name,clocks.max.sm,clocks.max.mem,memory.total --format=csv
   grep PRETTY /etc/os-release; ldd --version | head -1; nproc; free -g; } > "$out/machine.txt" 2>&1
 run() { # variant name timeout command...

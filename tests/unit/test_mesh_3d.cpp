@@ -553,6 +553,17 @@ Mesh readText(const std::string &text, const std::string &name = "box.msh") {
   return readGmsh(in, name);
 }
 
+/// Reads `text` as "bad.msh" and expects an InputError whose message holds
+/// "bad.msh:<the line on which `marker` starts>: <message>"; returns the whole message.
+std::string expectRefusedAt(const std::string &text, const std::string &marker,
+                            const std::string &message) {
+  const std::string msg = expectInputError([&] { readText(text, "bad.msh"); });
+  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(text, marker)) + ": " + message),
+            std::string::npos)
+      << msg;
+  return msg;
+}
+
 /// Mesh index of the node with Gmsh tag `tag`.
 LocalIndex nodeOfTag(const Mesh &m, long tag) {
   const auto it = std::find(m.nodeIds.begin(), m.nodeIds.end(), tag);
@@ -809,20 +820,15 @@ TEST(GmshReader3D, RefusesQuadranglesThatAreNoFaceAndMixedElements) {
   // A boundary quadrangle whose corners are no face of a hexahedron.
   std::string bad = t;
   bad = replaced(bad, "5 103 109 112 106", "5 103 109 111 105");
-  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "5 103 109 111 105")) +
-                     ": quadrangle element 5 of boundary 'right' is not a face of any hexahedron"),
-            std::string::npos)
-      << msg;
+  std::string msg =
+      expectRefusedAt(bad, "5 103 109 111 105",
+                      "quadrangle element 5 of boundary 'right' is not a face of any hexahedron");
   // The same quadrangle in a surface without a physical group: a 2D element among the 3D ones.
   bad = t;
   bad = replaced(bad, "2 2 0 0 2 1 1 1 3 0", "2 2 0 0 2 1 1 0 0");
   bad = replaced(bad, "5 103 109 112 106", "5 103 109 111 105");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "5 103 109 111 105")) +
-                     ": quadrangle element 5 (surface 2) is not a face of any hexahedron"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "5 103 109 111 105",
+                        "quadrangle element 5 (surface 2) is not a face of any hexahedron");
   EXPECT_NE(msg.find("mixed 2D and 3D elements"), std::string::npos) << msg;
   // ... while an unnamed quadrangle that is a face is accepted (and names nothing).
   bad = t;
@@ -836,37 +842,23 @@ TEST(GmshReader3D, RefusesQuadranglesThatAreNoFaceAndMixedElements) {
   bad = t;
   bad = replaced(bad, "5 7 1 22", "6 8 1 23");
   bad = replaced(bad, "$EndElements", "3 1 4 1\n23 101 102 104 107\n$EndElements");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 4 1")) +
-                     ": mixed volume element types: element type 4 (4-node tetrahedron)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "3 1 4 1",
+                        "mixed volume element types: element type 4 (4-node tetrahedron)");
   // A prism block is an unsupported type.
   bad = t;
   bad = replaced(bad, "3 1 5 2\n", "3 1 6 2\n");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 6 2")) +
-                     ": unsupported element type 6 (6-node prism)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "3 1 6 2", "unsupported element type 6 (6-node prism)");
   EXPECT_NE(msg.find("8-node (type 5) and 20-node (type 17) hexahedra"), std::string::npos) << msg;
   // 8-node quadrangles next to hexahedra.
   bad = t;
   bad = replaced(bad, "2 1 3 1\n4 101 107 110 104", "2 1 16 1\n4 101 107 110 104 101 107 110 104");
   bad = replaced(bad, "2 2 3 1\n5 103 109 112 106", "2 2 16 1\n5 103 109 112 106 103 109 112 106");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "4 101 107 110 104")) +
-                     ": 8-node quadrangles (type 16) in a mesh of 8-node hexahedra"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "4 101 107 110 104",
+                        "8-node quadrangles (type 16) in a mesh of 8-node hexahedra");
   // A hexahedron that references a node that does not exist.
   bad = t;
   bad = replaced(bad, "22 102 103", "22 102 999");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "22 102 999")) +
-                     ": element 22 references unknown node 999"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "22 102 999", "element 22 references unknown node 999");
 }
 
 TEST(GmshReader3D, InvertedHexahedronIsRefusedByValidation) {
@@ -911,11 +903,8 @@ $EndElements
   EXPECT_EQ(m.regionNames, std::vector<std::string>{"surface_1"});
   std::string bad = t;
   bad = replaced(bad, "1 1 0\n", "1 1 0.5\n");
-  const std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "1 1 0.5")) +
-                     ": node 3 has a non-zero z coordinate; mixcon meshes are planar (z = 0)"),
-            std::string::npos)
-      << msg;
+  const std::string msg = expectRefusedAt(
+      bad, "1 1 0.5", "node 3 has a non-zero z coordinate; mixcon meshes are planar (z = 0)");
 }
 
 TEST(GmshReader3D, RoundTripOfAGradedHex20BoxKeepsGeometryTopologyAndGroups) {
@@ -1047,33 +1036,23 @@ TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixed
       F::tags(
           {{4, 0, 0}, {4, 2, 0}, {2, 2, 2}, {2, 0, 2}, {4, 1, 0}, {4, 2, 1}, {4, 1, 2}, {4, 0, 1}});
   std::string bad = replaced(t, quad, diagonal);
-  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, diagonal)) +
-                     ": quadrangle element 5 of boundary 'right' is not a face of any hexahedron"),
-            std::string::npos)
-      << msg;
+  std::string msg = expectRefusedAt(
+      bad, diagonal, "quadrangle element 5 of boundary 'right' is not a face of any hexahedron");
   // The right corners, but the mid-edge nodes of edges 1-2 and 2-3 swapped.
   std::vector<P> q = F::rightQuad();
   std::swap(q[5], q[6]);
   const std::string swapped = "5" + F::tags(q);
   bad = replaced(t, quad, swapped);
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, swapped)) +
-                     ": quadrangle element 5 of boundary 'right': its mid-edge node " +
-                     std::to_string(F::tag(q[5])) + " (between nodes " +
-                     std::to_string(F::tag(q[1])) + " and " + std::to_string(F::tag(q[2])) +
-                     ") is not the hexahedron's mid-edge node of that edge, " +
-                     std::to_string(F::tag(q[6]))),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, swapped,
+                        "quadrangle element 5 of boundary 'right': its mid-edge node " +
+                            std::to_string(F::tag(q[5])) + " (between nodes " +
+                            std::to_string(F::tag(q[1])) + " and " + std::to_string(F::tag(q[2])) +
+                            ") is not the hexahedron's mid-edge node of that edge, " +
+                            std::to_string(F::tag(q[6])));
   // A 4-node quadrangle on a 20-node hexahedron.
   const std::string corners = "5" + F::tags({q[0], q[1], q[2], q[3]});
   bad = replaced(replaced(t, quad, corners), "2 2 16 1", "2 2 3 1");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, corners)) +
-                     ": 4-node quadrangles (type 3) in a mesh of 20-node hexahedra"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, corners, "4-node quadrangles (type 3) in a mesh of 20-node hexahedra");
   // A 2-node line (a curve of the other order).
   const std::string line2 = "3" + F::tags({{2, 0, 0}, {4, 0, 0}});
   bad = replaced(t,
@@ -1081,42 +1060,29 @@ TEST(GmshReader3D, Hex20RefusesQuadranglesThatAreNoFaceMidEdgeMismatchesAndMixed
                      F::tags({{2, 0, 0}, {4, 0, 0}, {3, 0, 0}}),
                  "1 1 1 1\n" + line2);
   bad = replaced(bad, "4 6 1 22", "4 5 1 22");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, line2)) +
-                     ": line element 3 has 2 nodes in a mesh of 20-node hexahedra"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, line2, "line element 3 has 2 nodes in a mesh of 20-node hexahedra");
   // 20-node hexahedra followed by 8-node ones: mixed orders, at the second block's line.
   bad = replaced(t, "4 6 1 22", "5 7 1 23");
   std::vector<P> hex8;
   for (int c = 0; c < 8; ++c)
     hex8.push_back(F::corner(0, c));
   bad = replaced(bad, "$EndElements", "3 1 5 1\n23" + F::tags(hex8) + "\n$EndElements");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 5 1")) +
-                     ": mixed volume element types: element type 5 (8-node hexahedron) after "
-                     "element type 17 (20-node hexahedron)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "3 1 5 1",
+                        "mixed volume element types: element type 5 (8-node hexahedron) after "
+                        "element type 17 (20-node hexahedron)");
   // ... and the other way round, in the 8-node file: a 20-node block after the 8-node one.
   bad = replaced(kGmshHex, "5 7 1 22", "6 8 1 23");
   bad = replaced(bad, "$EndElements",
                  "3 1 17 1\n23 101 102 105 104 107 108 111 110 101 102 105 104 107 108 111 110 "
                  "101 102 105 104\n$EndElements");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 17 1")) +
-                     ": mixed volume element types: element type 17 (20-node hexahedron) after "
-                     "element type 5 (8-node hexahedron)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "3 1 17 1",
+                        "mixed volume element types: element type 17 (20-node hexahedron) after "
+                        "element type 5 (8-node hexahedron)");
   // A 3-node line in the 8-node file.
   bad = replaced(kGmshHex, "1 1 1 2\n2 101 102\n3 102 103", "1 1 8 1\n2 101 103 102");
   bad = replaced(bad, "5 7 1 22", "5 6 1 22");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 101 103 102")) +
-                     ": line element 2 has 3 nodes in a mesh of 8-node hexahedra"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "2 101 103 102",
+                        "line element 2 has 3 nodes in a mesh of 8-node hexahedra");
 }
 
 // ---- Tetrahedra: the box split into 6 tetrahedra per cell (Tet4, Tet10) ----
@@ -1483,11 +1449,8 @@ TEST(GmshReaderTet, ReadsTet10InGmshOrderIntoTheInternalOrder) {
   EXPECT_EQ(m.nodesPerSide(), 6);
   // A mid-edge node of the triangle that is not the tetrahedron's is refused.
   const std::string bad = replaced(text, "7 1 3 2 16 15 14", "7 1 3 2 16 14 15");
-  const std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "7 1 3 2 16 14 15")) +
-                     ": triangle element 7 of boundary 'bottom': its mid-edge node 14"),
-            std::string::npos)
-      << msg;
+  const std::string msg = expectRefusedAt(
+      bad, "7 1 3 2 16 14 15", "triangle element 7 of boundary 'bottom': its mid-edge node 14");
   EXPECT_NE(msg.find("is not the tetrahedron's mid-edge node of that edge, 15"), std::string::npos)
       << msg;
 }
@@ -1507,53 +1470,34 @@ TEST(GmshReaderTet, RefusesMixedTypesTrianglesThatAreNoFaceAndTrianglesWithoutTe
   const std::string t = kGmshTet;
   // A triangle whose corners are no face of a tetrahedron.
   std::string bad = replaced(t, "10 1 3 2", "10 1 3 5");
-  std::string msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 5")) +
-                     ": triangle element 10 of boundary 'bottom' is not a face of any tetrahedron"),
-            std::string::npos)
-      << msg;
+  std::string msg = expectRefusedAt(
+      bad, "10 1 3 5", "triangle element 10 of boundary 'bottom' is not a face of any tetrahedron");
   // 4-node and 10-node tetrahedra in one mesh.
   bad = replaced(t, "5 6 1 32", "6 7 1 33");
   bad = replaced(bad, "$EndElements", "3 1 11 1\n33 1 2 3 4 1 2 3 4 1 2\n$EndElements");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "3 1 11 1")) +
-                     ": mixed volume element types: element type 11 (10-node tetrahedron) after "
-                     "element type 4 (4-node tetrahedron)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "3 1 11 1",
+                        "mixed volume element types: element type 11 (10-node tetrahedron) after "
+                        "element type 4 (4-node tetrahedron)");
   // Quadrangles next to tetrahedra.
   bad = replaced(t, "2 1 2 1\n10 1 3 2", "2 1 3 1\n10 1 3 2 4");
   bad = replaced(bad, "2 2 2 1\n11 1 3 4", "2 2 3 1\n11 1 3 4 2");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 2 4")) +
-                     ": 4-node quadrangles (type 3) in a mesh of 4-node tetrahedra; the faces of "
-                     "4-node tetrahedra are 3-node triangles (type 2)"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "10 1 3 2 4",
+                        "4-node quadrangles (type 3) in a mesh of 4-node tetrahedra; the faces of "
+                        "4-node tetrahedra are 3-node triangles (type 2)");
   // Triangles and quadrangles mixed among the 2D elements.
   bad = replaced(t, "2 2 2 1\n11 1 3 4", "2 2 3 1\n11 1 3 4 2");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(
-      msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 2 3 1")) + ": mixed 2D element types"),
-      std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "2 2 3 1", "mixed 2D element types");
   // 3-node lines with 4-node tetrahedra.
   bad = replaced(t, "1 1 1 1\n2 1 2", "1 1 8 1\n2 1 2 1");
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "2 1 2 1")) +
-                     ": line element 2 has 3 nodes in a mesh of 4-node tetrahedra"),
-            std::string::npos)
-      << msg;
+  msg =
+      expectRefusedAt(bad, "2 1 2 1", "line element 2 has 3 nodes in a mesh of 4-node tetrahedra");
   // Triangles without tetrahedra: no 2D mesh of triangles.
   bad = replaced(t, "5 6 1 32", "4 4 1 11");
   bad = replaced(bad, "3 1 4 2\n31 1 2 3 4\n32 2 3 4 5\n", "");
   bad = replaced(bad, "0 0 1\n1 1 1\n", "0 0 0\n1 1 0\n"); // planar nodes
-  msg = expectInputError([&] { readText(bad, "bad.msh"); });
-  EXPECT_NE(msg.find("bad.msh:" + std::to_string(lineOf(bad, "10 1 3 2")) +
-                     ": unsupported element type 2 (3-node triangle) in a mesh without "
-                     "tetrahedra"),
-            std::string::npos)
-      << msg;
+  msg = expectRefusedAt(bad, "10 1 3 2",
+                        "unsupported element type 2 (3-node triangle) in a mesh without "
+                        "tetrahedra");
   // An inverted tetrahedron is refused by validation (not reoriented).
   const Mesh inverted = readText(replaced(t, "31 1 2 3 4", "31 1 3 2 4"));
   msg = expectInputError([&] { validateMesh(inverted); });

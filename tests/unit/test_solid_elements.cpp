@@ -14,6 +14,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -31,6 +32,15 @@ template <class Elem> std::vector<std::array<double, 3>> naturalNodes() {
     x[a] = {xi[0], xi[1], xi[2]};
   }
   return x;
+}
+
+/// (b - a) x (c - a): the normal of the plane through a, b and c, pointing to the side from
+/// which a, b, c run counter-clockwise.
+std::array<double, 3> planeNormal(const std::array<double, 3> &a, const std::array<double, 3> &b,
+                                  const std::array<double, 3> &c) {
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+               v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
 }
 
 /// Interpolation of f through the nodes, evaluated at xi.
@@ -162,12 +172,8 @@ TYPED_TEST(SolidElementTest, FacesLieOnTheirPlaneAndRunCounterClockwiseFromOutsi
   std::vector<int> seen(Elem::kNumNodes, 0);
   for (int f = 0; f < Elem::kNumSides; ++f) {
     // Corners 0, 1, 3 of the face: (x1 - x0) x (x3 - x0) is its outward normal.
-    const auto &p0 = x[Elem::sideNode(f, 0)], &p1 = x[Elem::sideNode(f, 1)],
-               &p3 = x[Elem::sideNode(f, 3)];
-    const double a[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
-                 b[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
-    const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                           a[0] * b[1] - a[1] * b[0]};
+    const auto nrm =
+        planeNormal(x[Elem::sideNode(f, 0)], x[Elem::sideNode(f, 1)], x[Elem::sideNode(f, 3)]);
     int axis = 0;
     for (int i = 1; i < 3; ++i)
       if (std::abs(nrm[i]) > std::abs(nrm[axis]))
@@ -248,12 +254,8 @@ TYPED_TEST(TetElementTest, FacesAreOutwardAndCarryTheirEdgesMidNodes) {
   const auto x = naturalNodes<Elem>();
   const double centre[3] = {0.25, 0.25, 0.25};
   for (int f = 0; f < Elem::kNumSides; ++f) {
-    const auto &p0 = x[Elem::sideNode(f, 0)], &p1 = x[Elem::sideNode(f, 1)],
-               &p2 = x[Elem::sideNode(f, 2)];
-    const double a[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]},
-                 b[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                           a[0] * b[1] - a[1] * b[0]};
+    const auto &p0 = x[Elem::sideNode(f, 0)];
+    const auto nrm = planeNormal(p0, x[Elem::sideNode(f, 1)], x[Elem::sideNode(f, 2)]);
     // Outward: the normal points away from the centroid.
     double out = 0.0;
     for (int i = 0; i < 3; ++i)
