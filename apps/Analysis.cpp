@@ -323,7 +323,8 @@ RestartPoint restartPoint(const Problem &p, const std::string &directory) {
 
 RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm comm,
                        const std::vector<int> &elementMaterial,
-                       const std::vector<PlaneMatrix> &stiffness, RunResult result) {
+                       const std::vector<PlaneMatrix> &stiffness,
+                       const std::vector<SolidMatrix> &solidStiffness, RunResult result) {
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   // Warnings (failures) go to options.log whatever the verbosity; progress lines unless Quiet.
@@ -343,8 +344,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     m->setIterativeSolver(p.model.mixedNewton);
     owner = std::move(m);
   } else {
-    auto d = std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
-                                                          p.model.thickness);
+    auto d = p.mesh.dim() == 3 ? std::make_unique<NonlinearDisplacementModel>(
+                                     p.mesh, elementMaterial, solidStiffness)
+                               : std::make_unique<NonlinearDisplacementModel>(
+                                     p.mesh, elementMaterial, stiffness, p.model.thickness);
     d->setTangent(p.tangent);
     d->setElasticLaw(p.model.elasticLaw);
     d->setSmallDisplacements(!p.model.geometricNonlinearity); // a linear body in contact
@@ -587,7 +590,8 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
   if (p.model.geometricNonlinearity || !p.contact.empty() || p.hybrid)
-    return runNonlinear(p, options, comm, elementMaterial, stiffness, std::move(result));
+    return runNonlinear(p, options, comm, elementMaterial, stiffness, solidStiffness,
+                        std::move(result));
   if (!options.restartDirectory.empty())
     throw InputError(p.file + ": --restart continues a nonlinear or contact analysis; this one is "
                               "linear without contact (its steps are independent: run it again)");

@@ -133,7 +133,8 @@ void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
 }
 
 const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys) {
-  prescribedStep(sys.flags, sys.prescribed, sys.displacement, sys.lambda, sys.stride, sys.target);
+  prescribedStep(sys.flags, sys.prescribed, sys.displacement, sys.lambda, sys.stride, kDisp,
+                 sys.target);
   set_ = ConstraintSet{};
   set_.stride = sys.stride;
   set_.flags = sys.flags;

@@ -82,11 +82,11 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   p.mesh = detail::readMesh(top.required("mesh"), baseDirectory);
   if (top.has("model"))
     p.model = detail::readModel(top["model"], p.mesh.elementType);
-  if (p.mesh.dim() == 3) // 3D runs so far: the linear displacement model (issue 17, step by step)
+  if (p.mesh.dim() == 3) // 3D runs so far: the displacement model without contact (issue 17)
     for (const char *key : {"contact", "hybrid"})
       if (top.has(key))
-        top[key].fail(std::string(key) + " is 2D only so far; 3D meshes run the linear "
-                                         "displacement model (issue 17)");
+        top[key].fail(std::string(key) + " is 2D only so far; 3D meshes run the displacement "
+                                         "model without contact (issue 17)");
   detail::readMaterials(top, p);
 
   const YamlItem bcs = top.required("boundary_conditions");

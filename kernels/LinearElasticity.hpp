@@ -242,6 +242,26 @@ EdgeLoadBatch<MemorySpace> uniformEdgeLoads(const std::vector<BoundaryEdge> &edg
   return b;
 }
 
+namespace detail {
+/// The tangents t1 = dx/ds, t2 = dx/dt of a face with nodal coordinates xf at a point with natural
+/// shape derivatives ds, and na = t1 x t2 (the outward normal times the area element when the
+/// face's nodes run counter-clockwise seen from outside).
+template <int N>
+KOKKOS_INLINE_FUNCTION void faceFrame(const double (&xf)[N][3], const double (&ds)[N][2],
+                                      double (&t1)[3], double (&t2)[3], double (&na)[3]) {
+  for (int i = 0; i < 3; ++i) {
+    t1[i] = t2[i] = 0.0;
+    for (int a = 0; a < N; ++a) {
+      t1[i] += ds[a][0] * xf[a][i];
+      t2[i] += ds[a][1] * xf[a][i];
+    }
+  }
+  na[0] = t1[1] * t2[2] - t1[2] * t2[1];
+  na[1] = t1[2] * t2[0] - t1[0] * t2[2];
+  na[2] = t1[0] * t2[1] - t1[1] * t2[0];
+}
+} // namespace detail
+
 /// Adds boundary loads on the faces of 3D elements to rhs (3 dofs per node): faces(k) =
 /// (element, local face: Elem::sideNode), load(k) = (t_x, t_y, t_z, p): a traction per unit area
 /// plus a pressure p acting against the outward normal (positive p pushes into the body), both on
@@ -273,14 +293,8 @@ void assembleFaceLoads(const ExecSpace &exec, const MeshView<MemorySpace, 3> &m,
           double st[2], w, sh[nf], ds[nf][2];
           Side::quadraturePoint(q, st, w);
           Side::shape(st, sh, ds);
-          double t1[3] = {}, t2[3] = {}; // dx/ds, dx/dt
-          for (int a = 0; a < nf; ++a)
-            for (int i = 0; i < 3; ++i) {
-              t1[i] += ds[a][0] * xf[a][i];
-              t2[i] += ds[a][1] * xf[a][i];
-            }
-          const double na[3] = {t1[1] * t2[2] - t1[2] * t2[1], t1[2] * t2[0] - t1[0] * t2[2],
-                                t1[0] * t2[1] - t1[1] * t2[0]};
+          double t1[3], t2[3], na[3]; // dx/ds, dx/dt, their cross product
+          detail::faceFrame<nf>(xf, ds, t1, t2, na);
           const double area = detail::sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
           for (int i = 0; i < 3; ++i) {
             const double f = load(k, i) * area - load(k, 3) * na[i];
@@ -428,41 +442,54 @@ void nodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace> &
   recoverNodalStress<Elem>(exec, d.mesh, LinearPointStress<Elem, MemorySpace>{d, u}, nodal);
 }
 
-/// Nodal stresses of the linear model in 3D, averaged over the elements sharing the node (the 3D
-/// form of recoverNodalStress): for hexahedra C eps(u) at the 2 x 2 x 2 Gauss points (+-1/sqrt(3)
-/// in each natural direction) extrapolated trilinearly to every element node; for tetrahedra
-/// C eps(u) at the node itself (constant in a Tet4, linear in a Tet10). `nodal` (N x 6, Voigt<3>
-/// order) is overwritten.
-template <class Elem, class ExecSpace, class MemorySpace>
-void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace, 3> &d,
-                              const Kokkos::View<const double *, MemorySpace> &u,
-                              const Kokkos::View<double *[6], MemorySpace> &nodal) {
-  static_assert(Elem::kDim == 3, "solidNodalStressRecovery is the 3D recovery");
+/// Stress C eps(u) of the linear model at a point of a solid element, for recoverSolidNodalStress:
+/// from the element's nodal coordinates xe, displacements ue and natural shape derivatives dn.
+template <class Elem, class MemorySpace> struct SolidLinearStress {
+  LinearElasticLaw<MemorySpace, 3> law;
+  KOKKOS_INLINE_FUNCTION Vector<6> operator()(LocalIndex e, const double (&xe)[Elem::kNumNodes][3],
+                                              const double (&ue)[Elem::kNumNodes][3],
+                                              const double (&dn)[Elem::kNumNodes][3]) const {
+    double g[Elem::kNumNodes][3];
+    detail::pointGeometry<Elem>(xe, dn, g);
+    return law.at(e).stress(smallStrain(detail::displacementGradient<Elem>(ue, g)));
+  }
+};
+
+/// Nodal stresses of a solid mesh, averaged over the elements sharing the node (the 3D form of
+/// recoverNodalStress): for hexahedra the point stress at the 2 x 2 x 2 Gauss points (+-1/sqrt(3)
+/// in each natural direction) extrapolated trilinearly to every element node; for tetrahedra the
+/// point stress at the node itself (constant in a Tet4, linear in a Tet10).
+/// `pointStress(e, xe, ue, dn)` gives the Voigt<3> stress of element e at the point of natural
+/// shape derivatives dn (e.g. SolidLinearStress). `nodal` (N x 6, Voigt<3> order) is overwritten.
+template <class Elem, class ExecSpace, class MemorySpace, class PointStress>
+void recoverSolidNodalStress(const ExecSpace &exec, const MeshView<MemorySpace, 3> &mesh,
+                             const Kokkos::View<const double *, MemorySpace> &u,
+                             const PointStress &pointStress,
+                             const Kokkos::View<double *[6], MemorySpace> &nodal) {
+  static_assert(Elem::kDim == 3, "recoverSolidNodalStress is the 3D recovery");
   const LocalIndex nn = nodal.extent(0);
   Kokkos::View<double *, MemorySpace> count("mixcon::kernels::stressCount", nn);
   Kokkos::deep_copy(exec, nodal, 0.0);
-  const auto law = linearElasticLaw(d);
   Kokkos::parallel_for(
       "mixcon::kernels::solidNodalStressRecovery",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.mesh.connectivity.extent(0)),
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
         constexpr int n = Elem::kNumNodes, kCorners = 8, kS = 6;
         constexpr double g = 0.57735026918962576451; // 1/sqrt(3)
         // Named before the `if constexpr`: nvcc's extended lambdas may not first-capture there.
         const auto &sum = nodal;
         const auto &hits = count;
+        const auto &stressAt = pointStress;
         double xe[n][3], ue[n][3], sg[kCorners][kS];
-        detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
-        detail::gatherElementDisplacements<Elem>(d.mesh, u, e, ue);
-        const auto point = law.at(e);
+        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+        detail::gatherElementDisplacements<Elem>(mesh, u, e, ue);
         if constexpr (Elem::kSimplex) {
           for (int a = 0; a < n; ++a) {
-            double xa[3], sh[n], dn[n][3], gr[n][3];
+            double xa[3], sh[n], dn[n][3];
             Elem::nodeNatural(a, xa);
             Elem::shape(xa, sh, dn);
-            detail::pointGeometry<Elem>(xe, dn, gr);
-            const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
-            const LocalIndex node = d.mesh.connectivity(e, a);
+            const Vector<kS> sig = stressAt(e, xe, ue, dn);
+            const LocalIndex node = mesh.connectivity(e, a);
             for (int k = 0; k < kS; ++k)
               Kokkos::atomic_add(&sum(node, k), sig.v[k]);
             Kokkos::atomic_add(&hits(node), 1.0);
@@ -471,17 +498,16 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
           // Corner c of the Gauss cube: sign of direction i is bit i of c.
           for (int c = 0; c < kCorners; ++c) {
             const double xi[3] = {(c & 1) ? g : -g, (c & 2) ? g : -g, (c & 4) ? g : -g};
-            double sh[n], dn[n][3], gr[n][3];
+            double sh[n], dn[n][3];
             Elem::shape(xi, sh, dn);
-            detail::pointGeometry<Elem>(xe, dn, gr);
-            const auto sig = point.stress(smallStrain(detail::displacementGradient<Elem>(ue, gr)));
+            const Vector<kS> sig = stressAt(e, xe, ue, dn);
             for (int k = 0; k < kS; ++k)
               sg[c][k] = sig.v[k];
           }
           for (int a = 0; a < n; ++a) {
             double xa[3];
             Elem::nodeNatural(a, xa);
-            const LocalIndex node = d.mesh.connectivity(e, a);
+            const LocalIndex node = mesh.connectivity(e, a);
             for (int k = 0; k < kS; ++k) {
               double v = 0.0;
               for (int c = 0; c < kCorners; ++c)
@@ -501,6 +527,15 @@ void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpa
           for (int k = 0; k < 6; ++k)
             nodal(i, k) /= count(i);
       });
+}
+
+/// Nodal stresses of the linear model in 3D (recoverSolidNodalStress of C eps(u)).
+template <class Elem, class ExecSpace, class MemorySpace>
+void solidNodalStressRecovery(const ExecSpace &exec, const ElementData<MemorySpace, 3> &d,
+                              const Kokkos::View<const double *, MemorySpace> &u,
+                              const Kokkos::View<double *[6], MemorySpace> &nodal) {
+  recoverSolidNodalStress<Elem>(exec, d.mesh, u,
+                                SolidLinearStress<Elem, MemorySpace>{linearElasticLaw(d)}, nodal);
 }
 
 } // namespace mixcon

@@ -53,33 +53,6 @@ KOKKOS_INLINE_FUNCTION void stressFromStrainTensor(const PlaneMatrix &c, const d
   s[0][1] = s[1][0] = sv[2];
 }
 
-/// Green-Lagrange strain E = (F^T F - I) / 2 of a deformation gradient F.
-KOKKOS_INLINE_FUNCTION void greenStrain(const double (&f)[2][2], double (&e)[2][2]) {
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      e[i][j] = 0.5 * (f[0][i] * f[0][j] + f[1][i] * f[1][j] - (i == j ? 1.0 : 0.0));
-}
-
-/// Cauchy stress of the St. Venant-Kirchhoff law from the spatial displacement gradient h =
-/// du/dx: F = (I - h)^-1, E = (F^T F - I) / 2, S = C : E, sigma = F S F^T / det F.
-KOKKOS_INLINE_FUNCTION void
-svkCauchyFromSpatialGradient(const PlaneMatrix &c, const double (&h)[2][2], double (&s)[2][2]) {
-  const double fi[2][2] = {{1.0 - h[0][0], -h[0][1]}, {-h[1][0], 1.0 - h[1][1]}}; // F^-1
-  const double di = fi[0][0] * fi[1][1] - fi[0][1] * fi[1][0];
-  const double f[2][2] = {{fi[1][1] / di, -fi[0][1] / di}, {-fi[1][0] / di, fi[0][0] / di}};
-  double e[2][2], pk2[2][2];
-  greenStrain(f, e);
-  stressFromStrainTensor(c, e, pk2);
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) {
-      double v = 0.0;
-      for (int k = 0; k < 2; ++k)
-        for (int l = 0; l < 2; ++l)
-          v += f[i][k] * pk2[k][l] * f[j][l];
-      s[i][j] = v * di; // 1 / det F = det F^-1
-    }
-}
-
 /// Element nodal coordinates x = X + u (current configuration) and displacements.
 template <class Elem, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
@@ -129,12 +102,12 @@ KOKKOS_INLINE_FUNCTION void almansiVariation(const double (&gb)[2], int m, const
 } // namespace detail
 
 /// The Almansi point law of the displacement model for the element driver: element e's
-/// AlmansiPoint with its material's plane stiffness [C].
-template <class MemorySpace> struct AlmansiLaw {
+/// AlmansiPoint with its material's Voigt stiffness [C] (plane in 2D, solid in 3D).
+template <class MemorySpace, int Dim = 2> struct AlmansiLaw {
   Kokkos::View<int *, MemorySpace> material;
-  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
-  KOKKOS_INLINE_FUNCTION AlmansiPoint<2> at(LocalIndex e) const {
-    return AlmansiPoint<2>{stiffness(material(e))};
+  Kokkos::View<typename ElementData<MemorySpace, Dim>::Stiffness *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION AlmansiPoint<Dim> at(LocalIndex e) const {
+    return AlmansiPoint<Dim>{stiffness(material(e))};
   }
 };
 
@@ -143,21 +116,23 @@ template <class MemorySpace> struct AlmansiLaw {
 /// (the element driver's spatialElement with the Almansi point law). Returns false when the
 /// current element is inverted (det dx/dxi <= 0 at a quadrature point).
 template <class Elem, bool Tangent, class MemorySpace>
-KOKKOS_INLINE_FUNCTION bool almansiElement(const ElementData<MemorySpace> &d,
-                                           const Kokkos::View<const double *, MemorySpace> &u,
-                                           LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
-                                           double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
+KOKKOS_INLINE_FUNCTION bool
+almansiElement(const ElementData<MemorySpace, Elem::kDim> &d,
+               const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+               double (&fe)[Elem::kDim * Elem::kNumNodes],
+               double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
   return spatialElement<Elem, Tangent>(
-      d.mesh, d.thickness, AlmansiLaw<MemorySpace>{d.material, d.stiffness}, u, e, fe, ke);
+      d.mesh, d.thickness, AlmansiLaw<MemorySpace, Elem::kDim>{d.material, d.stiffness}, u, e, fe,
+      ke);
 }
 
 /// The St. Venant-Kirchhoff point law of the displacement model for the element driver: element
-/// e's SaintVenantKirchhoffPoint with its material's plane stiffness [C].
-template <class MemorySpace> struct SaintVenantKirchhoffLaw {
+/// e's SaintVenantKirchhoffPoint with its material's Voigt stiffness [C].
+template <class MemorySpace, int Dim = 2> struct SaintVenantKirchhoffLaw {
   Kokkos::View<int *, MemorySpace> material;
-  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness;
-  KOKKOS_INLINE_FUNCTION SaintVenantKirchhoffPoint<2> at(LocalIndex e) const {
-    return SaintVenantKirchhoffPoint<2>{stiffness(material(e))};
+  Kokkos::View<typename ElementData<MemorySpace, Dim>::Stiffness *, MemorySpace> stiffness;
+  KOKKOS_INLINE_FUNCTION SaintVenantKirchhoffPoint<Dim> at(LocalIndex e) const {
+    return SaintVenantKirchhoffPoint<Dim>{stiffness(material(e))};
   }
 };
 
@@ -168,29 +143,40 @@ template <class MemorySpace> struct SaintVenantKirchhoffLaw {
 /// part dF S): the element driver's materialElement with the St. Venant-Kirchhoff point law.
 /// Returns false for an inverted element.
 template <class Elem, bool Tangent, class MemorySpace>
-KOKKOS_INLINE_FUNCTION bool svkElement(const ElementData<MemorySpace> &d,
-                                       const Kokkos::View<const double *, MemorySpace> &u,
-                                       LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
-                                       double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) {
+KOKKOS_INLINE_FUNCTION bool
+svkElement(const ElementData<MemorySpace, Elem::kDim> &d,
+           const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
+           double (&fe)[Elem::kDim * Elem::kNumNodes],
+           double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
   return materialElement<Elem, Tangent>(
-      d.mesh, d.thickness, SaintVenantKirchhoffLaw<MemorySpace>{d.material, d.stiffness}, u, e, fe,
-      ke);
+      d.mesh, d.thickness,
+      SaintVenantKirchhoffLaw<MemorySpace, Elem::kDim>{d.material, d.stiffness}, u, e, fe, ke);
 }
 
-/// Cauchy stress of `law` from the spatial displacement gradient h = du/dx.
-KOKKOS_INLINE_FUNCTION void cauchyFromSpatialGradient(ElasticLaw law, const PlaneMatrix &c,
-                                                      const double (&h)[2][2], double (&s)[2][2]) {
-  if (law == ElasticLaw::SaintVenantKirchhoff) {
-    detail::svkCauchyFromSpatialGradient(c, h, s);
-  } else {
-    double es[2][2];
-    detail::almansiStrain(h, es);
-    detail::stressFromStrainTensor(c, es, s);
-  }
+/// Cauchy stress (Voigt<Dim>) of `law` with Voigt stiffness c at the spatial displacement
+/// gradient h = du/dx: C times the Almansi strain of h, or for St. Venant-Kirchhoff
+/// F S F^T / det F with F = (I - h)^-1, S = C : E(F).
+template <int Dim>
+KOKKOS_INLINE_FUNCTION Vector<Voigt<Dim>::kSize>
+spatialCauchyStress(ElasticLaw law, const Mat<Voigt<Dim>::kSize, Voigt<Dim>::kSize> &c,
+                    const Mat<Dim, Dim> &h) {
+  if (law != ElasticLaw::SaintVenantKirchhoff)
+    return AlmansiPoint<Dim>{c}.stress(h);
+  Mat<Dim, Dim> fi{}, f{}; // F^-1 = I - h and F
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j)
+      fi.m[i][j] = (i == j ? 1.0 : 0.0) - h.m[i][j];
+  const double inverseJ = inverse(fi, f); // det F^-1 = 1 / det F
+  const Mat<Dim, Dim> pk2 = voigtToStress<Dim>(SaintVenantKirchhoffPoint<Dim>{c}.stress(f));
+  Mat<Dim, Dim> sigma = matmulNT(matmul(f, pk2), f);
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j)
+      sigma.m[i][j] *= inverseJ;
+  return stressToVoigt<Dim>(sigma);
 }
 
-/// Cauchy stress (Almansi law) of total displacements u at natural point (xi, eta) of element e
-/// (a functor for recoverNodalStress).
+/// Cauchy stress of `law` (Almansi by default) of total displacements u at natural point
+/// (xi, eta) of a 2D element e (a functor for recoverNodalStress).
 template <class Elem, class MemorySpace> struct AlmansiPointStress {
   ElementData<MemorySpace> d;
   Kokkos::View<const double *, MemorySpace> u;
@@ -198,55 +184,75 @@ template <class Elem, class MemorySpace> struct AlmansiPointStress {
   KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, double xi, double eta,
                                          double (&sig)[3]) const {
     constexpr int n = Elem::kNumNodes;
-    double xe[n][2], ue[n][2], sh[n], dn[n][2], g[n][2], h[2][2], s[2][2];
+    double xe[n][2], ue[n][2], sh[n], dn[n][2], g[n][2];
     detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
     Elem::shape(xi, eta, sh, dn);
     physicalGradients<Elem>(xe, dn, g);
-    detail::nodalGradient<n>(ue, g, h);
-    cauchyFromSpatialGradient(law, d.stiffness(d.material(e)), h, s);
-    sig[0] = s[0][0];
-    sig[1] = s[1][1];
-    sig[2] = s[0][1];
+    const auto s = spatialCauchyStress<2>(law, d.stiffness(d.material(e)),
+                                          detail::displacementGradient<Elem>(ue, g));
+    for (int k = 0; k < 3; ++k)
+      sig[k] = s.v[k];
   }
 };
 
-/// Cauchy stress (Almansi law) and spatial displacement gradient du/dx at every quadrature point
-/// for total displacements u: stress(e, q, 0..2) = (xx, yy, xy), grad(e, q, 0..3) = (du/dx,
-/// du/dy, dv/dx, dv/dy); xq(e, q, 0..1) the current quadrature-point coordinates.
-template <class Elem, class ExecSpace, class MemorySpace>
-void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+/// Cauchy stress of `law` at a point of a solid element for recoverSolidNodalStress: the
+/// gradients on the current configuration xe + ue, h = du/dx, spatialCauchyStress.
+template <class Elem, class MemorySpace> struct SolidCauchyStress {
+  static_assert(Elem::kDim == 3, "the solid form of AlmansiPointStress");
+  Kokkos::View<int *, MemorySpace> material;
+  Kokkos::View<SolidMatrix *, MemorySpace> stiffness;
+  ElasticLaw law = ElasticLaw::Almansi;
+  KOKKOS_INLINE_FUNCTION Vector<6> operator()(LocalIndex e, const double (&xe)[Elem::kNumNodes][3],
+                                              const double (&ue)[Elem::kNumNodes][3],
+                                              const double (&dn)[Elem::kNumNodes][3]) const {
+    constexpr int n = Elem::kNumNodes;
+    double xc[n][3], g[n][3];
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i)
+        xc[a][i] = xe[a][i] + ue[a][i];
+    detail::pointGeometry<Elem>(xc, dn, g);
+    return spatialCauchyStress<3>(law, stiffness(material(e)),
+                                  detail::displacementGradient<Elem>(ue, g));
+  }
+};
+
+/// Cauchy stress of `law` (Voigt<Dim>) and the spatial displacement gradient du/dx at every
+/// quadrature point for total displacements u: stress(e, q, .), grad(e, q, i Dim + j) =
+/// du_i/dx_j (2D: du/dx, du/dy, dv/dx, dv/dy), xq(e, q, .) the current quadrature-point
+/// coordinates.
+template <class Elem, class ExecSpace, class MemorySpace, class StressView, class GradientView,
+          class PointView>
+void almansiGaussPointStress(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                              const Kokkos::View<const double *, MemorySpace> &u,
-                             const Kokkos::View<double **[3], MemorySpace> &stress,
-                             const Kokkos::View<double **[4], MemorySpace> &grad,
-                             const Kokkos::View<double **[2], MemorySpace> &xq,
-                             ElasticLaw law = ElasticLaw::Almansi) {
+                             const StressView &stress, const GradientView &grad,
+                             const PointView &xq, ElasticLaw law = ElasticLaw::Almansi) {
   Kokkos::parallel_for(
       "mixcon::kernels::almansiGaussPointStress",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, d.material.extent(0)), KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double xe[n][2], ue[n][2];
-        detail::gatherCurrent<Elem>(d.mesh, u, e, xe, ue);
-        const PlaneMatrix c = d.stiffness(d.material(e));
-        bool valid = true;
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+        double xe[n][dim], ue[n][dim];
+        detail::gatherElementCoordinates<Elem>(d.mesh, e, xe);
+        detail::gatherElementDisplacements<Elem>(d.mesh, u, e, ue);
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i)
+            xe[a][i] += ue[a][i]; // current configuration
+        const auto c = d.stiffness(d.material(e));
         for (int q = 0; q < Elem::kNumQp; ++q) {
-          double sh[n], g[n][2], h[2][2], es[2][2], s[2][2];
-          detail::almansiPoint<Elem>(q, xe, ue, c, d.thickness, sh, g, h, es, s, valid);
-          if (law != ElasticLaw::Almansi)
-            cauchyFromSpatialGradient(law, c, h, s);
-          stress(e, q, 0) = s[0][0];
-          stress(e, q, 1) = s[1][1];
-          stress(e, q, 2) = s[0][1];
-          grad(e, q, 0) = h[0][0];
-          grad(e, q, 1) = h[0][1];
-          grad(e, q, 2) = h[1][0];
-          grad(e, q, 3) = h[1][1];
-          double x = 0.0, y = 0.0;
-          for (int a = 0; a < n; ++a) {
-            x += sh[a] * xe[a][0];
-            y += sh[a] * xe[a][1];
+          double sh[n], dn[n][dim], g[n][dim];
+          detail::referencePoint<Elem>(q, sh, dn);
+          detail::pointGeometry<Elem>(xe, dn, g);
+          const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
+          const auto s = spatialCauchyStress<dim>(law, c, h);
+          for (int k = 0; k < Voigt<dim>::kSize; ++k)
+            stress(e, q, k) = s.v[k];
+          for (int i = 0; i < dim; ++i) {
+            double x = 0.0;
+            for (int a = 0; a < n; ++a)
+              x += sh[a] * xe[a][i];
+            xq(e, q, i) = x;
+            for (int j = 0; j < dim; ++j)
+              grad(e, q, i * dim + j) = h.m[i][j];
           }
-          xq(e, q, 0) = x;
-          xq(e, q, 1) = y;
         }
       });
 }
@@ -277,8 +283,8 @@ void interpolateNodalStress(const ExecSpace &exec, const MeshView<MemorySpace> &
 /// expandGraph(graph, Ndof)) through the scatter map of the graph.
 template <int Ndof, class Elem, class MemorySpace, class Map>
 KOKKOS_INLINE_FUNCTION void
-scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace> &m,
-                   LocalIndex e,
+scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map,
+                   const MeshView<MemorySpace, Elem::kDim> &m, LocalIndex e,
                    const double (&ke)[Ndof * Elem::kNumNodes][Ndof * Elem::kNumNodes]) {
   for (int p = 0; p < Elem::kNumNodes; ++p) {
     const LocalIndex row = m.connectivity(e, p);
@@ -303,7 +309,7 @@ scatterBlockMatrix(const CsrMatrix<MemorySpace> &a, const Map &map, const MeshVi
 /// assembleNonlinearRows needs one node's row block only (8 Ndof nd bytes: mixed Quad8 1.6 KB,
 /// Hex8 5.2 KB, Hex20 13 KB).
 template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
-LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
                              const Kernel &kernel, const Map &map, const CsrMatrix<MemorySpace> &a,
                              const Kokkos::View<double *, MemorySpace> &g) {
   LocalIndex inverted = -1;
@@ -338,7 +344,8 @@ LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace> 
 /// nd x nd; the residual alone is one pass. Same results as assembleNonlinear up to rounding of
 /// the atomics' order.
 template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
-LocalIndex assembleNonlinearRows(const ExecSpace &exec, const MeshView<MemorySpace> &mesh,
+LocalIndex assembleNonlinearRows(const ExecSpace &exec,
+                                 const MeshView<MemorySpace, Elem::kDim> &mesh,
                                  const Kernel &kernel, const Map &map,
                                  const CsrMatrix<MemorySpace> &a,
                                  const Kokkos::View<double *, MemorySpace> &g) {
@@ -382,38 +389,38 @@ LocalIndex assembleNonlinearRows(const ExecSpace &exec, const MeshView<MemorySpa
 
 /// Element kernel of the displacement model for assembleNonlinear (almansiElement).
 template <class Elem, class MemorySpace> struct AlmansiKernel {
-  ElementData<MemorySpace> d;
+  static constexpr int kDofs = Elem::kDim * Elem::kNumNodes;
+  ElementData<MemorySpace, Elem::kDim> d;
   Kokkos::View<const double *, MemorySpace> u;
   template <bool Tangent>
-  KOKKOS_INLINE_FUNCTION bool
-  compute(LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
-          double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) const {
+  KOKKOS_INLINE_FUNCTION bool compute(LocalIndex e, double (&fe)[kDofs],
+                                      double (&ke)[kDofs][kDofs]) const {
     return almansiElement<Elem, Tangent>(d, u, e, fe, ke);
   }
 };
 
 /// Element kernel of the displacement model with the St. Venant-Kirchhoff law (svkElement).
 template <class Elem, class MemorySpace> struct SvkKernel {
-  ElementData<MemorySpace> d;
+  static constexpr int kDofs = Elem::kDim * Elem::kNumNodes;
+  ElementData<MemorySpace, Elem::kDim> d;
   Kokkos::View<const double *, MemorySpace> u;
   template <bool Tangent>
-  KOKKOS_INLINE_FUNCTION bool
-  compute(LocalIndex e, double (&fe)[2 * Elem::kNumNodes],
-          double (&ke)[2 * Elem::kNumNodes][2 * Elem::kNumNodes]) const {
+  KOKKOS_INLINE_FUNCTION bool compute(LocalIndex e, double (&fe)[kDofs],
+                                      double (&ke)[kDofs][kDofs]) const {
     return svkElement<Elem, Tangent>(d, u, e, fe, ke);
   }
 };
 
 /// Displacement model: f += internal force of every element at total displacement u, and, when
-/// `a.numRows > 0`, a += tangent (2 dofs per node, scatter map `map`). Returns the first
+/// `a.numRows > 0`, a += tangent (Dim dofs per node, scatter map `map`). Returns the first
 /// inverted element, or -1.
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
-LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+LocalIndex assembleAlmansi(const ExecSpace &exec, const ElementData<MemorySpace, Elem::kDim> &d,
                            const Kokkos::View<const double *, MemorySpace> &u, const Map &map,
                            const CsrMatrix<MemorySpace> &a,
                            const Kokkos::View<double *, MemorySpace> &f) {
-  return assembleNonlinear<2, Elem>(exec, d.mesh, AlmansiKernel<Elem, MemorySpace>{d, u}, map, a,
-                                    f);
+  return assembleNonlinear<Elem::kDim, Elem>(exec, d.mesh, AlmansiKernel<Elem, MemorySpace>{d, u},
+                                             map, a, f);
 }
 
 /// How the mixed assemblies produce the Jacobian: the whole element matrix per thread
@@ -619,6 +626,70 @@ void assembleFollowerPressure(const ExecSpace &exec, const MeshView<MemorySpace>
             Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a]) + base + 1), kab[a][b]);
             Kokkos::atomic_add(&mat.values(mat.rowOffsets(Ndof * nodes[a] + 1) + base), -kab[a][b]);
           }
+      });
+}
+
+/// Follower pressure p (positive into the body) on element faces of a solid, on the current
+/// configuration (nodal coordinates m.coordinates + u, u's displacement dofs `Ndof * node + i`):
+/// the 3D form of assembleFollowerPressure. faces(k) = (element, local face: Elem::sideNode).
+/// The force f_a = -p int N_a (x_s x x_t) ds dt (x_s, x_t the face's tangents: their cross
+/// product is the outward normal times the area element) is added as -f_ext to g and, when
+/// mat.numRows > 0, its load stiffness -d f_ext / dx_b = p int N_a (N_b,t [x_s]x - N_b,s [x_t]x)
+/// to mat ([v]x w = v x w).
+template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Map>
+void assembleFollowerFacePressure(const ExecSpace &exec, const MeshView<MemorySpace, 3> &m,
+                                  const Kokkos::View<const double *, MemorySpace> &u,
+                                  const Kokkos::View<LocalIndex *[2], MemorySpace> &faces,
+                                  const Kokkos::View<const double *, MemorySpace> &pressure,
+                                  double scale, const Map &map, const CsrMatrix<MemorySpace> &mat,
+                                  const Kokkos::View<double *, MemorySpace> &g) {
+  static_assert(Elem::kDim == 3, "the face form of assembleFollowerPressure");
+  using Side = typename Elem::Side;
+  const bool tangent = mat.numRows > 0;
+  Kokkos::parallel_for(
+      "mixcon::kernels::followerFacePressure",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, faces.extent(0)), KOKKOS_LAMBDA(LocalIndex k) {
+        constexpr int nf = Side::kNumNodes;
+        const LocalIndex e = faces(k, 0);
+        const int face = faces(k, 1);
+        const double p = scale * pressure(k);
+        int local[nf];
+        LocalIndex nodes[nf];
+        double xf[nf][3], ge[nf][3] = {};
+        for (int a = 0; a < nf; ++a) {
+          local[a] = Elem::sideNode(face, a);
+          nodes[a] = m.connectivity(e, local[a]);
+          for (int i = 0; i < 3; ++i)
+            xf[a][i] = m.coordinates(nodes[a], i) + u(Ndof * nodes[a] + i);
+        }
+        for (int q = 0; q < Side::kNumQp; ++q) {
+          double st[2], w, sh[nf], ds[nf][2];
+          Side::quadraturePoint(q, st, w);
+          Side::shape(st, sh, ds);
+          double t1[3], t2[3], na[3];
+          detail::faceFrame<nf>(xf, ds, t1, t2, na);
+          for (int a = 0; a < nf; ++a)
+            for (int i = 0; i < 3; ++i)
+              ge[a][i] += p * w * sh[a] * na[i];
+          if (!tangent)
+            continue;
+          // [v]x (i, m) = eps_ijm v_j.
+          const double s1[3][3] = {{0.0, -t1[2], t1[1]}, {t1[2], 0.0, -t1[0]}, {-t1[1], t1[0], 0.0}};
+          const double s2[3][3] = {{0.0, -t2[2], t2[1]}, {t2[2], 0.0, -t2[0]}, {-t2[1], t2[0], 0.0}};
+          for (int a = 0; a < nf; ++a)
+            for (int b = 0; b < nf; ++b) {
+              const double c1 = p * w * sh[a] * ds[b][1], c2 = p * w * sh[a] * ds[b][0];
+              const Offset base = Ndof * map(e, local[a], local[b]);
+              for (int i = 0; i < 3; ++i) {
+                const Offset row = mat.rowOffsets(Ndof * nodes[a] + i) + base;
+                for (int j = 0; j < 3; ++j)
+                  Kokkos::atomic_add(&mat.values(row + j), c1 * s1[i][j] - c2 * s2[i][j]);
+              }
+            }
+        }
+        for (int a = 0; a < nf; ++a)
+          for (int i = 0; i < 3; ++i)
+            Kokkos::atomic_add(&g(Ndof * nodes[a] + i), ge[a][i]);
       });
 }
 

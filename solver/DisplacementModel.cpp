@@ -28,10 +28,7 @@ void LinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_Comm
   assemblySeconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   solver_ = makeLinearSolver(options, dofs_, comm);
-  if (dim() == 2)
-    solver_->setNearNullSpace(data_.mesh.coordinates);
-  else
-    solver_->setNearNullSpace(solid_.mesh.coordinates);
+  solver_->setNearNullSpace(referenceCoordinates());
   solver_->setup(constrained_);
 }
 

@@ -41,11 +41,11 @@ double relative(double num, double den) {
   return num == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
 }
 
-/// y(stride k + c) += alpha x(kDisp k + c), c < kDisp.
-void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x) {
+/// y(stride k + c) += alpha x(width k + c), c < width.
+void addDisplacementVector(const Vec &y, int stride, int width, double alpha, const ConstVec &x) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / kDisp) + i % kDisp) += alpha * x(i); });
+      KOKKOS_LAMBDA(LocalIndex i) { y(stride * (i / width) + i % width) += alpha * x(i); });
 }
 
 /// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
@@ -153,26 +153,27 @@ void divide(const ConstVec &x, const ConstVec &d, const Vec &y) {
 
 /// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
 /// unknowns of x (out may be base).
-void movedCoordinates(const Kokkos::View<double *[kDisp], Memory> &base, const ConstVec &x,
-                      int stride, const Kokkos::View<double *[kDisp], Memory> &out) {
+void movedCoordinates(const Kokkos::View<const double **, Memory> &base, const ConstVec &x,
+                      int stride, const Kokkos::View<double **, Memory> &out) {
+  const int dim = static_cast<int>(base.extent(1));
   Kokkos::parallel_for(
       "mixcon::nonlinear::movedCoordinates", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
       KOKKOS_LAMBDA(LocalIndex k) {
-        for (int i = 0; i < kDisp; ++i)
+        for (int i = 0; i < dim; ++i)
           out(k, i) = base(k, i) + x(stride * k + i);
       });
 }
 
 /// The remaining prescribed change of every constrained unknown: t(stride k + c) =
-/// lambda g(kDisp k + c) - u(kDisp k + c) where flags(stride k + c) != 0 (c < kDisp), 0
+/// lambda g(width k + c) - u(width k + c) where flags(stride k + c) != 0 (c < width), 0
 /// elsewhere.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
-                    const ConstVec &u, double lambda, int stride, const Vec &t) {
+                    const ConstVec &u, double lambda, int stride, int width, const Vec &t) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::prescribedStep", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
-        // the displacement dof when i % stride < kDisp
-        const LocalIndex j = kDisp * (i / stride) + i % stride;
+        // the displacement dof when i % stride < width
+        const LocalIndex j = width * (i / stride) + i % stride;
         t(i) = flags(i) ? lambda * g(j) - u(j) : 0.0;
       });
 }

@@ -58,8 +58,9 @@ double strideNorm(const ConstVec &v, int stride, int first, int width,
 /// num / den; 0 for 0 / 0 and infinity for a positive num over a zero den.
 double relative(double num, double den);
 
-/// y(stride k + c) += alpha x(kDisp k + c), c < kDisp.
-void addDisplacementVector(const Vec &y, int stride, double alpha, const ConstVec &x);
+/// y(stride k + c) += alpha x(width k + c), c < width: a displacement vector (width per node,
+/// e.g. the load) into an interleaved one.
+void addDisplacementVector(const Vec &y, int stride, int width, double alpha, const ConstVec &x);
 
 /// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
 /// field out of an interleaved vector, e.g. the stresses out of the mixed model's kMixed unknowns
@@ -97,16 +98,16 @@ void nodalDiagonalBlocks(const CsrMatrix<Memory> &m,
 /// y = x / d, entry by entry (Jacobi).
 void divide(const ConstVec &x, const ConstVec &d, const Vec &y);
 
-/// out(k, i) = base(k, i) + x(stride k + i): node coordinates moved by the displacement
-/// unknowns of x (out may be base).
-void movedCoordinates(const Kokkos::View<double *[kDisp], Memory> &base, const ConstVec &x,
-                      int stride, const Kokkos::View<double *[kDisp], Memory> &out);
+/// out(k, i) = base(k, i) + x(stride k + i), i < base.extent(1) (the dimension): node
+/// coordinates moved by the displacement unknowns of x (out may be base).
+void movedCoordinates(const Kokkos::View<const double **, Memory> &base, const ConstVec &x,
+                      int stride, const Kokkos::View<double **, Memory> &out);
 
 /// The remaining prescribed change of every constrained unknown: t(stride k + c) =
-/// lambda g(kDisp k + c) - u(kDisp k + c) where flags(stride k + c) != 0 (c < kDisp), 0
-/// elsewhere.
+/// lambda g(width k + c) - u(width k + c) where flags(stride k + c) != 0 (c < width: only
+/// displacement unknowns are flagged), 0 elsewhere; g and u hold `width` displacements per node.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
-                    const ConstVec &u, double lambda, int stride, const Vec &t);
+                    const ConstVec &u, double lambda, int stride, int width, const Vec &t);
 
 /// Solves the constrained tangent for the correction: rhs = -g on free rows; prescribed rows
 /// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained

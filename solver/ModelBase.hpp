@@ -107,6 +107,12 @@ protected:
   std::vector<double> reactionFrom(const Kokkos::View<const double *, Memory> &internalForce,
                                    double loadFactor) const;
 
+  /// The reference node coordinates (N x dim()) of the mesh on the device.
+  Kokkos::View<const double **, Memory> referenceCoordinates() const {
+    if (dim() == 2)
+      return data_.mesh.coordinates;
+    return solid_.mesh.coordinates;
+  }
   /// The element data of dimension Dim (the one of the mesh; the other is empty).
   template <int Dim> const ElementData<Memory, Dim> &elementData() const {
     if constexpr (Dim == 2)

@@ -21,8 +21,11 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   if (const auto why = rules::reportTangentLaw(tangentKind_, law_))
     throw InputError("nonlinear displacement model: " + *why);
   const auto start = std::chrono::steady_clock::now();
+  if (dim() == 3 && tangentKind_ == TangentKind::Report) // refused by the problem reader first
+    throw InputError("nonlinear displacement model: tangent: report (K^L + K^sigma) is 2D only "
+                     "so far (issue 17); use tangent: exact");
   graph_ = buildNodeGraph(mesh_);
-  tangent_ = expandGraph<Memory>(graph_, kDisp);
+  tangent_ = expandGraph<Memory>(graph_, dim());
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
   constrained_ = CsrMatrix<Memory>{};
@@ -41,9 +44,9 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   // follower pressure's load stiffness is not.
   linearOptions_.symmetric = false;
   solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
-  positions_ =
-      Kokkos::View<double *[kDisp], Memory>("mixcon::nonlinear::positions", mesh_.numNodes());
-  Kokkos::deep_copy(positions_, data_.mesh.coordinates);
+  positions_ = Kokkos::View<double **, Memory>("mixcon::nonlinear::positions", mesh_.numNodes(),
+                                               dim());
+  Kokkos::deep_copy(positions_, referenceCoordinates());
   solver_->setNearNullSpace(positions_);
   assemblySeconds_ = seconds(start);
 }
@@ -59,44 +62,48 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   Kokkos::deep_copy(g_, 0.0);
   if (tangent) {
     Kokkos::deep_copy(tangent_.values, 0.0);
-    movedCoordinates(data_.mesh.coordinates, u_, kDisp, positions_);
+    movedCoordinates(referenceCoordinates(), u_, dim(), positions_);
   }
   const CsrMatrix<Memory> none;
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
   LocalIndex inverted = -1;
   double fint = 0.0;
   const bool report = tangent && tangentKind_ == TangentKind::Report;
-  dispatchPlaneElement(
-      mesh_.elementType, "the geometrically nonlinear displacement model", [&](auto elem) {
-        using Elem = decltype(elem);
-        if (small_) {
-          if (linearStiffness_.numRows == 0) {
-            linearStiffness_ = cloneValues(tangent_);
-            Kokkos::deep_copy(linearStiffness_.values, 0.0);
-            assembleLinearStiffness<Elem>(Exec(), data_, map_, linearStiffness_);
-          }
-          multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
-          if (tangent)
-            Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
-        } else {
-          inverted =
-              law_ == ElasticLaw::SaintVenantKirchhoff
-                  ? assembleNonlinear<kDisp, Elem>(Exec(), data_.mesh,
-                                                   SvkKernel<Elem, Memory>{data_, ConstVec(u_)},
-                                                   map_, a, g_)
-                  : assembleAlmansi<Elem>(Exec(), data_, ConstVec(u_), map_, report ? none : a, g_);
-        }
-        if (report && !small_)
-          assembleReportTangent<Elem>();
-        fint = strideNorm(g_, 1, 0, 1, {}, 0);
-        addDisplacementVector(g_, kDisp, -lambda, load_);
-        if (follower_.edges.extent(0) > 0)
-          assembleFollowerPressure<kDisp, Elem>(Exec(), data_.mesh, ConstVec(u_), follower_.edges,
-                                                ConstVec(follower_.pressure), lambda,
-                                                data_.thickness, map_, a, g_);
-      });
-  return finishEvaluate(lambda, tangent, inverted, fint, g_, kDisp, isConstrained_,
-                        data_.mesh.coordinates, u_, start);
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int dim = Elem::kDim;
+    const auto &d = elementData<dim>();
+    if (small_) {
+      if (linearStiffness_.numRows == 0) {
+        linearStiffness_ = cloneValues(tangent_);
+        Kokkos::deep_copy(linearStiffness_.values, 0.0);
+        assembleLinearStiffness<Elem>(Exec(), d, map_, linearStiffness_);
+      }
+      multiply(Exec(), linearStiffness_, ConstVec(u_), g_);
+      if (tangent)
+        Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
+    } else {
+      inverted = law_ == ElasticLaw::SaintVenantKirchhoff
+                     ? assembleNonlinear<dim, Elem>(
+                           Exec(), d.mesh, SvkKernel<Elem, Memory>{d, ConstVec(u_)}, map_, a, g_)
+                     : assembleAlmansi<Elem>(Exec(), d, ConstVec(u_), map_, report ? none : a, g_);
+    }
+    fint = strideNorm(g_, 1, 0, 1, {}, 0);
+    addDisplacementVector(g_, dim, dim, -lambda, load_);
+    if constexpr (dim == 2) {
+      if (report && !small_) // setup() refuses it in 3D
+        assembleReportTangent<Elem>();
+      if (follower_.edges.extent(0) > 0)
+        assembleFollowerPressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
+                                            ConstVec(follower_.pressure), lambda, d.thickness,
+                                            map_, a, g_);
+    } else if (follower_.edges.extent(0) > 0) {
+      assembleFollowerFacePressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
+                                              ConstVec(follower_.pressure), lambda, map_, a, g_);
+    }
+  });
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, dim(), isConstrained_,
+                        referenceCoordinates(), u_, start);
 }
 
 template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
@@ -108,6 +115,7 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
   movedCoordinates(data_.mesh.coordinates, u_, kDisp, current.mesh.coordinates);
   const LocalIndex ne = mesh_.numElements();
   Kokkos::View<double **[kStress], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
+  static_assert(Elem::kDim == 2, "the report's tangent K^L + K^sigma is 2D only so far");
   Kokkos::View<double * * [kDisp * kDisp], Memory> grad("mixcon::nonlinear::qpGradient", ne,
                                                         Elem::kNumQp);
   Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
@@ -122,9 +130,9 @@ template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {
   const LinearSolveStats s =
       contact_ && contact_->constrains()
-          ? correctWithContact(lambda, kDisp, tangent_, constrained_, isConstrained_, g_, rhs_,
+          ? correctWithContact(lambda, dim(), tangent_, constrained_, isConstrained_, g_, rhs_,
                                target_, *solver_, du_)
-          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, kDisp, target_),
+          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, dim(), dim(), target_),
              constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, constrained_,
                               isConstrained_, g_, target_, rhs_, diag_, *solver_, du_,
                               solverSetupSeconds_));
@@ -149,18 +157,26 @@ void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
 }
 
 std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
-  Kokkos::View<double *[kStress], Memory> s("mixcon::nonlinear::nodalStress", mesh_.numNodes());
-  dispatchPlaneElement(
-      mesh_.elementType, "the geometrically nonlinear displacement model", [&](auto elem) {
-        using Elem = decltype(elem);
-        if (small_)
-          recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_},
-                                   s);
-        else
-          recoverNodalStress<Elem>(Exec(), data_.mesh,
-                                   AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
-      });
-  return toHostVector(s);
+  return dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    Kokkos::View<double *[Voigt<Elem::kDim>::kSize], Memory> s("mixcon::nonlinear::nodalStress",
+                                                               mesh_.numNodes());
+    if constexpr (Elem::kDim == 2) {
+      if (small_)
+        recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_},
+                                 s);
+      else
+        recoverNodalStress<Elem>(Exec(), data_.mesh,
+                                 AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);
+    } else if (small_) {
+      solidNodalStressRecovery<Elem>(Exec(), solid_, ConstVec(u_), s);
+    } else {
+      recoverSolidNodalStress<Elem>(
+          Exec(), solid_.mesh, ConstVec(u_),
+          SolidCauchyStress<Elem, Memory>{solid_.material, solid_.stiffness, law_}, s);
+    }
+    return toHostVector(s);
+  });
 }
 
 std::vector<double> NonlinearDisplacementModel::reactionHost(double) const { return toHost(g_); }

@@ -43,9 +43,9 @@ public:
   void setElasticLaw(ElasticLaw law) { law_ = law; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }
   std::vector<double> residualVectorHost(const std::vector<LocalIndex> &nodes) const override {
-    return toHostAt(g_, 2, nodes);
+    return toHostAt(g_, dim(), nodes);
   }
-  int unknownsPerNode() const override { return 2; }
+  int unknownsPerNode() const override { return dim(); }
 
 private:
   template <class Elem> void assembleReportTangent();

@@ -208,7 +208,7 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
           inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
                                                   stabilization_, map_, a, g_);
         fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
-        addDisplacementVector(g_, kMixed, -lambda, load_);
+        addDisplacementVector(g_, kMixed, kDisp, -lambda, load_);
         if (follower_.edges.extent(0) > 0)
           assembleFollowerPressure<kMixed, Elem>(
               Exec(), current ? reference_.mesh : current_.mesh, ConstVec(x_), follower_.edges,
@@ -241,7 +241,7 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   if (matrixFree_ && mixedOptions_.method != MixedNewtonSolver::BlockTriangular)
     throw std::logic_error("nonlinear mixed model: the matrix-free Jacobian was set up for the "
                            "block-triangular solve");
-  prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, target_);
+  prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, kDisp, target_);
   const LinearSolveStats s =
       contact_ && contact_->constrains()
           ? correctWithContact(lambda, kMixed, tangent_, work_, constrained5_, g_, rhs_, target_,

@@ -61,7 +61,7 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
 double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
                                       const Kokkos::View<double *, Memory> &g, int stride,
                                       const Kokkos::View<const int *, Memory> &flags,
-                                      const Kokkos::View<double *[kDisp], Memory> &coordinates,
+                                      const Kokkos::View<const double **, Memory> &coordinates,
                                       const Kokkos::View<const double *, Memory> &x,
                                       std::chrono::steady_clock::time_point start) {
   // Contact detection at the positions coordinates + x, the friction forces of slip nodes (on
@@ -72,7 +72,7 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
     contact_->subtractForces(g, stride);
     free = contact_->freeResidualNorm(g, flags, stride);
   } else {
-    free = strideNorm(g, stride, 0, kDisp, flags, 0);
+    free = strideNorm(g, stride, 0, dim(), flags, 0);
   }
   double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
   if (contact_)
@@ -89,9 +89,10 @@ void NonlinearModel::setStiffnessScale(
     const NodeGraph &graph, const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map) {
   // RMS diagonal of K^L on the reference configuration, on the model's own pattern: the force a
   // unit displacement of one node produces.
-  auto k = expandGraph<Memory>(graph, kDisp);
-  dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear model", [&](auto elem) {
-    assembleLinearStiffness<decltype(elem)>(Exec(), data_, map, k);
+  auto k = expandGraph<Memory>(graph, dim());
+  dispatchElement(mesh_.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    assembleLinearStiffness<Elem>(Exec(), elementData<Elem::kDim>(), map, k);
   });
   Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
   fieldDiagonal(k, 1, 0, 1, d, 1.0);
@@ -133,18 +134,23 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
                                           std::vector<double> &stress, int &pointsPerElement,
                                           std::vector<double> &gradient,
                                           std::vector<double> &currentCoordinates) const {
-  dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear model", [&](auto elem) {
+  dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
+    const auto &d = elementData<Elem::kDim>();
     const LocalIndex ne = mesh_.numElements();
-    Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCoordinates", ne, Elem::kNumQp);
-    Kokkos::View<double **[kDisp], Memory> xc("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
-    Kokkos::View<double **[kStress], Memory> sq("mixcon::nonlinear::qpStress", ne, Elem::kNumQp);
-    Kokkos::View<double * * [kDisp * kDisp], Memory> gq("mixcon::nonlinear::qpGradient", ne,
-                                                        Elem::kNumQp);
-    quadraturePointCoordinates<Elem>(Exec(), data_.mesh, xq);
-    almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq, gq, xc, law_);
+    // Extents spelled from Elem (nvcc 13 gives a local constexpr extent the wrong value).
+    Kokkos::View<double **[Elem::kDim], Memory> xq("mixcon::nonlinear::qpCoordinates", ne,
+                                                   Elem::kNumQp);
+    Kokkos::View<double **[Elem::kDim], Memory> xc("mixcon::nonlinear::qpCurrent", ne,
+                                                   Elem::kNumQp);
+    Kokkos::View<double **[Voigt<Elem::kDim>::kSize], Memory> sq("mixcon::nonlinear::qpStress",
+                                                                 ne, Elem::kNumQp);
+    Kokkos::View<double **[Elem::kDim * Elem::kDim], Memory> gq("mixcon::nonlinear::qpGradient",
+                                                                ne, Elem::kNumQp);
+    quadraturePointCoordinates<Elem>(Exec(), d.mesh, xq);
+    almansiGaussPointStress<Elem>(Exec(), d, ConstVec(u_), sq, gq, xc, law_);
     if (small_) // linear law on the reference configuration
-      gaussPointStress<Elem>(Exec(), data_, ConstVec(u_), sq);
+      gaussPointStress<Elem>(Exec(), d, ConstVec(u_), sq);
     pointsPerElement = Elem::kNumQp;
     coordinates = toHostVector(xq);
     stress = toHostVector(sq);

@@ -25,7 +25,7 @@ public:
   using ModelBase::ModelBase;
 
   /// A follower pressure p (reference value, scaled by the load factor; positive pushes into the
-  /// body) on the current, deformed position of `edges`.
+  /// body) on the current, deformed position of `edges` (element edges in 2D, faces in 3D).
   void addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure);
 
   /// Builds the sparsity pattern and the linear solver. Call after loads and constraints.
@@ -111,7 +111,7 @@ protected:
   double finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
                         const Kokkos::View<double *, Memory> &g, int stride,
                         const Kokkos::View<const int *, Memory> &flags,
-                        const Kokkos::View<double * [ModelLayout::kDim], Memory> &coordinates,
+                        const Kokkos::View<const double **, Memory> &coordinates,
                         const Kokkos::View<const double *, Memory> &x,
                         std::chrono::steady_clock::time_point start);
   /// Round-off floor of the force norm for a displacement norm (relative residuals of nearly
@@ -129,8 +129,9 @@ protected:
   ElasticLaw law_ = ElasticLaw::Almansi;     ///< the displacement model's law (output stresses)
   bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
   /// The node positions of the last tangent handed to the AMG solver, whose rigid-body modes
-  /// it interpolates (LinearSolver::setNearNullSpace); moved in place with every tangent.
-  Kokkos::View<double * [ModelLayout::kDim], Memory> positions_;
+  /// it interpolates (LinearSolver::setNearNullSpace); moved in place with every tangent
+  /// (N x dim()).
+  Kokkos::View<double **, Memory> positions_;
 
 private:
   std::vector<BoundaryEdge> followerEdges_;

@@ -10,6 +10,7 @@
 #include <kernels/Nonlinear.hpp>
 #include <solver/Nonlinear.hpp>
 #include <support/KernelFixture.hpp>
+#include <support/ModelDifferences.hpp>
 #include <support/NonlinearReference.hpp>
 
 #include <gtest/gtest.h>
@@ -20,15 +21,6 @@ using namespace mixcon;
 using namespace mixcon::test;
 
 namespace {
-
-Eigen::VectorXd hostVector(const Kokkos::View<const double *, Memory> &v) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
-  return Eigen::Map<const Eigen::VectorXd>(h.data(), h.extent(0));
-}
-
-std::vector<double> toStd(const Eigen::VectorXd &v) {
-  return std::vector<double>(v.data(), v.data() + v.size());
-}
 
 LinearSolverOptions directOptions() {
   LinearSolverOptions o;
@@ -116,27 +108,6 @@ Eigen::VectorXd strainedAndRotated(const Fixture &f) {
     u(2 * k + 1) += std::sin(th) * x + (std::cos(th) - 1) * y;
   }
   return u;
-}
-
-/// Central finite differences (step 1e-6) of the displacement model's assembled residual at u,
-/// load factor 1, one column per unknown.
-Eigen::MatrixXd finiteDifferenceTangent(NonlinearDisplacementModel &model,
-                                        const Eigen::VectorXd &u) {
-  Eigen::MatrixXd fd(u.size(), u.size());
-  const double h = 1e-6;
-  for (int j = 0; j < u.size(); ++j) {
-    Eigen::VectorXd up = u, um = u;
-    up(j) += h;
-    um(j) -= h;
-    model.setDisplacement(toStd(up));
-    model.evaluate(1.0, false);
-    const Eigen::VectorXd gp = hostVector(model.residual());
-    model.setDisplacement(toStd(um));
-    model.evaluate(1.0, false);
-    fd.col(j) = (gp - hostVector(model.residual())) / (2 * h);
-  }
-  model.setDisplacement(toStd(u));
-  return fd;
 }
 
 class NonlinearModels : public ::testing::TestWithParam<ElementType> {};

@@ -304,8 +304,9 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
   const Case cases[] = {
       {"materials:", "model: {formulation: mixed}\nmaterials:",
        "solid.yaml:3:22: model.formulation: the mixed model is 2D only so far"},
-      {"materials:", "model: {geometric_nonlinearity: true}\nmaterials:",
-       "geometric nonlinearity is 2D only so far"},
+      {"solver:",
+       "model: {geometric_nonlinearity: true}\nsteps: {increments: 2, tangent: report}\nsolver:",
+       "tangent: report (the report's K^L + K^sigma) is 2D only so far"},
       {"materials:", "model: {analysis: plane_strain}\nmaterials:",
        "analysis applies to 2D meshes"},
       {"materials:", "model: {thickness: 2}\nmaterials:", "thickness applies to 2D meshes"},

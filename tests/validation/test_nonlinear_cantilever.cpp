@@ -7,6 +7,7 @@
 // 0.34365. Tolerances (issue 4): 1.5 % on w, 3 % on u, at every listed step, both models.
 // Also: Newton's local quadratic convergence, modified Newton and the no-equilibrium-iteration
 // mode reaching (or drifting from) the same answer, and automatic step cutting.
+// The 3D form (issue 17): the same beam of square section b = h as 40 x 1 x 1 Hex20 solids.
 #include <mesh/Generators.hpp>
 #include <solver/Nonlinear.hpp>
 
@@ -14,6 +15,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <memory>
 
 using namespace mixcon;
@@ -78,12 +81,11 @@ std::array<double, 2> tipOverLength(const Beam &b) {
 
 const std::vector<double> kFactors{0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
 
-class SlenderCantilever : public ::testing::TestWithParam<Kind> {};
-
-TEST_P(SlenderCantilever, MatchesElasticaAtEveryStepWithQuadraticNewton) {
-  Beam b = makeBeam(GetParam());
-  NonlinearOptions opts; // full Newton, epsilon = 1e-3, residual 1e-6
-  LoadStepper stepper(*b.model, opts);
+/// Steps `model` through kFactors with full Newton (epsilon = 1e-3, residual 1e-6) and checks
+/// the tip deflection and end shortening over L that `tip` returns against the elastica at the
+/// four reference loads (1.5 % and 3 %), and Newton's asymptotic order (> 1.8) over the run.
+void followElastica(NonlinearModel &model, const std::function<std::array<double, 2>()> &tip) {
+  LoadStepper stepper(model, NonlinearOptions{});
   double bestOrder = 0.0;
   int checked = 0;
   for (double lambda : kFactors) {
@@ -98,7 +100,7 @@ TEST_P(SlenderCantilever, MatchesElasticaAtEveryStepWithQuadraticNewton) {
       bestOrder = std::max(bestOrder, q);
     for (const auto &ref : kReference)
       if (std::abs(10.0 * lambda - ref.load) < 1e-9) {
-        const auto got = tipOverLength(b);
+        const auto got = tip();
         EXPECT_NEAR(got[0] / ref.w, 1.0, 0.015) << "tip deflection at qL^3/EI = " << ref.load;
         EXPECT_NEAR(got[1] / ref.u, 1.0, 0.03) << "end shortening at qL^3/EI = " << ref.load;
         ++checked;
@@ -106,6 +108,13 @@ TEST_P(SlenderCantilever, MatchesElasticaAtEveryStepWithQuadraticNewton) {
   }
   EXPECT_EQ(checked, 4);
   EXPECT_GT(bestOrder, 1.8) << "Newton's asymptotic convergence order";
+}
+
+class SlenderCantilever : public ::testing::TestWithParam<Kind> {};
+
+TEST_P(SlenderCantilever, MatchesElasticaAtEveryStepWithQuadraticNewton) {
+  Beam b = makeBeam(GetParam());
+  followElastica(*b.model, [&] { return tipOverLength(b); });
 }
 
 TEST_P(SlenderCantilever, ModifiedNewtonAndStepCuttingReachTheSameState) {
@@ -247,6 +256,42 @@ TEST(ReportCantilever, MixedAmgMethodsFollowTheDirectNewtonPath) {
   EXPECT_LT(tip[0], -4.0); // a large deflection (about half the length)
   EXPECT_NEAR(tip[1], tip[0], 1e-6 * std::abs(tip[0])) << "block triangular";
   EXPECT_NEAR(tip[2], tip[0], 1e-6 * std::abs(tip[0])) << "Schur complement";
+}
+
+// The same slender cantilever as a solid (issue 17): 10 x 0.1 x 0.1 (length, width b, depth h),
+// 40 x 1 x 1 Hex20, clamped at x = 0, the dead load q = 10 EI / L^3 (EI = E b h^3 / 12) as a
+// traction q / b on the top face z = h, the tip on the neutral axis (x = L, z = h / 2). Same
+// elastica reference and tolerances as the plane cantilever (issue 4), the displacement model with
+// the Almansi law (the only 3D model so far).
+TEST(SolidSlenderCantilever, Hex20MatchesElasticaAtEveryStepWithQuadraticNewton) {
+  constexpr double b = kHeight, eiSolid = kYoungs * b * kHeight * kHeight * kHeight / 12.0;
+  const Mesh mesh = boxMesh(kLength, b, kHeight, 40, 1, 1, ElementType::Hex20);
+  NonlinearDisplacementModel model(
+      mesh, std::vector<int>(mesh.numElements(), 0),
+      std::vector<SolidMatrix>{IsotropicMaterial{kYoungs, kPoisson}.stiffness()});
+  for (LocalIndex n : mesh.nodesOf("xmin"))
+    for (int i = 0; i < 3; ++i)
+      model.prescribe(n, i, 0.0);
+  const double q = 10.0 * eiSolid / (kLength * kLength * kLength);
+  model.addSideLoad(mesh.boundaries.at("zmax"), {0.0, 0.0, -q / b}, 0.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model.setup(o, MPI_COMM_WORLD);
+  std::vector<LocalIndex> tip;
+  for (LocalIndex n : mesh.nodesOf("xmax"))
+    if (std::abs(mesh.z(n) - 0.5 * kHeight) < 1e-12)
+      tip.push_back(n);
+  ASSERT_EQ(tip.size(), 2u); // the mid-edge nodes of the two vertical tip edges
+  followElastica(model, [&] {
+    const auto u = model.displacementHost();
+    std::array<double, 2> w{0.0, 0.0};
+    for (LocalIndex n : tip) {
+      w[0] -= u[3 * n + 2] / (kLength * tip.size());
+      w[1] -= u[3 * n] / (kLength * tip.size());
+    }
+    std::printf("  solid cantilever: w/L %.5f, u/L %.5f\n", w[0], w[1]);
+    return w;
+  });
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, SlenderCantilever,

@@ -1,8 +1,12 @@
-// The linear displacement model in 3D (Hex8) against exact solutions and a closed form:
+// The displacement model in 3D against exact solutions and closed forms:
 // - patch test (Irons & Razzaque; MacNeal & Harder 1985): on a distorted Hex8 mesh, a linear
 //   displacement field prescribed on the boundary is reproduced exactly inside, with the constant
 //   stress C eps at every node (a rotated orthotropic solid, all 21 entries of C non-zero), and no
 //   reactions at interior nodes; direct and AMG solvers.
+// - nonlinear patch test: the geometrically nonlinear model (both laws, every solid element)
+//   reproduces a homogeneous finite deformation x = F X (8 % strain, 0.4 rad rotation) with the
+//   closed-form Cauchy stress (Almansi: C : (I - (F F^T)^-1) / 2; St. Venant-Kirchhoff:
+//   F (C : E) F^T / det F).
 // - uniaxial bar: a traction s on one end, symmetry planes on the other three sides: u = s x / E,
 //   v = -nu s y / E, w = -nu s z / E and sigma_xx = s (Hooke's law; exact for trilinear elements).
 // - cantilever: tip deflection against Timoshenko's beam with shear, P L^3 / (3 E I) +
@@ -12,7 +16,10 @@
 //   80 x 8 x 8); Hex20 on 20 x 2 x 2 elements within 1.5% (1.05% measured).
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
+#include <solver/Nonlinear.hpp>
+#include <support/SolidMesh.hpp>
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,16 +28,10 @@
 #include <vector>
 
 using namespace mixcon;
+using mixcon::test::distortedBox;
+using mixcon::test::rotatedOrthotropicSolid;
 
 namespace {
-
-/// A rotated orthotropic solid: every entry of its Voigt stiffness is non-zero.
-SolidMatrix rotatedOrthotropic() {
-  OrthotropicConstants k{1.6e3, 1.1e2, 0.9e2, 1.0e2, 0.4, 0.3, 0.35, 0.8e2, 0.6e2};
-  return OrthotropicMaterial{
-      k, matmul(rotationAboutZ(0.7), matmul(rotationAboutX(0.4), rotationAboutY(-0.3)))}
-      .stiffness();
-}
 
 /// The linear field of the patch test and its (engineering) strain.
 std::array<double, 3> patchField(double x, double y, double z) {
@@ -41,65 +42,6 @@ Vector<6> patchStrain() {
   // xx, yy, zz, yz, xz, xy of the gradient of patchField.
   return Vector<6>{
       {2e-3, 1.1e-3, 1.3e-3, (-0.4 + 0.9) * 1e-3, (0.7 - 0.6) * 1e-3, (-0.5 + 0.3) * 1e-3}};
-}
-
-/// Moves the nodes of a solid box mesh of element Elem (distortedBox).
-template <class Elem>
-void distortSolid(Mesh &mesh, const double (&h)[3], const double (&len)[3], std::mt19937 &rng) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const auto onPlane = [&](double x, int i) {
-    return std::abs(x) < 1e-12 || std::abs(x - len[i]) < 1e-12;
-  };
-  constexpr int corners = Elem::kSimplex ? 4 : 8;
-  const double amplitude = Elem::kSimplex ? 0.1 : 0.2;
-  std::vector<char> corner(mesh.numNodes(), 0), done(mesh.numNodes(), 0);
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-    for (int a = 0; a < corners; ++a)
-      corner[mesh.node(e, a)] = 1;
-  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
-    if (corner[p])
-      for (int i = 0; i < 3; ++i) {
-        double &x = mesh.coordinates[3 * static_cast<std::size_t>(p) + i];
-        if (!onPlane(x, i))
-          x += amplitude * u(rng) * h[i];
-      }
-  if constexpr (Elem::kNumNodes > corners)
-    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-      for (int k = 0; k < Elem::kNumNodes - corners; ++k) {
-        const LocalIndex m = mesh.node(e, corners + k);
-        if (done[m])
-          continue;
-        done[m] = 1;
-        const LocalIndex c0 = mesh.node(e, Elem::edgeCorner(k, 0)),
-                         c1 = mesh.node(e, Elem::edgeCorner(k, 1));
-        for (int i = 0; i < 3; ++i) {
-          double &x = mesh.coordinates[3 * static_cast<std::size_t>(m) + i];
-          const bool fixed = onPlane(x, i);
-          x = 0.5 * (mesh.coordinate(c0, i) + mesh.coordinate(c1, i));
-          if (!fixed && !Elem::kSimplex)
-            x += 0.04 * u(rng) * h[i];
-        }
-      }
-}
-
-/// A box mesh with every interior corner node moved randomly by up to 0.2 of a cell (0.1 for
-/// tetrahedra, which are thinner); mid-edge nodes then sit at the middle of their moved corners,
-/// for Hex20 plus up to 0.04 of a cell (curved edges). Tet10 keeps straight edges: its 4-point
-/// rule (degree 2, as Abaqus' C3D10) integrates grad N det J exactly only on straight-sided
-/// elements; on curved ones the patch test misses by about 1e-7 relative (measured), which a rule
-/// of degree 3 would remove. Boundary nodes move within their face planes only, so the box keeps
-/// its shape.
-Mesh distortedBox(int n, ElementType type) {
-  Mesh mesh = boxMesh(1.0, 1.5, 1.2, n, n + 1, n, type);
-  std::mt19937 rng(7);
-  const double h[3] = {1.0 / n, 1.5 / (n + 1), 1.2 / n}, len[3] = {1.0, 1.5, 1.2};
-  dispatchElement(type, [&](auto elem) {
-    using Elem = decltype(elem);
-    if constexpr (Elem::kDim == 3)
-      distortSolid<Elem>(mesh, h, len, rng);
-  });
-  validateMesh(mesh);
-  return mesh;
 }
 
 } // namespace
@@ -119,7 +61,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST_P(SolidPatchTest, ReproducesALinearFieldExactly) {
   const auto [type, solver] = GetParam();
   const Mesh mesh = distortedBox(3, type);
-  const SolidMatrix c = rotatedOrthotropic();
+  const SolidMatrix c = rotatedOrthotropicSolid();
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c});
   std::vector<char> onBoundary(mesh.numNodes(), 0);
   for (const char *face : {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"})
@@ -162,6 +104,114 @@ TEST_P(SolidPatchTest, ReproducesALinearFieldExactly) {
     if (!onBoundary[p]) {
       for (int i = 0; i < 3; ++i)
         EXPECT_NEAR(r[3 * p + i], 0.0, 1e-9 * std::abs(sigma.v[0])) << "node " << p;
+    }
+}
+
+namespace {
+/// The homogeneous finite deformation of the nonlinear patch test: F = R (I + G), strains of
+/// about 8 % and a rotation of 0.4 rad about an oblique axis.
+Eigen::Matrix3d patchDeformation() {
+  Eigen::Matrix3d g;
+  g << 0.08, -0.03, 0.05, 0.02, -0.06, 0.04, -0.05, 0.03, 0.07;
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d(1.0, -2.0, 2.0).normalized()).toRotationMatrix();
+  return r * (Eigen::Matrix3d::Identity() + g);
+}
+
+/// Closed-form Cauchy stress (Voigt xx, yy, zz, yz, xz, xy) of a homogeneous deformation F:
+/// C : e with the Almansi strain e = (I - (F F^T)^-1) / 2, or, for St. Venant-Kirchhoff,
+/// F S F^T / det F with S = C : E, E = (F^T F - I) / 2 (engineering shears in C's products).
+Eigen::Matrix<double, 6, 1> patchCauchy(const SolidMatrix &c, const Eigen::Matrix3d &f,
+                                        ElasticLaw law) {
+  const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d strain = law == ElasticLaw::Almansi
+                                     ? Eigen::Matrix3d(0.5 * (id - (f * f.transpose()).inverse()))
+                                     : Eigen::Matrix3d(0.5 * (f.transpose() * f - id));
+  Eigen::Matrix<double, 6, 1> ev, out;
+  for (int k = 0; k < 6; ++k) {
+    const int i = Voigt<3>::row(k), j = Voigt<3>::col(k);
+    ev(k) = i == j ? strain(i, j) : 2.0 * strain(i, j);
+  }
+  Eigen::Matrix<double, 6, 6> cm;
+  for (int r = 0; r < 6; ++r)
+    for (int k = 0; k < 6; ++k)
+      cm(r, k) = c(r, k);
+  const Eigen::Matrix<double, 6, 1> sv = cm * ev;
+  Eigen::Matrix3d t;
+  for (int k = 0; k < 6; ++k)
+    t(Voigt<3>::row(k), Voigt<3>::col(k)) = t(Voigt<3>::col(k), Voigt<3>::row(k)) = sv(k);
+  if (law == ElasticLaw::SaintVenantKirchhoff)
+    t = f * t * f.transpose() / f.determinant();
+  for (int k = 0; k < 6; ++k)
+    out(k) = t(Voigt<3>::row(k), Voigt<3>::col(k));
+  return out;
+}
+} // namespace
+
+class SolidNonlinearPatchTest
+    : public ::testing::TestWithParam<std::tuple<ElementType, ElasticLaw>> {};
+INSTANTIATE_TEST_SUITE_P(
+    Elements, SolidNonlinearPatchTest,
+    ::testing::Combine(::testing::Values(ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                         ElementType::Tet10),
+                       ::testing::Values(ElasticLaw::Almansi, ElasticLaw::SaintVenantKirchhoff)),
+    [](const auto &info) {
+      return elementTypeName(std::get<0>(info.param)) +
+             (std::get<1>(info.param) == ElasticLaw::Almansi ? "Almansi" : "SaintVenantKirchhoff");
+    });
+
+// The constant-stress patch test of the geometrically nonlinear displacement model (issue 17):
+// the homogeneous deformation x = F X prescribed on the boundary of a distorted box is reproduced
+// at the interior nodes by Newton's iterations, with the closed-form Cauchy stress of the law at
+// every Gauss point and node (patchCauchy, Eigen) and no force at interior nodes.
+TEST_P(SolidNonlinearPatchTest, ReproducesAHomogeneousFiniteDeformation) {
+  const auto [type, law] = GetParam();
+  const Mesh mesh = distortedBox(3, type);
+  const SolidMatrix c = rotatedOrthotropicSolid();
+  NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c});
+  model.setElasticLaw(law);
+  const Eigen::Matrix3d f = patchDeformation();
+  const auto exact = [&](LocalIndex p) {
+    const Eigen::Vector3d x(mesh.x(p), mesh.y(p), mesh.z(p));
+    return Eigen::Vector3d((f - Eigen::Matrix3d::Identity()) * x);
+  };
+  std::vector<char> onBoundary(mesh.numNodes(), 0);
+  for (const char *face : {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"})
+    for (LocalIndex p : mesh.nodesOf(face)) {
+      onBoundary[p] = 1;
+      for (int i = 0; i < 3; ++i)
+        model.prescribe(p, i, exact(p)(i));
+    }
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model.setup(o, MPI_COMM_WORLD);
+  ASSERT_TRUE(model.solve(1.0).converged);
+  const auto u = model.displacementHost();
+  int interior = 0;
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p) {
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(u[3 * p + i], exact(p)(i), 1e-10) << "node " << p << " component " << i;
+    interior += !onBoundary[p];
+  }
+  EXPECT_GE(interior, 8);
+  const Eigen::Matrix<double, 6, 1> sigma = patchCauchy(c, f, law);
+  const double tol = 1e-8 * sigma.cwiseAbs().maxCoeff();
+  const auto s = model.nodalStressHost();
+  ASSERT_EQ(s.size(), 6 * static_cast<std::size_t>(mesh.numNodes()));
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    for (int k = 0; k < 6; ++k)
+      ASSERT_NEAR(s[6 * p + k], sigma(k), tol) << "node " << p << " component " << k;
+  std::vector<double> xq, sq;
+  int perElement = 0;
+  model.gaussPointStressHost(xq, sq, perElement);
+  ASSERT_EQ(sq.size(), 6u * perElement * mesh.numElements());
+  for (std::size_t k = 0; k < sq.size(); ++k)
+    ASSERT_NEAR(sq[k], sigma(k % 6), tol) << "Gauss value " << k;
+  const auto r = model.reactionHost(1.0);
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    if (!onBoundary[p]) {
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(r[3 * p + i], 0.0, tol) << "node " << p;
     }
 }
 

@@ -1,0 +1,157 @@
+// The geometrically nonlinear displacement model on solids (issue 17): Hex8, Hex20, Tet4 and Tet10
+// on a distorted box with a rotated orthotropic material (all 21 entries of C non-zero):
+//  - the assembled tangent (element kernels of both laws, Almansi and St. Venant-Kirchhoff, plus
+//    the follower face pressure's load stiffness, after scatter) against central finite
+//    differences of the assembled residual at finite strain plus a rotation about an oblique
+//    axis: relative 1e-6, the bound of the 2D tests (issue 4);
+//  - objectivity: a rigid rotation of 0.7 rad gives zero stress (Gauss points and nodes) and zero
+//    internal force, and rotates a follower pressure's nodal forces with the body;
+//  - the follower pressure on the undeformed body equals the dead pressure of the linear face
+//    load kernel (assembleFaceLoads, written independently).
+// The constant-stress (homogeneous finite deformation) patch test of this model, against the
+// closed-form Cauchy stress, is in tests/validation/test_solid.cpp.
+#include <solver/Nonlinear.hpp>
+#include <support/KernelFixture.hpp>
+#include <support/ModelDifferences.hpp>
+#include <support/SolidMesh.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace mixcon;
+using namespace mixcon::test;
+
+namespace {
+
+/// Rotation by `angle` about the unit axis (1, 2, 3) / sqrt(14) (Rodrigues).
+Eigen::Matrix3d obliqueRotation(double angle) {
+  return Eigen::AngleAxisd(angle, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+}
+
+/// Displacements of the rigid motion x = R X (plus `random` times a random field of seed 5).
+Eigen::VectorXd rotatedBy(const Mesh &mesh, const Eigen::Matrix3d &r, double random) {
+  const LocalIndex nn = mesh.numNodes();
+  Eigen::VectorXd u = random * randomVector(3 * nn, 5);
+  for (LocalIndex k = 0; k < nn; ++k) {
+    const Eigen::Vector3d x(mesh.x(k), mesh.y(k), mesh.z(k));
+    u.segment<3>(3 * k) += r * x - x;
+  }
+  return u;
+}
+
+struct Solid {
+  Mesh mesh;
+  std::vector<int> material;
+  std::vector<SolidMatrix> stiffness;
+};
+
+/// The distorted 1 x 2 x 1 box of `type` with the rotated orthotropic solid (moduli up to 1.6e3).
+Solid makeSolid(ElementType type) {
+  Solid s{distortedBox(1, type), {}, {rotatedOrthotropicSolid()}};
+  s.material.assign(s.mesh.numElements(), 0);
+  return s;
+}
+
+std::unique_ptr<NonlinearDisplacementModel> makeModel(const Solid &s, ElasticLaw law,
+                                                      bool follower) {
+  auto model = std::make_unique<NonlinearDisplacementModel>(s.mesh, s.material, s.stiffness);
+  model->setElasticLaw(law);
+  for (int i = 0; i < 3; ++i)
+    model->prescribe(0, i, 0.0);
+  model->addSideLoad(s.mesh.boundaries.at("zmax"), {10.0, -20.0, -30.0}, 0.0);
+  if (follower)
+    model->addFollowerPressure(s.mesh.boundaries.at("xmax"), 40.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model->setup(o, MPI_COMM_WORLD);
+  return model;
+}
+
+class SolidNonlinear : public ::testing::TestWithParam<ElementType> {};
+
+TEST_P(SolidNonlinear, TangentOfBothLawsIsFiniteDifferenceOfResidual) {
+  const Solid s = makeSolid(GetParam());
+  // Finite strain (random displacements of 0.03 on cells of about 1) plus a rotation of 0.3 rad.
+  const Eigen::VectorXd u = rotatedBy(s.mesh, obliqueRotation(0.3), 0.03);
+  for (ElasticLaw law : {ElasticLaw::Almansi, ElasticLaw::SaintVenantKirchhoff}) {
+    const auto model = makeModel(s, law, true);
+    model->setDisplacement(toStd(u));
+    ASSERT_TRUE(std::isfinite(model->evaluate(1.0, true)));
+    const Eigen::MatrixXd k = toDense(model->tangent());
+    ASSERT_EQ(k.rows(), 3 * s.mesh.numNodes());
+    const Eigen::MatrixXd fd = finiteDifferenceTangent(*model, u);
+    EXPECT_LT(relativeError(k, fd), 1e-6) << "law " << static_cast<int>(law);
+    // Neither the Almansi tangent nor a follower load stiffness is symmetric: a symmetric
+    // approximation would fail the comparison above.
+    EXPECT_GT(relativeError(k, Eigen::MatrixXd(k.transpose())), 1e-4);
+  }
+}
+
+TEST_P(SolidNonlinear, RigidRotationIsStressFreeAndRotatesFollowerForces) {
+  const Solid s = makeSolid(GetParam());
+  const Eigen::Matrix3d r = obliqueRotation(0.7);
+  const Eigen::VectorXd u = rotatedBy(s.mesh, r, 0.0);
+  const LocalIndex nn = s.mesh.numNodes();
+  const double modulus = 1.6e3;
+  for (ElasticLaw law : {ElasticLaw::Almansi, ElasticLaw::SaintVenantKirchhoff}) {
+    // Internal force and stresses: no load at all (lambda = 0).
+    const auto model = makeModel(s, law, false);
+    model->setDisplacement(toStd(u));
+    model->evaluate(0.0, false);
+    EXPECT_LT(hostVector(model->residual()).cwiseAbs().maxCoeff(), 1e-12 * modulus);
+    std::vector<double> xq, sq;
+    int nq = 0;
+    model->gaussPointStressHost(xq, sq, nq);
+    ASSERT_EQ(sq.size(), 6u * nq * s.mesh.numElements());
+    for (double v : sq)
+      EXPECT_NEAR(v, 0.0, 1e-13 * modulus);
+    const auto nodal = model->nodalStressHost();
+    ASSERT_EQ(nodal.size(), 6u * nn);
+    for (double v : nodal)
+      EXPECT_NEAR(v, 0.0, 1e-13 * modulus);
+  }
+  // The follower pressure's nodal forces turn with the body: f(R) = R f(I) node by node. The
+  // internal force is zero in both states, so the residual difference at lambda = 1 is -f_p.
+  const auto with = makeModel(s, ElasticLaw::Almansi, true);
+  const auto without = makeModel(s, ElasticLaw::Almansi, false);
+  const auto pressureForce = [&](const Eigen::VectorXd &state) {
+    with->setDisplacement(toStd(state));
+    without->setDisplacement(toStd(state));
+    with->evaluate(1.0, false);
+    without->evaluate(1.0, false);
+    return Eigen::VectorXd(hostVector(without->residual()) - hostVector(with->residual()));
+  };
+  const Eigen::VectorXd f0 = pressureForce(Eigen::VectorXd::Zero(3 * nn));
+  const Eigen::VectorXd f1 = pressureForce(u);
+  ASSERT_GT(f0.cwiseAbs().maxCoeff(), 1.0);
+  for (LocalIndex k = 0; k < nn; ++k)
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(f1(3 * k + i), (r * f0.segment<3>(3 * k))(i), 1e-11 * f0.cwiseAbs().maxCoeff())
+          << "node " << k;
+}
+
+TEST_P(SolidNonlinear, FollowerPressureOnTheUndeformedBodyIsTheDeadPressure) {
+  const Solid s = makeSolid(GetParam());
+  NonlinearDisplacementModel follower(s.mesh, s.material, s.stiffness);
+  NonlinearDisplacementModel dead(s.mesh, s.material, s.stiffness);
+  follower.addFollowerPressure(s.mesh.boundaries.at("ymax"), 7.0);
+  dead.addSideLoad(s.mesh.boundaries.at("ymax"), {0.0, 0.0, 0.0}, 7.0);
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  for (NonlinearDisplacementModel *m : {&follower, &dead}) {
+    m->prescribe(0, 0, 0.0);
+    m->setup(o, MPI_COMM_WORLD);
+    m->evaluate(1.0, false);
+  }
+  const Eigen::VectorXd a = hostVector(follower.residual()), b = hostVector(dead.residual());
+  ASSERT_GT(b.cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-13 * b.cwiseAbs().maxCoeff());
+}
+
+INSTANTIATE_TEST_SUITE_P(Solids, SolidNonlinear,
+                         ::testing::Values(ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                           ElementType::Tet10),
+                         [](const auto &info) { return elementTypeName(info.param); });
+
+} // namespace
