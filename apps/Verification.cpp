@@ -34,6 +34,29 @@ double LameSolution::radialDisplacement(double r) const {
   return ((1.0 - nu) * ca * r + (1.0 + nu) * cb / r) / e;
 }
 
+namespace {
+/// A and B of LameSphereSolution.
+std::pair<double, double> lameSphereConstants(const LameSphereSolution &s) {
+  const double a3 = s.a * s.a * s.a, b3 = s.b * s.b * s.b;
+  return {(s.pi * a3 - s.po * b3) / (b3 - a3), (s.pi - s.po) * a3 * b3 / (b3 - a3)};
+}
+} // namespace
+
+double LameSphereSolution::sigmaR(double r) const {
+  const auto [ca, cb] = lameSphereConstants(*this);
+  return ca - cb / (r * r * r);
+}
+
+double LameSphereSolution::sigmaTheta(double r) const {
+  const auto [ca, cb] = lameSphereConstants(*this);
+  return ca + cb / (2.0 * r * r * r);
+}
+
+double LameSphereSolution::radialDisplacement(double r) const {
+  const auto [ca, cb] = lameSphereConstants(*this);
+  return r * ((1.0 - 2.0 * nu) * ca + (1.0 + nu) * cb / (2.0 * r * r * r)) / e;
+}
+
 std::array<double, 3> KirschSolution::stress(double x, double y) const {
   const double r = std::hypot(x, y), t = std::atan2(y, x), q = a * a / (r * r);
   const double c = std::cos(2 * t), sn = std::sin(2 * t);
@@ -99,7 +122,8 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
   VerificationResult v;
   v.tolerance = p.verification.tolerance;
   const auto &mat = p.materials.front();
-  const bool planeStrain = p.model.analysis == PlaneAnalysis::PlaneStrain;
+  // A 3D cylinder (lame_cylinder on a solid mesh) is held in z at its ends: plane strain.
+  const bool planeStrain = p.model.analysis == PlaneAnalysis::PlaneStrain || p.mesh.dim() == 3;
   const Mesh &mesh = p.mesh;
   auto add = [&](const std::string &q, double computed, double reference, double scale) {
     const double err = std::abs(computed - reference) / scale;
@@ -107,40 +131,77 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
     v.passed = v.passed && err <= v.tolerance;
   };
 
-  if (p.verification.type == "lame_cylinder") {
+  if (p.verification.type == "lame_cylinder" || p.verification.type == "lame_sphere") {
     const auto &s = p.verification;
-    const LameSolution lame{s.innerRadius,
-                            s.outerRadius,
-                            loadFactor * s.innerPressure,
-                            loadFactor * s.outerPressure,
-                            mat.youngs,
-                            mat.poisson,
-                            planeStrain};
-    v.title = "Lame thick cylinder (Timoshenko & Goodier, sec. 28), a = " +
-              std::to_string(s.innerRadius) + ", b = " + std::to_string(s.outerRadius);
+    const bool sphere = s.type == "lame_sphere";
+    const LameSolution cylinder{s.innerRadius,
+                                s.outerRadius,
+                                loadFactor * s.innerPressure,
+                                loadFactor * s.outerPressure,
+                                mat.youngs,
+                                mat.poisson,
+                                planeStrain};
+    const LameSphereSolution ball{s.innerRadius,
+                                  s.outerRadius,
+                                  loadFactor * s.innerPressure,
+                                  loadFactor * s.outerPressure,
+                                  mat.youngs,
+                                  mat.poisson};
+    const auto closed = [&](double r) {
+      return sphere ? std::array<double, 3>{ball.radialDisplacement(r), ball.sigmaTheta(r),
+                                            ball.sigmaR(r)}
+                    : std::array<double, 3>{cylinder.radialDisplacement(r),
+                                            cylinder.sigmaTheta(r), cylinder.sigmaR(r)};
+    };
+    v.title = std::string(sphere ? "Lame thick sphere (Timoshenko & Goodier, sec. 136)"
+                                 : "Lame thick cylinder (Timoshenko & Goodier, sec. 28)") +
+              ", a = " + std::to_string(s.innerRadius) + ", b = " + std::to_string(s.outerRadius);
+    // The radius is measured in the first `rdim` coordinates: from the centre for the sphere, from
+    // the z axis for the cylinder (in 2D and 3D).
+    const int dim = mesh.dim(), ns = dim == 3 ? 6 : 3, rdim = sphere ? 3 : 2;
     for (double r0 : {s.innerRadius, s.outerRadius}) {
       double ur = 0.0, st = 0.0, sr = 0.0;
       int count = 0;
       for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
-        const double x = mesh.x(n), y = mesh.y(n), r = std::hypot(x, y);
+        double x[3] = {0.0, 0.0, 0.0}, r = 0.0;
+        for (int i = 0; i < rdim; ++i) {
+          x[i] = mesh.coordinate(n, i);
+          r += x[i] * x[i];
+        }
+        r = std::sqrt(r);
         if (std::abs(r - r0) > 1e-6 * r0)
           continue;
-        const double c = x / r, sn = y / r;
-        const double sxx = stress[3 * n], syy = stress[3 * n + 1], sxy = stress[3 * n + 2];
-        ur += u[2 * n] * c + u[2 * n + 1] * sn;
-        sr += sxx * c * c + syy * sn * sn + 2.0 * sxy * c * sn;
-        st += sxx * sn * sn + syy * c * c - 2.0 * sxy * c * sn;
+        // The radial direction e = x / r; sigma_r = e . sigma e. The hoop stress is the mean of
+        // the other normal stresses across the radius: (trace - sigma_r) / (rdim - 1) over the
+        // first rdim axes (the sphere's two tangential ones are both sigma_t).
+        const double *sv = &stress[static_cast<std::size_t>(ns) * n];
+        double tensor[3][3] = {};
+        for (int k = 0; k < ns; ++k) {
+          const int i = dim == 3 ? Voigt<3>::row(k) : Voigt<2>::row(k);
+          const int j = dim == 3 ? Voigt<3>::col(k) : Voigt<2>::col(k);
+          tensor[i][j] = tensor[j][i] = sv[k];
+        }
+        double srr = 0.0, trace = 0.0, radial = 0.0;
+        for (int i = 0; i < rdim; ++i) {
+          trace += tensor[i][i];
+          radial += u[static_cast<std::size_t>(dim) * n + i] * x[i] / r;
+          for (int j = 0; j < rdim; ++j)
+            srr += x[i] * tensor[i][j] * x[j] / (r * r);
+        }
+        ur += radial;
+        sr += srr;
+        st += (trace - srr) / (rdim - 1);
         ++count;
       }
       if (count == 0)
         throw InputError(p.file + ": verification: no mesh node lies on r = " + std::to_string(r0));
       const std::string at = r0 == s.innerRadius ? "r = a" : "r = b";
-      const double pscale = std::max(std::abs(lame.pi), std::abs(lame.po));
-      add("radial displacement u_r(" + at + ")", ur / count, lame.radialDisplacement(r0),
-          std::abs(lame.radialDisplacement(r0)));
-      add("hoop stress sigma_theta(" + at + ")", st / count, lame.sigmaTheta(r0),
-          std::abs(lame.sigmaTheta(r0)));
-      add("radial stress sigma_r(" + at + ")", sr / count, lame.sigmaR(r0), pscale);
+      const auto ref = closed(r0);
+      const double pscale = std::max(std::abs(loadFactor * s.innerPressure),
+                                     std::abs(loadFactor * s.outerPressure));
+      add("radial displacement u_r(" + at + ")", ur / count, ref[0], std::abs(ref[0]));
+      add("hoop stress sigma_theta(" + at + ")", st / count, ref[1], std::abs(ref[1]));
+      add("radial stress sigma_r(" + at + ")", sr / count, ref[2], pscale);
     }
   } else if (p.verification.type == "cantilever") {
     const auto &s = p.verification;

@@ -38,6 +38,17 @@ struct LameSolution {
   double radialDisplacement(double r) const;
 };
 
+/// Thick-walled sphere a <= r <= b under internal pressure pi and external pressure po
+/// (Timoshenko & Goodier, Theory of Elasticity, sec. 136): with A = (pi a^3 - po b^3) / (b^3 - a^3)
+/// and B = (pi - po) a^3 b^3 / (b^3 - a^3), sigma_r = A - B / r^3, sigma_t = A + B / (2 r^3) (hoop,
+/// both tangential directions), u_r = r [(1 - 2 nu) A + (1 + nu) B / (2 r^3)] / E.
+struct LameSphereSolution {
+  double a, b, pi, po, e, nu;
+  double sigmaR(double r) const;
+  double sigmaTheta(double r) const;
+  double radialDisplacement(double r) const;
+};
+
 /// Kirsch (1898): an infinite plate with a circular hole of radius a at the origin under remote
 /// uniaxial tension S along x (Timoshenko & Goodier, Theory of Elasticity, sec. 35); the stress
 /// concentration sigma_xx(0, a) = 3 S. Displacements by integrating the strains (checked

@@ -5,7 +5,9 @@
              through the depth h = 1, square elements, clamped left end, transverse traction on the
              top edge, E = 1e4, nu = 0.3, plane stress), displacement and linear mixed model, for
              four solver settings: old AMG (no rigid-body modes, coarsest 9, no direct fall back),
-             the default, coarsest_size 500 and 2000 (with the rigid-body modes).
+             the default, coarsest_size 500 and 2000 (with the rigid-body modes). With --dim 3:
+             the strips as solids of square section h x h (Hex20, 2 x 2 through the section,
+             clamped face xmin, traction on ymax), displacement model.
   nonlinear  examples/cantilever/slender_{displacement,mixed}.yaml at divisions [200, 2] with
              solver amg and direct (and the mixed one with stabilization 0.05): Newton and linear
              iterations, wall time, the solver's notes, tip deflection w/L against the elastica.
@@ -15,7 +17,7 @@ Every run writes its problem file under --out and runs the binary; the step line
 "residual") and the solver notes (any stdout/stderr line that mentions the AMG, a rebuild or the
 direct solver) are parsed. Prints markdown tables.
 Usage: /usr/bin/python3 bench/slender_amg.py {linear,nonlinear,reuse} [--mixcon build/apps/mixcon]
-       [--out out/slender_amg] [--lh 10 100 1000 10000] [--rounds 3] [--timeout 600]
+       [--out out/slender_amg] [--lh 10 100 1000 10000] [--rounds 3] [--timeout 600] [--dim 3]
 """
 import argparse
 import json
@@ -68,7 +70,17 @@ def run(binary, problem, out, timeout, hdf5=False):
             "summary": summary}
 
 
-def strip(lh, formulation, solver):
+def strip(lh, formulation, solver, dim=2):
+    if dim == 3:  # the same strip as a solid of square section h x h, 2 x 2 Hex20 through it
+        return {
+            "title": f"solid strip L/h = {lh}",
+            "mesh": {"generator": {"type": "box", "size": [float(lh), 1.0, 1.0],
+                                   "divisions": [2 * lh, 2, 2], "element": "hex20"}},
+            "materials": [{"region": "body", "type": "isotropic", "E": 1.0e4, "nu": 0.3}],
+            "boundary_conditions": [{"boundary": "xmin", "ux": 0, "uy": 0, "uz": 0}],
+            "loads": [{"boundary": "ymax", "traction": [0, -1.0e-3, 0]}],
+            "solver": dict({"type": "amg", "max_iterations": 3000}, **solver),
+        }
     return {
         "title": f"strip L/h = {lh}",
         "mesh": {"generator": {"type": "rectangle", "size": [float(lh), 1.0], "origin": [0, 0],
@@ -93,11 +105,12 @@ def short(note):
 def linear(args):
     print("| model | L/h | unknowns | setting | linear its | converged | residual | s | ladder |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for formulation in args.models:
+    models = ["displacement"] if args.dim == 3 else args.models  # 3D: the displacement model
+    for formulation in models:
         for lh in args.lh:
             for name, s in SETTINGS:
-                out = os.path.join(args.out, "linear", f"{formulation}_{lh}_{name[1]}")
-                r = run(args.mixcon, strip(lh, formulation, s), out, args.timeout)
+                out = os.path.join(args.out, f"linear{args.dim}d", f"{formulation}_{lh}_{name[1]}")
+                r = run(args.mixcon, strip(lh, formulation, s, args.dim), out, args.timeout)
                 m = re.search(r"(\d+) unknowns", r["text"])
                 st = r["steps"][-1] if r["steps"] else None
                 its = st[4] if st else "-"
@@ -196,6 +209,8 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "slender_amg"))
     ap.add_argument("--lh", type=int, nargs="+", default=[10, 100, 1000, 10000])
     ap.add_argument("--models", nargs="+", default=["displacement", "mixed"])
+    ap.add_argument("--dim", type=int, choices=[2, 3], default=2,
+                    help="linear: 3 runs the strips as Hex20 solids of square section")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--timeout", type=float, default=600)
     args = ap.parse_args()

@@ -84,7 +84,7 @@ struct ContactSpec {
 };
 
 struct VerificationSpec {
-  std::string type; ///< empty: none; lame_cylinder | cantilever
+  std::string type; ///< empty: none; lame_cylinder | lame_sphere | cantilever
   double innerRadius = 0, outerRadius = 0, innerPressure = 0, outerPressure = 0;
   double length = 0, height = 0, load = 0;
   double width = 0; ///< cantilever in 3D: the section's width (2D: the model's thickness)

@@ -243,12 +243,12 @@ void readSolver(const YamlItem &top, Problem &p) {
 void readVerification(const YamlItem &v, Problem &p) {
   v.requireMap();
   auto &s = p.verification;
-  s.type = v.required("type").choice({"lame_cylinder", "cantilever"});
+  s.type = v.required("type").choice({"lame_cylinder", "lame_sphere", "cantilever"});
   if (v.has("tolerance"))
     s.tolerance = v["tolerance"].positive();
-  if (s.type == "lame_cylinder" && p.mesh.dim() == 3)
-    v["type"].fail("lame_cylinder is the 2D closed form (plane stress or strain); this mesh is 3D");
-  if (s.type == "lame_cylinder") {
+  if (s.type == "lame_sphere" && p.mesh.dim() == 2)
+    v["type"].fail("lame_sphere is the 3D closed form (a thick-walled sphere); this mesh is 2D");
+  if (s.type == "lame_cylinder" || s.type == "lame_sphere") {
     v.allowOnly(
         {"type", "tolerance", "inner_radius", "outer_radius", "inner_pressure", "outer_pressure"});
     s.innerRadius = v.required("inner_radius").positive();

@@ -144,13 +144,30 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
     g.requireMap();
     const std::string type =
         g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole",
-                                   "quarter_disk", "half_disk", "pinned_plate", "box"});
-    const ElementType et = g.has("element") ? elementType(g["element"])
-                           : type == "box"  ? ElementType::Hex8
-                                            : ElementType::Quad4;
+                                   "quarter_disk", "half_disk", "pinned_plate", "box",
+                                   "sphere_shell"});
+    const bool solid = type == "box" || type == "sphere_shell";
+    ElementType et = g.has("element") ? elementType(g["element"])
+                     : solid          ? ElementType::Hex8
+                                      : ElementType::Quad4;
+    // A 2D generator with `extrude` makes hexahedra from its quadrilaterals: the element names the
+    // result (hex8 from quad4, hex20 from quad8).
+    const bool extruded = !solid && g.has("extrude");
+    if (extruded) {
+      if (g.has("element") && et != ElementType::Hex8 && et != ElementType::Hex20)
+        g["element"].fail("an extruded mesh is made of hex8 (from quad4) or hex20 (from quad8) "
+                          "elements");
+      et = et == ElementType::Hex20 ? ElementType::Quad8 : ElementType::Quad4;
+    }
+    const auto allow = [&](std::initializer_list<const char *> keys) {
+      std::vector<const char *> k(keys);
+      if (!solid)
+        k.push_back("extrude");
+      g.allowOnly(k);
+    };
     try {
       if (type == "box") {
-        g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
+        allow({"type", "element", "size", "divisions", "origin", "grading"});
         const auto size = g.required("size").vector(3);
         const YamlItem d = g.required("divisions");
         if (!d.node.IsSequence() || d.node.size() != 3)
@@ -164,7 +181,7 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
         mesh = boxMesh(size[0], size[1], size[2], div[0], div[1], div[2], et, origin[0], origin[1],
                        origin[2], grading[0], grading[1], grading[2]);
       } else if (type == "rectangle") {
-        g.allowOnly({"type", "element", "size", "divisions", "origin", "grading"});
+        allow({"type", "element", "size", "divisions", "origin", "grading"});
         const auto size = g.required("size").pair();
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[1]);
@@ -173,27 +190,34 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
             g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
         mesh = rectangleMesh(size[0], size[1], div[0], div[1], et, origin[0], origin[1], grading[0],
                              grading[1]);
+      } else if (type == "sphere_shell") {
+        allow({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
+        const auto div = g.required("divisions").intPair();
+        checkGeneratedSize(g["divisions"], 3.0 * div[0] * div[0] * div[1]);
+        mesh = sphereShellMesh(g.required("inner_radius").number(),
+                               g.required("outer_radius").number(), div[0], div[1], et,
+                               g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "quarter_annulus") {
-        g.allowOnly({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
+        allow({"type", "element", "inner_radius", "outer_radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[1]);
         mesh = quarterAnnulusMesh(g.required("inner_radius").number(),
                                   g.required("outer_radius").number(), div[0], div[1], et,
                                   g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "plate_with_hole") {
-        g.allowOnly({"type", "element", "hole_radius", "width", "height", "divisions", "grading"});
+        allow({"type", "element", "hole_radius", "width", "height", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 2.0 * div[0] * div[1]);
         mesh = plateWithHoleMesh(g.required("hole_radius").number(), g.required("width").number(),
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "half_disk") {
-        g.allowOnly({"type", "element", "radius", "divisions"});
+        allow({"type", "element", "radius", "divisions"});
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 2.0 * div[0] * div[0] + 4.0 * div[0] * div[1]);
         mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et);
       } else if (type == "pinned_plate") {
-        g.allowOnly({"type", "element", "hole_radius", "half_width", "end_distance", "length",
+        allow({"type", "element", "hole_radius", "half_width", "end_distance", "length",
                      "divisions", "grading"});
         const YamlItem d = g.required("divisions");
         if (!d.node.IsSequence() || d.node.size() != 4)
@@ -208,13 +232,22 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
                             d.at(0).integer(), d.at(1).integer(), d.at(2).integer(),
                             d.at(3).integer(), et, g.has("grading") ? g["grading"].number() : 1.0);
       } else {
-        g.allowOnly({"type", "element", "radius", "divisions", "grading"});
+        allow({"type", "element", "radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 1.0 * div[0] * div[0] + 2.0 * div[0] * div[1]);
         const auto grading =
             g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
         mesh = quarterDiskMesh(g.required("radius").number(), div[0], div[1], et, grading[0],
                                grading[1]);
+      }
+      if (extruded) {
+        const YamlItem x = g["extrude"];
+        x.requireMap();
+        x.allowOnly({"length", "divisions", "grading"});
+        const int layers = x.required("divisions").integer();
+        checkGeneratedSize(x["divisions"], 1.0 * mesh.numElements() * layers);
+        mesh = extrudeMesh(mesh, x.required("length").positive(), layers,
+                           x.has("grading") ? x["grading"].positive() : 1.0);
       }
     } catch (const GeneratorError &e) { // the keys' own errors above carry their location already
       g.fail(e.what());

@@ -405,6 +405,159 @@ Mesh rectangleMesh(double lx, double ly, int nx, int ny, ElementType type, doubl
   return mesh;
 }
 
+Mesh extrudeMesh(const Mesh &plane, double length, int layers, double grading) {
+  const std::string gen = "extrude";
+  requirePositive("length", length, gen);
+  requirePositive("divisions", layers, gen);
+  requirePositive("grading", grading, gen);
+  if (plane.dim() != 2)
+    throw GeneratorError("mesh generator extrude: the section must be a 2D (quad4 or quad8) mesh");
+  const bool quadratic = plane.elementType == ElementType::Quad8;
+  const LocalIndex nn = plane.numNodes(), ne = plane.numElements();
+  Mesh out;
+  out.elementType = quadratic ? ElementType::Hex20 : ElementType::Hex8;
+  out.nodesPerElement = quadratic ? 20 : 8;
+  // Corner nodes of the section (Hex20: they get the vertical mid-edge nodes), numbered compactly.
+  std::vector<LocalIndex> corner(nn, -1);
+  LocalIndex corners = 0;
+  for (LocalIndex e = 0; e < ne; ++e)
+    for (int a = 0; a < 4; ++a)
+      if (corner[plane.node(e, a)] < 0)
+        corner[plane.node(e, a)] = corners++;
+  const double most = static_cast<double>(std::numeric_limits<LocalIndex>::max());
+  if ((layers + 1.0) * nn + (quadratic ? 1.0 * layers * corners : 0.0) > most ||
+      1.0 * layers * ne * out.nodesPerElement > most)
+    throw GeneratorError("mesh generator extrude: " + std::to_string(layers) +
+                         " layers make more nodes than a LocalIndex holds");
+  const auto level = [&](double k) { return length * std::pow(k / layers, grading); };
+  const auto gridNode = [&](int k, LocalIndex n) { return static_cast<LocalIndex>(k * nn + n); };
+  const auto halfNode = [&](int k, LocalIndex n) {
+    return static_cast<LocalIndex>((layers + 1) * nn + k * corners + corner[n]);
+  };
+  for (int k = 0; k <= layers; ++k)
+    for (LocalIndex n = 0; n < nn; ++n)
+      out.coordinates.insert(out.coordinates.end(), {plane.x(n), plane.y(n), level(k)});
+  if (quadratic) {
+    std::vector<LocalIndex> byIndex(corners);
+    for (LocalIndex n = 0; n < nn; ++n)
+      if (corner[n] >= 0)
+        byIndex[corner[n]] = n;
+    for (int k = 0; k < layers; ++k)
+      for (LocalIndex n : byIndex) // z half way between the grid lines: straight vertical edges
+        out.coordinates.insert(out.coordinates.end(),
+                               {plane.x(n), plane.y(n), 0.5 * (level(k) + level(k + 1))});
+  }
+  for (int k = 0; k < layers; ++k)
+    for (LocalIndex e = 0; e < ne; ++e) {
+      // VTK / core/ElementTraits.hpp order: the section's corners at z_k (counter-clockwise seen
+      // from +z), then at z_k+1; Hex20: the mid-edge nodes of those two faces (the section's
+      // mid-side nodes), then the vertical ones.
+      for (int top = 0; top < 2; ++top)
+        for (int a = 0; a < 4; ++a)
+          out.connectivity.push_back(gridNode(k + top, plane.node(e, a)));
+      if (quadratic) {
+        for (int top = 0; top < 2; ++top)
+          for (int a = 4; a < 8; ++a)
+            out.connectivity.push_back(gridNode(k + top, plane.node(e, a)));
+        for (int a = 0; a < 4; ++a)
+          out.connectivity.push_back(halfNode(k, plane.node(e, a)));
+      }
+      out.elementRegion.push_back(plane.elementRegion[e]);
+    }
+  out.regionNames = plane.regionNames;
+  // Quad edge j (corners j, j + 1) sweeps the hexahedron's face 2 + j (core/ElementTraits.hpp).
+  for (const auto &[name, edges] : plane.boundaries)
+    for (int k = 0; k < layers; ++k)
+      for (const BoundaryEdge &b : edges)
+        out.boundaries[name].push_back({static_cast<LocalIndex>(k * ne) + b.element, 2 + b.edge});
+  for (LocalIndex e = 0; e < ne; ++e) {
+    out.boundaries["zmin"].push_back({e, 0});
+    out.boundaries["zmax"].push_back({static_cast<LocalIndex>((layers - 1) * ne) + e, 1});
+  }
+  for (const auto &[name, nodes] : plane.nodeSets) {
+    auto &line = out.nodeSets[name];
+    for (LocalIndex n : nodes) {
+      for (int k = 0; k <= layers; ++k)
+        line.push_back(gridNode(k, n));
+      if (quadratic && corner[n] >= 0)
+        for (int k = 0; k < layers; ++k)
+          line.push_back(halfNode(k, n));
+    }
+  }
+  out.source = plane.source + " extruded";
+  out.finalizeIds();
+  return out;
+}
+
+Mesh sphereShellMesh(double a, double b, int n, int m, ElementType type, double grading) {
+  const std::string gen = "sphere_shell";
+  requirePositive("inner_radius", a, gen);
+  requirePositive("divisions[0]", n, gen);
+  requirePositive("divisions[1]", m, gen);
+  requirePositive("grading", grading, gen);
+  if (!(b > a))
+    throw GeneratorError("mesh generator sphere_shell: outer_radius must exceed inner_radius");
+  if (spatialDimension(type) != 3)
+    throw GeneratorError("mesh generator sphere_shell: element type " + elementTypeName(type) +
+                         " is not a 3D solid (hex8, hex20, tet4 or tet10)");
+  // Patch p maps the unit box (u, v, w) to r(w) c / |c| with the cube point c: patch 0 on x = 1,
+  // c = (1, t(u), t(v)); patch 1 on y = 1, c = (t(v), 1, t(u)); patch 2 on z = 1,
+  // c = (t(u), t(v), 1); t(s) = tan(pi s / 4). Each keeps the box's orientation (u, v, w map to a
+  // right-handed frame), and neighbouring patches meet on the planes x = y, y = z, z = x with the
+  // same parameters (so the same nodes, and for tetrahedra the same face diagonals).
+  // Box faces: xmin u = 0, ymin v = 0, zmin w = 0 (inner), zmax w = 1 (outer); xmax and ymax are
+  // the interfaces. Patch p's u = 0 and v = 0 lie on these symmetry planes:
+  const char *onU0[3] = {"ymin", "zmin", "xmin"}, *onV0[3] = {"zmin", "xmin", "ymin"};
+  Mesh out;
+  out.elementType = type;
+  std::map<std::array<long long, 3>, LocalIndex> merged; // rounded coordinates -> node
+  const double quantum = 1e-9 * b;
+  for (int patch = 0; patch < 3; ++patch) {
+    const Mesh box = boxMesh(1.0, 1.0, 1.0, n, n, m, type, 0.0, 0.0, 0.0, 1.0, 1.0, grading);
+    out.nodesPerElement = box.nodesPerElement;
+    std::vector<LocalIndex> renumber(box.numNodes());
+    for (LocalIndex k = 0; k < box.numNodes(); ++k) {
+      const double tu = std::tan(0.25 * M_PI * box.x(k)), tv = std::tan(0.25 * M_PI * box.y(k));
+      const std::array<double, 3> c = patch == 0   ? std::array<double, 3>{1.0, tu, tv}
+                                      : patch == 1 ? std::array<double, 3>{tv, 1.0, tu}
+                                                   : std::array<double, 3>{tu, tv, 1.0};
+      const double r = a + (b - a) * box.z(k), scale = r / std::hypot(c[0], c[1], c[2]);
+      const std::array<double, 3> x{scale * c[0], scale * c[1], scale * c[2]};
+      const std::array<long long, 3> key{std::llround(x[0] / quantum),
+                                         std::llround(x[1] / quantum),
+                                         std::llround(x[2] / quantum)};
+      const auto [at, added] = merged.emplace(key, out.numNodes());
+      if (added)
+        out.coordinates.insert(out.coordinates.end(), x.begin(), x.end());
+      renumber[k] = at->second;
+    }
+    const LocalIndex first = out.numElements();
+    for (LocalIndex node : box.connectivity)
+      out.connectivity.push_back(renumber[node]);
+    const auto side = [&](const char *from, const std::string &to) {
+      for (const BoundaryEdge &f : box.boundaries.at(from))
+        out.boundaries[to].push_back({first + f.element, f.edge});
+    };
+    side("xmin", onU0[patch]);
+    side("ymin", onV0[patch]);
+    side("zmin", "inner");
+    side("zmax", "outer");
+  }
+  out.elementRegion.assign(out.numElements(), 0);
+  out.regionNames = {"body"};
+  out.source = "generator " + gen;
+  for (const auto &[surface, r] :
+       {std::pair{std::string("inner"), a}, std::pair{std::string("outer"), b}}) {
+    const std::vector<LocalIndex> nodes = out.nodesOf(surface);
+    for (int i = 0; i < 3; ++i)
+      out.nodeSets[surface + "_" + "xyz"[i]] = {
+          closestNode3(out, nodes,
+                       std::array<double, 3>{i == 0 ? r : 0.0, i == 1 ? r : 0.0, i == 2 ? r : 0.0})};
+  }
+  out.finalizeIds();
+  return out;
+}
+
 Mesh quarterAnnulusMesh(double a, double b, int nr, int nt, ElementType type, double ratio) {
   requirePositive("inner_radius", a, "quarter_annulus");
   requirePositive("divisions[0]", nr, "quarter_annulus");

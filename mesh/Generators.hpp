@@ -70,6 +70,29 @@ struct MeshBody {
 };
 Mesh mergeMeshes(const std::vector<MeshBody> &bodies);
 
+/// The 2D mesh `plane` (Quad4 or Quad8, counter-clockwise) extruded along z from 0 to `length`
+/// in `layers` layers (grid line k at z = length (k / layers)^grading): Quad4 makes Hex8, Quad8
+/// makes Hex20 (the section's nodes at every grid line, its corner nodes also half way between:
+/// the vertical mid-edge nodes). Node numbering: the plane's nodes at grid line 0, 1, ..., then
+/// the Hex20 half-way nodes layer by layer. Elements layer by layer in the plane's order, with its
+/// regions. Boundaries: each 2D boundary becomes the faces its edges sweep (same name), plus
+/// "zmin" (z = 0) and "zmax" (z = length); each node set becomes the nodes above its nodes (a
+/// line along z). Throws GeneratorError naming "extrude" for a 3D `plane`, non-positive length,
+/// layers or grading.
+Mesh extrudeMesh(const Mesh &plane, double length, int layers, double grading = 1.0);
+
+/// Octant x, y, z >= 0 of the spherical shell a <= r <= b centred at the origin (a thick-walled
+/// sphere's symmetry octant), of Hex8, Hex20, Tet4 or Tet10 elements: three patches of the cubed
+/// sphere (the octant's three quarter faces of the cube |x|_inf = 1 projected radially, at equal
+/// angles, n x n each) times m radial layers (grid line k at r = a + (b - a) (k / m)^grading:
+/// > 1 clusters the layers toward r = a), each patch a box mesh (boxMesh: its Hex20 and Tet10
+/// mid-edge nodes mapped too, so edges follow the spheres) with the patches' shared nodes merged.
+/// Region "body"; boundaries "inner" (r = a), "outer" (r = b), "xmin", "ymin", "zmin" (the
+/// symmetry planes x = 0, y = 0, z = 0); node sets "inner_x", "inner_y", "inner_z", "outer_x",
+/// "outer_y", "outer_z" (the nodes on the axes). 3 n^2 m hexahedra (6 times as many tetrahedra).
+/// Throws GeneratorError naming "sphere_shell" for b <= a, non-positive arguments or a 2D type.
+Mesh sphereShellMesh(double a, double b, int n, int m, ElementType type, double grading = 1.0);
+
 /// Quarter annulus a <= r <= b, 0 <= theta <= pi/2 centred at the origin, nr radial x nt
 /// circumferential elements (radial spacing grows geometrically by `ratio` from r = a).
 /// Region "body"; boundaries "inner", "outer", "bottom" (y = 0), "left" (x = 0).

@@ -267,6 +267,173 @@ TEST(BoxMesh, CountsVolumeBoundariesAndOrientation) {
   }
 }
 
+TEST(SphereShellMesh, CountsSurfacesOrientationAndVolumeForEverySolid) {
+  // The octant a = 1 <= r <= b = 2 of sphereShellMesh(n = 3, m = 2): three cubed-sphere patches
+  // of n x n x m cells whose shared nodes are merged (inclusion-exclusion over the three interface
+  // planes and their common line); every element valid; each boundary on its surface with
+  // outward faces; the trilinear Hex8 volume close to pi / 6 (b^3 - a^3).
+  const double a = 1.0, b = 2.0;
+  const int n = 3, m = 2;
+  for (ElementType type :
+       {ElementType::Hex8, ElementType::Hex20, ElementType::Tet4, ElementType::Tet10}) {
+    SCOPED_TRACE(elementTypeName(type));
+    const Mesh mesh = sphereShellMesh(a, b, n, m, type);
+    EXPECT_NO_THROW(validateMesh(mesh));
+    const bool tet = type == ElementType::Tet4 || type == ElementType::Tet10;
+    EXPECT_EQ(mesh.numElements(), 3 * n * n * m * (tet ? 6 : 1));
+    if (type == ElementType::Hex8 || type == ElementType::Tet4) {
+      EXPECT_EQ(mesh.numNodes(),
+                3 * (n + 1) * (n + 1) * (m + 1) - 3 * (n + 1) * (m + 1) + (m + 1));
+    }
+    for (LocalIndex k = 0; k < mesh.numNodes(); ++k) {
+      const double r = norm(point(mesh, k));
+      EXPECT_GE(r, a - 1e-12);
+      EXPECT_LE(r, b + 1e-12);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_GE(mesh.coordinate(k, i), -1e-12);
+    }
+    const int corners = tet ? 3 : 4, perCell = tet ? 2 : 1; // faces per cell face
+    struct Side {
+      const char *name;
+      int faces;
+      std::function<double(const Vec3 &)> level; // zero on the surface
+      std::function<Vec3(const Vec3 &)> outward;
+    };
+    const auto radial = [](const Vec3 &x) {
+      const double r = norm(x);
+      return Vec3{x[0] / r, x[1] / r, x[2] / r};
+    };
+    const Side sides[] = {
+        {"inner", 3 * n * n * perCell, [&](const Vec3 &x) { return norm(x) - a; },
+         [&](const Vec3 &x) {
+           const Vec3 e = radial(x);
+           return Vec3{-e[0], -e[1], -e[2]};
+         }},
+        {"outer", 3 * n * n * perCell, [&](const Vec3 &x) { return norm(x) - b; }, radial},
+        {"xmin", 2 * n * m * perCell, [](const Vec3 &x) { return x[0]; },
+         [](const Vec3 &) { return Vec3{-1.0, 0.0, 0.0}; }},
+        {"ymin", 2 * n * m * perCell, [](const Vec3 &x) { return x[1]; },
+         [](const Vec3 &) { return Vec3{0.0, -1.0, 0.0}; }},
+        {"zmin", 2 * n * m * perCell, [](const Vec3 &x) { return x[2]; },
+         [](const Vec3 &) { return Vec3{0.0, 0.0, -1.0}; }}};
+    EXPECT_EQ(mesh.boundaries.size(), 5u);
+    for (const Side &side : sides) {
+      SCOPED_TRACE(side.name);
+      ASSERT_TRUE(mesh.hasBoundary(side.name));
+      const auto &faces = mesh.boundaries.at(side.name);
+      EXPECT_EQ(static_cast<int>(faces.size()), side.faces);
+      for (const BoundaryEdge &f : faces) {
+        Vec3 centre{0.0, 0.0, 0.0};
+        for (int k = 0; k < mesh.nodesPerSide(); ++k) {
+          const Vec3 x = point(mesh, mesh.sideNode(f, k));
+          EXPECT_NEAR(side.level(x), 0.0, 1e-12);
+          if (k < corners)
+            for (int i = 0; i < 3; ++i)
+              centre[i] += x[i] / corners;
+        }
+        const Vec3 x0 = point(mesh, mesh.sideNode(f, 0));
+        const Vec3 normal = cross(minus(point(mesh, mesh.sideNode(f, 1)), x0),
+                                  minus(point(mesh, mesh.sideNode(f, corners - 1)), x0));
+        const Vec3 want = side.outward(centre);
+        EXPECT_GT(normal[0] * want[0] + normal[1] * want[1] + normal[2] * want[2],
+                  0.5 * norm(normal));
+      }
+    }
+    for (const char *surface : {"inner", "outer"})
+      for (int i = 0; i < 3; ++i) {
+        const std::string name = std::string(surface) + "_" + "xyz"[i];
+        ASSERT_TRUE(mesh.hasNodeSet(name)) << name;
+        const Vec3 x = point(mesh, mesh.nodeSets.at(name).front());
+        for (int j = 0; j < 3; ++j)
+          EXPECT_NEAR(x[j], j == i ? (surface[0] == 'i' ? a : b) : 0.0, 1e-12) << name;
+      }
+    if (type == ElementType::Hex8) {
+      double volume = 0.0;
+      for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+        volume += hexVolume(mesh, e);
+      const double exact = M_PI / 6.0 * (b * b * b - a * a * a);
+      EXPECT_NEAR(volume / exact, 1.0, 0.05); // flat faces cut the spheres' caps
+      EXPECT_LT(volume, exact);
+    }
+  }
+  EXPECT_THROW(sphereShellMesh(2.0, 1.0, 2, 2, ElementType::Hex8), GeneratorError);
+  EXPECT_THROW(sphereShellMesh(1.0, 2.0, 0, 2, ElementType::Hex8), GeneratorError);
+  EXPECT_THROW(sphereShellMesh(1.0, 2.0, 2, 2, ElementType::Quad4), GeneratorError);
+}
+
+TEST(ExtrudeMesh, SweepsQuadsIntoHexahedraWithTheirBoundariesAndNodeSets) {
+  // A 3 x 2 rectangle (Quad4 and Quad8) extruded to z in [0, 1.5] in 3 layers graded by 1.5:
+  // counts, positive volumes summing to the prism's, the swept boundaries on their planes with
+  // outward normals, zmin / zmax, the regions, the node sets as lines along z; Hex20's vertical
+  // mid-edge nodes half way between the grid lines.
+  const double lx = 3.0, ly = 2.0, length = 1.5, grading = 1.5;
+  const int nx = 3, ny = 2, layers = 3;
+  for (ElementType section : {ElementType::Quad4, ElementType::Quad8}) {
+    SCOPED_TRACE(elementTypeName(section));
+    const Mesh plane = rectangleMesh(lx, ly, nx, ny, section);
+    const Mesh m = extrudeMesh(plane, length, layers, grading);
+    const bool quadratic = section == ElementType::Quad8;
+    EXPECT_EQ(m.elementType, quadratic ? ElementType::Hex20 : ElementType::Hex8);
+    EXPECT_NO_THROW(validateMesh(m));
+    EXPECT_EQ(m.numElements(), nx * ny * layers);
+    const LocalIndex corners = (nx + 1) * (ny + 1);
+    EXPECT_EQ(m.numNodes(), (layers + 1) * plane.numNodes() + (quadratic ? layers * corners : 0));
+    EXPECT_EQ(m.regionNames, plane.regionNames);
+    double volume = 0.0;
+    for (LocalIndex e = 0; e < m.numElements(); ++e) {
+      const double v = hexVolume(m, e); // the corners: a straight-sided brick
+      EXPECT_GT(v, 0.0);
+      volume += v;
+    }
+    EXPECT_NEAR(volume, lx * ly * length, 1e-12 * lx * ly * length);
+    // The first layer is length (1 / layers)^grading thick.
+    double zmin1 = 1e300;
+    for (LocalIndex k = 0; k < m.numNodes(); ++k)
+      if (m.z(k) > 1e-12 && (!quadratic || k < (layers + 1) * plane.numNodes()))
+        zmin1 = std::min(zmin1, m.z(k));
+    EXPECT_NEAR(zmin1, length * std::pow(1.0 / layers, grading), 1e-12);
+    const LocalIndex half = (layers + 1) * plane.numNodes(); // the first vertical mid-edge node
+    if (quadratic) {
+      for (LocalIndex k = half; k < half + corners; ++k)
+        EXPECT_NEAR(m.z(k), 0.5 * zmin1, 1e-12);
+    }
+    struct Side {
+      const char *name;
+      int axis;
+      double value, direction;
+      int faces;
+    };
+    const Side sides[] = {{"left", 0, 0.0, -1.0, ny * layers}, {"right", 0, lx, 1.0, ny * layers},
+                          {"bottom", 1, 0.0, -1.0, nx * layers}, {"top", 1, ly, 1.0, nx * layers},
+                          {"zmin", 2, 0.0, -1.0, nx * ny},       {"zmax", 2, length, 1.0, nx * ny}};
+    for (const Side &side : sides) {
+      SCOPED_TRACE(side.name);
+      ASSERT_TRUE(m.hasBoundary(side.name));
+      EXPECT_EQ(static_cast<int>(m.boundaries.at(side.name).size()), side.faces);
+      for (const BoundaryEdge &f : m.boundaries.at(side.name)) {
+        for (int k = 0; k < m.nodesPerSide(); ++k)
+          EXPECT_NEAR(m.coordinate(m.sideNode(f, k), side.axis), side.value, 1e-12);
+        const Vec3 n = faceNormal(m, f);
+        EXPECT_NEAR(n[side.axis], side.direction, 1e-12);
+      }
+    }
+    for (const auto &[name, nodes] : plane.nodeSets) {
+      SCOPED_TRACE(name);
+      ASSERT_TRUE(m.hasNodeSet(name));
+      const auto &line = m.nodeSets.at(name);
+      EXPECT_EQ(line.size(), nodes.size() * (layers + 1 + (quadratic ? layers : 0)));
+      for (LocalIndex k : line) {
+        EXPECT_NEAR(m.x(k), plane.x(nodes.front()), 1e-12);
+        EXPECT_NEAR(m.y(k), plane.y(nodes.front()), 1e-12);
+      }
+    }
+  }
+  const Mesh solid = boxMesh(1.0, 1.0, 1.0, 1, 1, 1, ElementType::Hex8);
+  EXPECT_THROW(extrudeMesh(solid, 1.0, 2), GeneratorError);
+  EXPECT_THROW(extrudeMesh(rectangleMesh(1.0, 1.0, 1, 1, ElementType::Quad4), 0.0, 2),
+               GeneratorError);
+}
+
 TEST(BoxMesh, GradingSetsTheFirstElementSize) {
   const double lx = 2.0, ly = 1.0, lz = 4.0, gx = 1.5, gy = 2.0, gz = 1.2;
   const int nx = 5, ny = 4, nz = 3;

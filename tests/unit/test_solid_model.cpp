@@ -315,10 +315,8 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
       {"force: [1, 2, 3]", "force: [1, 2]", "expected a list of three numbers"},
       {"divisions: [4, 1, 2]", "divisions: [4, 1]", "expected a list of three integers"},
       {"ux: 0, uy: 0, uz: 0", "ux: 0, uy: 0, uw: 0", "unknown key 'uw'"},
-      {"solver:",
-       "verification: {type: lame_cylinder, inner_radius: 1, outer_radius: 2, "
-       "inner_pressure: 1}\nsolver:",
-       "lame_cylinder is the 2D closed form"},
+      {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], extrude: {length: 1, divisions: 2}}",
+       "solid.yaml:2:65: mesh.generator: unknown key 'extrude'"},
   };
   for (const Case &c : cases) {
     const std::string m = refusal(replaceText(kSolid, c.from, c.to));
@@ -337,6 +335,22 @@ boundary_conditions:
       refusal(plane).find("solid.yaml:6:40: boundary_conditions[0].uz: uz applies to 3D meshes"),
       std::string::npos)
       << refusal(plane);
+  // The 3D closed form on a 2D mesh, and the 3D generator with a plane element.
+  const std::string sphere2d = replaceText(
+      replaceText(plane, ", uz: 0}", "}"), "materials:",
+      "verification: {type: lame_sphere, inner_radius: 1, outer_radius: 2, inner_pressure: 1}\n"
+      "materials:");
+  EXPECT_NE(refusal(sphere2d).find("solid.yaml:3:22: verification.type: lame_sphere is the 3D "
+                                   "closed form"),
+            std::string::npos)
+      << refusal(sphere2d);
+  const std::string quadShell = replaceText(
+      kSolid, "{type: box, size: [4, 1, 2], divisions: [4, 1, 2]}",
+      "{type: sphere_shell, inner_radius: 1, outer_radius: 2, divisions: [2, 2], element: quad4}");
+  EXPECT_NE(refusal(quadShell).find("solid.yaml:2:14: mesh.generator: mesh generator sphere_shell: "
+                                    "element type quad4 is not a 3D solid"),
+            std::string::npos)
+      << refusal(quadShell);
 }
 
 TEST(SolidLoads, Hex20FaceLoadsSumToTractionTimesAreaWithSerendipityWeights) {
