@@ -9,6 +9,7 @@
 #include <solver/Environment.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
+#include <solver/SolidMixedModel.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -123,12 +124,15 @@ std::string nodalStressSource(ElementType type) {
 }
 
 std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
+  const int perNode = !mixed              ? p.mesh.dim()
+                      : p.mesh.dim() == 3 ? FieldLayout<3>::kMixedUnknowns
+                                          : FieldLayout<2>::kMixedUnknowns;
   std::ostringstream s;
   s << "mixcon: " << p.file << ": " << p.mesh.numNodes() << " nodes, " << p.mesh.numElements()
     << " " << elementTypeName(p.mesh.elementType) << " elements, " << p.mesh.dim() << "D "
     << (mixed ? "mixed model, " : "displacement model, ")
     << (p.model.geometricNonlinearity ? "geometrically nonlinear, " : "")
-    << model.dofs().numGlobal * (mixed ? 5 : 2) / 2 << " unknowns, " << model.numConstrained()
+    << static_cast<long>(p.mesh.numNodes()) * perNode << " unknowns, " << model.numConstrained()
     << " constrained; " << Environment::describe() << "\n";
   return s.str();
 }
@@ -344,10 +348,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     m->setIterativeSolver(p.model.mixedNewton);
     owner = std::move(m);
   } else {
-    auto d = p.mesh.dim() == 3 ? std::make_unique<NonlinearDisplacementModel>(
-                                     p.mesh, elementMaterial, solidStiffness)
-                               : std::make_unique<NonlinearDisplacementModel>(
-                                     p.mesh, elementMaterial, stiffness, p.model.thickness);
+    auto d =
+        p.mesh.dim() == 3
+            ? std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, solidStiffness)
+            : std::make_unique<NonlinearDisplacementModel>(p.mesh, elementMaterial, stiffness,
+                                                           p.model.thickness);
     d->setTangent(p.tangent);
     d->setElasticLaw(p.model.elasticLaw);
     d->setSmallDisplacements(!p.model.geometricNonlinearity); // a linear body in contact
@@ -599,9 +604,14 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   const bool mixed = p.model.formulation == Formulation::Mixed;
   // Both owners typed, so each model's own setup and statistics need no cast.
   std::unique_ptr<MixedModel> mixedModel;
+  std::unique_ptr<SolidMixedModel> solidMixedModel; // the 3D mixed model (direct solver so far)
   std::unique_ptr<LinearDisplacementModel> displacementModel;
   ModelBase *base = nullptr;
-  if (mixed) {
+  if (mixed && p.mesh.dim() == 3) {
+    solidMixedModel = std::make_unique<SolidMixedModel>(p.mesh, elementMaterial, solidStiffness,
+                                                        p.model.mixed.stabilization);
+    base = solidMixedModel.get();
+  } else if (mixed) {
     mixedModel = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,
                                               p.model.stressElement.value_or(p.mesh.elementType));
     base = mixedModel.get();
@@ -620,7 +630,9 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   if (log)
     *log << modelLine(p, model, mixed);
 
-  if (mixed) {
+  if (solidMixedModel) {
+    solidMixedModel->setup(p.solver, comm);
+  } else if (mixed) {
     MixedOptions o = p.model.mixed;
     o.linear = p.solver;
     mixedModel->setup(o, comm);

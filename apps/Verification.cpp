@@ -141,17 +141,14 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
                                 mat.youngs,
                                 mat.poisson,
                                 planeStrain};
-    const LameSphereSolution ball{s.innerRadius,
-                                  s.outerRadius,
-                                  loadFactor * s.innerPressure,
-                                  loadFactor * s.outerPressure,
-                                  mat.youngs,
-                                  mat.poisson};
+    const LameSphereSolution ball{
+        s.innerRadius, s.outerRadius, loadFactor * s.innerPressure, loadFactor * s.outerPressure,
+        mat.youngs,    mat.poisson};
     const auto closed = [&](double r) {
       return sphere ? std::array<double, 3>{ball.radialDisplacement(r), ball.sigmaTheta(r),
                                             ball.sigmaR(r)}
-                    : std::array<double, 3>{cylinder.radialDisplacement(r),
-                                            cylinder.sigmaTheta(r), cylinder.sigmaR(r)};
+                    : std::array<double, 3>{cylinder.radialDisplacement(r), cylinder.sigmaTheta(r),
+                                            cylinder.sigmaR(r)};
     };
     v.title = std::string(sphere ? "Lame thick sphere (Timoshenko & Goodier, sec. 136)"
                                  : "Lame thick cylinder (Timoshenko & Goodier, sec. 28)") +
@@ -197,8 +194,8 @@ VerificationResult verify(const Problem &p, const std::vector<double> &u,
         throw InputError(p.file + ": verification: no mesh node lies on r = " + std::to_string(r0));
       const std::string at = r0 == s.innerRadius ? "r = a" : "r = b";
       const auto ref = closed(r0);
-      const double pscale = std::max(std::abs(loadFactor * s.innerPressure),
-                                     std::abs(loadFactor * s.outerPressure));
+      const double pscale =
+          std::max(std::abs(loadFactor * s.innerPressure), std::abs(loadFactor * s.outerPressure));
       add("radial displacement u_r(" + at + ")", ur / count, ref[0], std::abs(ref[0]));
       add("hoop stress sigma_theta(" + at + ")", st / count, ref[1], std::abs(ref[1]));
       add("radial stress sigma_r(" + at + ")", sr / count, ref[2], pscale);

@@ -142,10 +142,9 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
       m["element"].fail("for a generator, give 'element' inside 'generator'");
     const YamlItem g = m["generator"];
     g.requireMap();
-    const std::string type =
-        g.required("type").choice({"rectangle", "quarter_annulus", "plate_with_hole",
-                                   "quarter_disk", "half_disk", "pinned_plate", "box",
-                                   "sphere_shell"});
+    const std::string type = g.required("type").choice(
+        {"rectangle", "quarter_annulus", "plate_with_hole", "quarter_disk", "half_disk",
+         "pinned_plate", "box", "sphere_shell"});
     const bool solid = type == "box" || type == "sphere_shell";
     ElementType et = g.has("element") ? elementType(g["element"])
                      : solid          ? ElementType::Hex8
@@ -218,7 +217,7 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
         mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et);
       } else if (type == "pinned_plate") {
         allow({"type", "element", "hole_radius", "half_width", "end_distance", "length",
-                     "divisions", "grading"});
+               "divisions", "grading"});
         const YamlItem d = g.required("divisions");
         if (!d.node.IsSequence() || d.node.size() != 4)
           d.fail("expected four integers [around the hole per 60 degrees, radial, end block, "

@@ -19,10 +19,22 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
                         ? Formulation::Mixed
                         : Formulation::Displacement;
   if (spatialDimension(meshElement) == 3) {
-    // 3D runs so far: the displacement model, linear or geometrically nonlinear (issue 17).
-    if (s.formulation == Formulation::Mixed)
-      m["formulation"].fail("the mixed model is 2D only so far; 3D meshes run the displacement "
-                            "model (issue 17)");
+    // 3D runs so far: the displacement model, linear or geometrically nonlinear, and the linear
+    // mixed model on hexahedra with its stabilization (issue 17).
+    if (s.formulation == Formulation::Mixed) {
+      if (meshElement != ElementType::Hex8 && meshElement != ElementType::Hex20)
+        m["formulation"].fail("the 3D mixed model takes hex8 or hex20 meshes so far (equal-order "
+                              "tet4 and tet10 mixed elements are not checked yet)");
+      if (m.has("geometric_nonlinearity") && m["geometric_nonlinearity"].boolean())
+        m["geometric_nonlinearity"].fail("the 3D mixed model is linear so far (issue 17); the "
+                                         "geometrically nonlinear 3D model is the displacement "
+                                         "model");
+      for (const char *key : {"compliance", "stress_element", "operators"})
+        if (m.has(key))
+          m[key].fail(std::string(key) + " applies to the 2D mixed model's iterative solvers; "
+                                         "the 3D mixed model uses the consistent M, equal-order "
+                                         "stresses and the direct solver");
+    }
     for (const char *key : {"analysis", "thickness"})
       if (m.has(key))
         m[key].fail(std::string(key) + " applies to 2D meshes (plane stress or strain of a "
@@ -91,7 +103,7 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
                          ? StressUpdate::NodalAverage
                          : StressUpdate::Projected;
   }
-  if (s.formulation == Formulation::Mixed) {
+  if (s.formulation == Formulation::Mixed && spatialDimension(meshElement) == 2) {
     try {
       checkMixedPairing(meshElement, s.stressElement.value_or(meshElement));
     } catch (const InputError &e) {

@@ -121,9 +121,9 @@ almansiElement(const ElementData<MemorySpace, Elem::kDim> &d,
                const Kokkos::View<const double *, MemorySpace> &u, LocalIndex e,
                double (&fe)[Elem::kDim * Elem::kNumNodes],
                double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
-  return spatialElement<Elem, Tangent>(
-      d.mesh, d.thickness, AlmansiLaw<MemorySpace, Elem::kDim>{d.material, d.stiffness}, u, e, fe,
-      ke);
+  return spatialElement<Elem, Tangent>(d.mesh, d.thickness,
+                                       AlmansiLaw<MemorySpace, Elem::kDim>{d.material, d.stiffness},
+                                       u, e, fe, ke);
 }
 
 /// The St. Venant-Kirchhoff point law of the displacement model for the element driver: element
@@ -344,11 +344,10 @@ LocalIndex assembleNonlinear(const ExecSpace &exec, const MeshView<MemorySpace, 
 /// nd x nd; the residual alone is one pass. Same results as assembleNonlinear up to rounding of
 /// the atomics' order.
 template <int Ndof, class Elem, class ExecSpace, class MemorySpace, class Kernel, class Map>
-LocalIndex assembleNonlinearRows(const ExecSpace &exec,
-                                 const MeshView<MemorySpace, Elem::kDim> &mesh,
-                                 const Kernel &kernel, const Map &map,
-                                 const CsrMatrix<MemorySpace> &a,
-                                 const Kokkos::View<double *, MemorySpace> &g) {
+LocalIndex
+assembleNonlinearRows(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                      const Kernel &kernel, const Map &map, const CsrMatrix<MemorySpace> &a,
+                      const Kokkos::View<double *, MemorySpace> &g) {
   LocalIndex inverted = -1;
   const bool tangent = a.numRows > 0;
   Kokkos::parallel_reduce(
@@ -432,13 +431,33 @@ enum class MixedJacobianBlocks { Element, NodeRows };
 /// The incremental Hellinger-Reissner point law of the mixed model for the element driver:
 /// element e's MixedIncrementPoint with its material's plane stiffness [C] and compliance [D]
 /// and the stabilization a.
-template <class MemorySpace> struct MixedIncrementLaw {
+template <class MemorySpace, int Dim = 2> struct MixedIncrementLaw {
   Kokkos::View<int *, MemorySpace> material;
-  Kokkos::View<PlaneMatrix *, MemorySpace> stiffness, compliance;
+  Kokkos::View<typename ElementData<MemorySpace, Dim>::Stiffness *, MemorySpace> stiffness,
+      compliance;
   double a = 0.0;
-  KOKKOS_INLINE_FUNCTION MixedIncrementPoint<2> at(LocalIndex e) const {
+  KOKKOS_INLINE_FUNCTION MixedIncrementPoint<Dim> at(LocalIndex e) const {
     const int k = material(e);
-    return MixedIncrementPoint<2>{stiffness(k), compliance(k), a};
+    return MixedIncrementPoint<Dim>{stiffness(k), compliance(k), a};
+  }
+};
+
+/// The linear Hellinger-Reissner element of a solid for assembleNonlinearRows: the Jacobian of
+/// the incremental mixed residual (MixedIncrementPoint<3>, mixedElementRows) at the undeformed,
+/// unstressed state x = 0, tau = 0, which is the linear mixed operator: [a K^L, (1 - a) K12;
+/// (1 - a) K12^T, -(1 - a) M] (F = I, Sigma = 0: no geometric term), 9 unknowns per node (u, v,
+/// w, then the Voigt stresses). Its residual there is zero.
+template <class Elem, class MemorySpace> struct SolidMixedKernel {
+  static_assert(Elem::kDim == 3, "the 3D linear mixed element");
+  static constexpr int kUnknowns = LayoutOf<Elem>::kMixedUnknowns;
+  MeshView<MemorySpace, 3> mesh;
+  MixedIncrementLaw<MemorySpace, 3> law;
+  Kokkos::View<const double *, MemorySpace> x, tau; ///< zero: the state the operator is taken at
+  template <bool Tangent, int Rows>
+  KOKKOS_INLINE_FUNCTION bool
+  computeRows(LocalIndex e, int first, double (&ge)[kUnknowns * Rows],
+              double (&ke)[kUnknowns * Rows][kUnknowns * Elem::kNumNodes]) const {
+    return mixedElementRows<Elem, Tangent, Rows>(mesh, 1.0, law, x, tau, e, first, ge, ke);
   }
 };
 
@@ -674,8 +693,10 @@ void assembleFollowerFacePressure(const ExecSpace &exec, const MeshView<MemorySp
           if (!tangent)
             continue;
           // [v]x (i, m) = eps_ijm v_j.
-          const double s1[3][3] = {{0.0, -t1[2], t1[1]}, {t1[2], 0.0, -t1[0]}, {-t1[1], t1[0], 0.0}};
-          const double s2[3][3] = {{0.0, -t2[2], t2[1]}, {t2[2], 0.0, -t2[0]}, {-t2[1], t2[0], 0.0}};
+          const double s1[3][3] = {
+              {0.0, -t1[2], t1[1]}, {t1[2], 0.0, -t1[0]}, {-t1[1], t1[0], 0.0}};
+          const double s2[3][3] = {
+              {0.0, -t2[2], t2[1]}, {t2[2], 0.0, -t2[0]}, {-t2[1], t2[0], 0.0}};
           for (int a = 0; a < nf; ++a)
             for (int b = 0; b < nf; ++b) {
               const double c1 = p * w * sh[a] * ds[b][1], c2 = p * w * sh[a] * ds[b][0];

@@ -523,8 +523,7 @@ Mesh sphereShellMesh(double a, double b, int n, int m, ElementType type, double 
                                                    : std::array<double, 3>{tu, tv, 1.0};
       const double r = a + (b - a) * box.z(k), scale = r / std::hypot(c[0], c[1], c[2]);
       const std::array<double, 3> x{scale * c[0], scale * c[1], scale * c[2]};
-      const std::array<long long, 3> key{std::llround(x[0] / quantum),
-                                         std::llround(x[1] / quantum),
+      const std::array<long long, 3> key{std::llround(x[0] / quantum), std::llround(x[1] / quantum),
                                          std::llround(x[2] / quantum)};
       const auto [at, added] = merged.emplace(key, out.numNodes());
       if (added)
@@ -550,9 +549,8 @@ Mesh sphereShellMesh(double a, double b, int n, int m, ElementType type, double 
        {std::pair{std::string("inner"), a}, std::pair{std::string("outer"), b}}) {
     const std::vector<LocalIndex> nodes = out.nodesOf(surface);
     for (int i = 0; i < 3; ++i)
-      out.nodeSets[surface + "_" + "xyz"[i]] = {
-          closestNode3(out, nodes,
-                       std::array<double, 3>{i == 0 ? r : 0.0, i == 1 ? r : 0.0, i == 2 ? r : 0.0})};
+      out.nodeSets[surface + "_" + "xyz"[i]] = {closestNode3(
+          out, nodes, std::array<double, 3>{i == 0 ? r : 0.0, i == 1 ? r : 0.0, i == 2 ? r : 0.0})};
   }
   out.finalizeIds();
   return out;

@@ -44,8 +44,8 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   // follower pressure's load stiffness is not.
   linearOptions_.symmetric = false;
   solver_ = makeLinearSolver(linearOptions_, dofs_, comm);
-  positions_ = Kokkos::View<double **, Memory>("mixcon::nonlinear::positions", mesh_.numNodes(),
-                                               dim());
+  positions_ =
+      Kokkos::View<double **, Memory>("mixcon::nonlinear::positions", mesh_.numNodes(), dim());
   Kokkos::deep_copy(positions_, referenceCoordinates());
   solver_->setNearNullSpace(positions_);
   assemblySeconds_ = seconds(start);
@@ -95,8 +95,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
         assembleReportTangent<Elem>();
       if (follower_.edges.extent(0) > 0)
         assembleFollowerPressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
-                                            ConstVec(follower_.pressure), lambda, d.thickness,
-                                            map_, a, g_);
+                                            ConstVec(follower_.pressure), lambda, d.thickness, map_,
+                                            a, g_);
     } else if (follower_.edges.extent(0) > 0) {
       assembleFollowerFacePressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
                                               ConstVec(follower_.pressure), lambda, map_, a, g_);
@@ -159,12 +159,11 @@ void NonlinearDisplacementModel::restoreCommitted(const Checkpoint &state) {
 std::vector<double> NonlinearDisplacementModel::nodalStressHost() const {
   return dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    Kokkos::View<double *[Voigt<Elem::kDim>::kSize], Memory> s("mixcon::nonlinear::nodalStress",
-                                                               mesh_.numNodes());
+    Kokkos::View<double * [Voigt<Elem::kDim>::kSize], Memory> s("mixcon::nonlinear::nodalStress",
+                                                                mesh_.numNodes());
     if constexpr (Elem::kDim == 2) {
       if (small_)
-        recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_},
-                                 s);
+        recoverNodalStress<Elem>(Exec(), data_.mesh, LinearPointStress<Elem, Memory>{data_, u_}, s);
       else
         recoverNodalStress<Elem>(Exec(), data_.mesh,
                                  AlmansiPointStress<Elem, Memory>{data_, u_, law_}, s);

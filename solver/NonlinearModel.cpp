@@ -139,14 +139,14 @@ void NonlinearModel::gaussPointFieldsHost(std::vector<double> &coordinates,
     const auto &d = elementData<Elem::kDim>();
     const LocalIndex ne = mesh_.numElements();
     // Extents spelled from Elem (nvcc 13 gives a local constexpr extent the wrong value).
-    Kokkos::View<double **[Elem::kDim], Memory> xq("mixcon::nonlinear::qpCoordinates", ne,
-                                                   Elem::kNumQp);
-    Kokkos::View<double **[Elem::kDim], Memory> xc("mixcon::nonlinear::qpCurrent", ne,
-                                                   Elem::kNumQp);
-    Kokkos::View<double **[Voigt<Elem::kDim>::kSize], Memory> sq("mixcon::nonlinear::qpStress",
-                                                                 ne, Elem::kNumQp);
-    Kokkos::View<double **[Elem::kDim * Elem::kDim], Memory> gq("mixcon::nonlinear::qpGradient",
-                                                                ne, Elem::kNumQp);
+    Kokkos::View<double * * [Elem::kDim], Memory> xq("mixcon::nonlinear::qpCoordinates", ne,
+                                                     Elem::kNumQp);
+    Kokkos::View<double * * [Elem::kDim], Memory> xc("mixcon::nonlinear::qpCurrent", ne,
+                                                     Elem::kNumQp);
+    Kokkos::View<double * * [Voigt<Elem::kDim>::kSize], Memory> sq("mixcon::nonlinear::qpStress",
+                                                                   ne, Elem::kNumQp);
+    Kokkos::View<double * * [Elem::kDim * Elem::kDim], Memory> gq("mixcon::nonlinear::qpGradient",
+                                                                  ne, Elem::kNumQp);
     quadraturePointCoordinates<Elem>(Exec(), d.mesh, xq);
     almansiGaussPointStress<Elem>(Exec(), d, ConstVec(u_), sq, gq, xc, law_);
     if (small_) // linear law on the reference configuration

@@ -282,8 +282,7 @@ TEST(SphereShellMesh, CountsSurfacesOrientationAndVolumeForEverySolid) {
     const bool tet = type == ElementType::Tet4 || type == ElementType::Tet10;
     EXPECT_EQ(mesh.numElements(), 3 * n * n * m * (tet ? 6 : 1));
     if (type == ElementType::Hex8 || type == ElementType::Tet4) {
-      EXPECT_EQ(mesh.numNodes(),
-                3 * (n + 1) * (n + 1) * (m + 1) - 3 * (n + 1) * (m + 1) + (m + 1));
+      EXPECT_EQ(mesh.numNodes(), 3 * (n + 1) * (n + 1) * (m + 1) - 3 * (n + 1) * (m + 1) + (m + 1));
     }
     for (LocalIndex k = 0; k < mesh.numNodes(); ++k) {
       const double r = norm(point(mesh, k));
@@ -311,11 +310,17 @@ TEST(SphereShellMesh, CountsSurfacesOrientationAndVolumeForEverySolid) {
          }},
         {"outer", 3 * n * n * perCell, [&](const Vec3 &x) { return norm(x) - b; }, radial},
         {"xmin", 2 * n * m * perCell, [](const Vec3 &x) { return x[0]; },
-         [](const Vec3 &) { return Vec3{-1.0, 0.0, 0.0}; }},
+         [](const Vec3 &) {
+           return Vec3{-1.0, 0.0, 0.0};
+         }},
         {"ymin", 2 * n * m * perCell, [](const Vec3 &x) { return x[1]; },
-         [](const Vec3 &) { return Vec3{0.0, -1.0, 0.0}; }},
+         [](const Vec3 &) {
+           return Vec3{0.0, -1.0, 0.0};
+         }},
         {"zmin", 2 * n * m * perCell, [](const Vec3 &x) { return x[2]; },
-         [](const Vec3 &) { return Vec3{0.0, 0.0, -1.0}; }}};
+         [](const Vec3 &) {
+           return Vec3{0.0, 0.0, -1.0};
+         }}};
     EXPECT_EQ(mesh.boundaries.size(), 5u);
     for (const Side &side : sides) {
       SCOPED_TRACE(side.name);
@@ -403,7 +408,7 @@ TEST(ExtrudeMesh, SweepsQuadsIntoHexahedraWithTheirBoundariesAndNodeSets) {
       double value, direction;
       int faces;
     };
-    const Side sides[] = {{"left", 0, 0.0, -1.0, ny * layers}, {"right", 0, lx, 1.0, ny * layers},
+    const Side sides[] = {{"left", 0, 0.0, -1.0, ny * layers},   {"right", 0, lx, 1.0, ny * layers},
                           {"bottom", 1, 0.0, -1.0, nx * layers}, {"top", 1, ly, 1.0, nx * layers},
                           {"zmin", 2, 0.0, -1.0, nx * ny},       {"zmax", 2, length, 1.0, nx * ny}};
     for (const Side &side : sides) {

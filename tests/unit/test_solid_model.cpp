@@ -302,8 +302,12 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
     std::string from, to, expect;
   };
   const Case cases[] = {
-      {"materials:", "model: {formulation: mixed}\nmaterials:",
-       "solid.yaml:3:22: model.formulation: the mixed model is 2D only so far"},
+      {"materials:", "model: {formulation: mixed, geometric_nonlinearity: true}\nmaterials:",
+       "solid.yaml:3:53: model.geometric_nonlinearity: the 3D mixed model is linear so far"},
+      {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg}",
+       "solid.yaml:13:16: solver.type: the 3D mixed model solves with type: direct so far"},
+      {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], element: tet4}\nmodel: {formulation: mixed}",
+       "the 3D mixed model takes hex8 or hex20 meshes so far"},
       {"solver:",
        "model: {geometric_nonlinearity: true}\nsteps: {increments: 2, tangent: report}\nsolver:",
        "tangent: report (the report's K^L + K^sigma) is 2D only so far"},
