@@ -500,19 +500,22 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     StepFields f;
     f.displacement = model.displacementHost();
     f.stress = model.nodalStressHost();
+    // Tetrahedra evaluate the law at their nodes (recoverSolidNodalStress), the others
+    // extrapolate from the Gauss points.
+    const std::string recovered =
+        p.mesh.elementType == ElementType::Tet4 || p.mesh.elementType == ElementType::Tet10
+            ? "evaluated at each element's nodes and averaged"
+            : "Gauss points extrapolated to the nodes and averaged";
     f.stressSource =
         mixed ? (p.model.mixedForm == MixedForm::Incremental
                      ? "nodal Cauchy stress of the mixed model (2nd Piola-Kirchhoff increments "
                        "pushed forward at the nodes, Eq. (5b))"
                      : "nodal Cauchy stress unknowns of the mixed model (current form)")
         : !p.model.geometricNonlinearity
-            ? "Cauchy stress of the linear law (small displacements), Gauss points extrapolated "
-              "to the nodes and averaged"
+            ? "Cauchy stress of the linear law (small displacements), " + recovered
         : p.model.elasticLaw == ElasticLaw::SaintVenantKirchhoff
-            ? "Cauchy stress F S F^T / J of the St. Venant-Kirchhoff law, Gauss points "
-              "extrapolated to the nodes and averaged"
-            : "Cauchy stress from the Almansi strain (Eq. (26)), Gauss points extrapolated to "
-              "the nodes and averaged";
+            ? "Cauchy stress F S F^T / J of the St. Venant-Kirchhoff law, " + recovered
+            : "Cauchy stress from the Almansi strain (Eq. (26)), " + recovered;
     // The Gauss-point stresses come from the displacements through the displacement model's law
     // (the mixed model's too: its law is the Almansi one), on the reference configuration for a
     // linear body (small displacements).

@@ -4,6 +4,9 @@
 #include <io/ProblemReader.hpp>
 #include <solver/Rules.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 namespace mixcon::detail {
 
 namespace {
@@ -256,6 +259,27 @@ void readVerification(const YamlItem &v, Problem &p) {
     s.tolerance = v["tolerance"].positive();
   if (s.type == "lame_sphere" && p.mesh.dim() == 2)
     v["type"].fail("lame_sphere is the 3D closed form (a thick-walled sphere); this mesh is 2D");
+  if (s.type == "lame_cylinder" && p.mesh.dim() == 3) {
+    // The 3D form is the plane-strain slice of a cylinder along z: both end faces held in z.
+    const Mesh &mesh = p.mesh;
+    double zlo = mesh.z(0), zhi = mesh.z(0);
+    for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
+      zlo = std::min(zlo, mesh.z(n));
+      zhi = std::max(zhi, mesh.z(n));
+    }
+    std::vector<char> held(mesh.numNodes(), 0);
+    for (const DirichletSpec &d : p.dirichlet)
+      if (d.uz && *d.uz == 0.0)
+        for (LocalIndex n : mesh.nodesOf(d.target))
+          held[n] = 1;
+    const double tol = 1e-9 * std::max(1.0, zhi - zlo);
+    for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+      if ((std::abs(mesh.z(n) - zlo) < tol || std::abs(mesh.z(n) - zhi) < tol) && !held[n])
+        v["type"].fail("lame_cylinder on a 3D mesh is the plane-strain slice of a cylinder along "
+                       "z: hold both end faces in z (uz: 0 at z = " +
+                       std::to_string(zlo) + " and z = " + std::to_string(zhi) + "); node " +
+                       std::to_string(mesh.nodeId(n)) + " is free in z");
+  }
   if (s.type == "lame_cylinder" || s.type == "lame_sphere") {
     v.allowOnly(
         {"type", "tolerance", "inner_radius", "outer_radius", "inner_pressure", "outer_pressure"});

@@ -500,6 +500,14 @@ Mesh sphereShellMesh(double a, double b, int n, int m, ElementType type, double 
   if (spatialDimension(type) != 3)
     throw GeneratorError("mesh generator sphere_shell: element type " + elementTypeName(type) +
                          " is not a 3D solid (hex8, hex20, tet4 or tet10)");
+  // Node and connectivity indices are LocalIndex: refuse before anything is allocated (three
+  // boxes, the largest count before merging; boxMesh checks one).
+  const bool tet = type == ElementType::Tet4 || type == ElementType::Tet10;
+  const double cells = 3.0 * n * n * m, most = std::numeric_limits<LocalIndex>::max();
+  if (cells * (tet ? 6 : 1) * dispatchElement(type, [](auto t) { return decltype(t)::kNumNodes; }) >
+      most)
+    throw GeneratorError("mesh generator sphere_shell: divisions [" + std::to_string(n) + ", " +
+                         std::to_string(m) + "] make more nodes than a LocalIndex holds");
   // Patch p maps the unit box (u, v, w) to r(w) c / |c| with the cube point c: patch 0 on x = 1,
   // c = (1, t(u), t(v)); patch 1 on y = 1, c = (t(v), 1, t(u)); patch 2 on z = 1,
   // c = (t(u), t(v), 1); t(s) = tan(pi s / 4). Each keeps the box's orientation (u, v, w map to a

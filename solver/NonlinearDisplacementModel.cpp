@@ -24,6 +24,8 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   if (dim() == 3 && tangentKind_ == TangentKind::Report) // refused by the problem reader first
     throw InputError("nonlinear displacement model: tangent: report (K^L + K^sigma) is 2D only "
                      "so far (issue 17); use tangent: exact");
+  if (dim() == 3 && contact_)
+    throw InputError("nonlinear displacement model: contact is 2D only so far (issue 17)");
   graph_ = buildNodeGraph(mesh_);
   tangent_ = expandGraph<Memory>(graph_, dim());
   map_ = elementScatterMap<Memory>(mesh_, graph_);
@@ -71,8 +73,8 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
   const bool report = tangent && tangentKind_ == TangentKind::Report;
   dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    constexpr int dim = Elem::kDim;
-    const auto &d = elementData<dim>();
+    constexpr int kDim = Elem::kDim;
+    const auto &d = elementData<kDim>();
     if (small_) {
       if (linearStiffness_.numRows == 0) {
         linearStiffness_ = cloneValues(tangent_);
@@ -84,22 +86,22 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
         Kokkos::deep_copy(tangent_.values, linearStiffness_.values);
     } else {
       inverted = law_ == ElasticLaw::SaintVenantKirchhoff
-                     ? assembleNonlinear<dim, Elem>(
+                     ? assembleNonlinear<kDim, Elem>(
                            Exec(), d.mesh, SvkKernel<Elem, Memory>{d, ConstVec(u_)}, map_, a, g_)
                      : assembleAlmansi<Elem>(Exec(), d, ConstVec(u_), map_, report ? none : a, g_);
     }
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
-    addDisplacementVector(g_, dim, dim, -lambda, load_);
-    if constexpr (dim == 2) {
+    addDisplacementVector(g_, kDim, kDim, -lambda, load_);
+    if constexpr (kDim == 2) {
       if (report && !small_) // setup() refuses it in 3D
         assembleReportTangent<Elem>();
       if (follower_.edges.extent(0) > 0)
-        assembleFollowerPressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
-                                            ConstVec(follower_.pressure), lambda, d.thickness, map_,
-                                            a, g_);
+        assembleFollowerPressure<kDim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
+                                             ConstVec(follower_.pressure), lambda, d.thickness,
+                                             map_, a, g_);
     } else if (follower_.edges.extent(0) > 0) {
-      assembleFollowerFacePressure<dim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
-                                              ConstVec(follower_.pressure), lambda, map_, a, g_);
+      assembleFollowerFacePressure<kDim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
+                                               ConstVec(follower_.pressure), lambda, map_, a, g_);
     }
   });
   return finishEvaluate(lambda, tangent, inverted, fint, g_, dim(), isConstrained_,

@@ -51,8 +51,7 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   operator_ = expandGraph<Memory>(graph, kUnknowns);
   const auto map = elementScatterMap<Memory>(mesh_, graph);
   // The compliance D = C^-1 of each material next to its stiffness, on the device.
-  Kokkos::View<SolidMatrix *, Memory> compliance("mixcon::mixed3d::compliance",
-                                                 compliance_.size());
+  Kokkos::View<SolidMatrix *, Memory> compliance("mixcon::mixed3d::compliance", compliance_.size());
   auto hd = hostMirror(compliance);
   for (std::size_t k = 0; k < compliance_.size(); ++k)
     hd(k) = compliance_[k];
@@ -65,17 +64,18 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
     using Elem = decltype(elem);
     const MixedIncrementLaw<Memory, 3> law{solid_.material, solid_.stiffness, compliance,
                                            stabilization_};
-    assembleNonlinearRows<kUnknowns, Elem>(
+    return assembleNonlinearRows<kUnknowns, Elem>(
         Exec(), solid_.mesh,
         SolidMixedKernel<Elem, Memory>{solid_.mesh, law,
                                        Kokkos::View<const double *, Memory>(zero_),
                                        Kokkos::View<const double *, Memory>(tau)},
         map, operator_, g);
   };
-  if (mesh_.elementType == ElementType::Hex8)
-    assemble(Hex8{});
-  else
-    assemble(Hex20{});
+  const LocalIndex inverted =
+      mesh_.elementType == ElementType::Hex8 ? assemble(Hex8{}) : assemble(Hex20{});
+  if (inverted >= 0)
+    throw InputError("mixed model: element " + std::to_string(mesh_.elementId(inverted)) + " of " +
+                     mesh_.source + " is inverted (non-positive Jacobian)");
   commitStaged();
   flags_ = Kokkos::View<int *, Memory>("mixcon::mixed3d::constrained", kUnknowns * nn);
   scatter<int>(isConstrained_, kUnknowns, 0, dim(), flags_, true);

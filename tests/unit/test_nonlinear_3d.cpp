@@ -7,7 +7,8 @@
 //  - objectivity: a rigid rotation of 0.7 rad gives zero stress (Gauss points and nodes) and zero
 //    internal force, and rotates a follower pressure's nodal forces with the body;
 //  - the follower pressure on the undeformed body equals the dead pressure of the linear face
-//    load kernel (assembleFaceLoads, written independently).
+//    load kernel (assembleFaceLoads; both use detail::faceFrame), and its resultant is the closed
+//    form p A n on the flat face (A = 1 x 1.2).
 // The constant-stress (homogeneous finite deformation) patch test of this model, against the
 // closed-form Cauchy stress, is in tests/validation/test_solid.cpp.
 #include <solver/Nonlinear.hpp>
@@ -147,6 +148,14 @@ TEST_P(SolidNonlinear, FollowerPressureOnTheUndeformedBodyIsTheDeadPressure) {
   const Eigen::VectorXd a = hostVector(follower.residual()), b = hostVector(dead.residual());
   ASSERT_GT(b.cwiseAbs().maxCoeff(), 0.1);
   EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-13 * b.cwiseAbs().maxCoeff());
+  // The residual holds -f_ext = p A n (n = +y, the outward normal of ymax; zero internal force).
+  double resultant[3] = {0.0, 0.0, 0.0};
+  for (LocalIndex k = 0; k < s.mesh.numNodes(); ++k)
+    for (int i = 0; i < 3; ++i)
+      resultant[i] += a(3 * k + i);
+  EXPECT_NEAR(resultant[0], 0.0, 1e-12);
+  EXPECT_NEAR(resultant[1], 7.0 * 1.0 * 1.2, 1e-12);
+  EXPECT_NEAR(resultant[2], 0.0, 1e-12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Solids, SolidNonlinear,

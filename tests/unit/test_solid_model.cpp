@@ -307,10 +307,11 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
       {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg}",
        "solid.yaml:13:16: solver.type: the 3D mixed model solves with type: direct so far"},
       {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], element: tet4}\nmodel: {formulation: mixed}",
-       "the 3D mixed model takes hex8 or hex20 meshes so far"},
+       "solid.yaml:3:22: model.formulation: the 3D mixed model takes hex8 or hex20 meshes so far"},
       {"solver:",
        "model: {geometric_nonlinearity: true}\nsteps: {increments: 2, tangent: report}\nsolver:",
-       "tangent: report (the report's K^L + K^sigma) is 2D only so far"},
+       "solid.yaml:13:33: steps.tangent: tangent: report (the report's K^L + K^sigma) is 2D only "
+       "so far"},
       {"materials:", "model: {analysis: plane_strain}\nmaterials:",
        "analysis applies to 2D meshes"},
       {"materials:", "model: {thickness: 2}\nmaterials:", "thickness applies to 2D meshes"},
@@ -319,6 +320,11 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
       {"force: [1, 2, 3]", "force: [1, 2]", "expected a list of three numbers"},
       {"divisions: [4, 1, 2]", "divisions: [4, 1]", "expected a list of three integers"},
       {"ux: 0, uy: 0, uz: 0", "ux: 0, uy: 0, uw: 0", "unknown key 'uw'"},
+      {"solver:",
+       "verification: {type: lame_cylinder, inner_radius: 1, outer_radius: 2, "
+       "inner_pressure: 1}\nsolver:",
+       "solid.yaml:12:22: verification.type: lame_cylinder on a 3D mesh is the plane-strain "
+       "slice of a cylinder along z"},
       {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], extrude: {length: 1, divisions: 2}}",
        "solid.yaml:2:65: mesh.generator: unknown key 'extrude'"},
   };
