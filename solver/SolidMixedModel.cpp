@@ -57,7 +57,7 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
     hd(k) = compliance_[k];
   copyToDevice(compliance, hd);
   x_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::unknowns", kUnknowns * nn);
-  zero_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::zero", kUnknowns * nn);
+  const Kokkos::View<double *, Memory> zero("mixcon::mixed3d::zero", kUnknowns * nn);
   const Kokkos::View<double *, Memory> tau("mixcon::mixed3d::prestress", kStresses * nn);
   Kokkos::View<double *, Memory> g("mixcon::mixed3d::residual", kUnknowns * nn);
   const auto assemble = [&](auto elem) { // the hexahedra (the constructor refuses the rest)
@@ -66,8 +66,7 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
                                            stabilization_};
     return assembleNonlinearRows<kUnknowns, Elem>(
         Exec(), solid_.mesh,
-        SolidMixedKernel<Elem, Memory>{solid_.mesh, law,
-                                       Kokkos::View<const double *, Memory>(zero_),
+        SolidMixedKernel<Elem, Memory>{solid_.mesh, law, Kokkos::View<const double *, Memory>(zero),
                                        Kokkos::View<const double *, Memory>(tau)},
         map, operator_, g);
   };
@@ -88,29 +87,20 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   LinearSolverOptions o = options;
   o.symmetric = false;
   solver_ = makeLinearSolver(o, DofMap::serial(nn, kUnknowns), comm);
+  // The constrained system of load factor 1 (F on the displacement rows, the prescribed values
+  // g), factorized once: loads and prescribed values scale with the load factor, so its
+  // right-hand side does too (as in LinearDisplacementModel).
   constrained_ = cloneValues(operator_);
-  // The constrained rows and their column shifts depend on the prescribed values only through
-  // the right-hand side: the matrix is constrained (and factorized) once, here, with the values of
-  // load factor 1; solve() redoes the right-hand side for its own factor.
   Kokkos::View<double *, Memory> target("mixcon::mixed3d::target", kUnknowns * nn);
-  prescribedStep(flags_, prescribed_, zero_, 1.0, kUnknowns, dim(), target);
+  prescribedStep(flags_, prescribed_, zero, 1.0, kUnknowns, dim(), target);
+  addDisplacementVector(rhs_, kUnknowns, dim(), 1.0, load_);
   applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(flags_),
                  Kokkos::View<const double *, Memory>(target), rhs_);
   solver_->setup(constrained_);
 }
 
 LinearSolveStats SolidMixedModel::solve(double loadFactor) {
-  const LocalIndex n = x_.extent(0);
-  // rhs = lambda F on the displacement rows, minus the operator's columns of the prescribed
-  // values (lambda g), the constrained rows d_ii lambda g_i: applyDirichlet on a scratch copy.
-  Kokkos::View<double *, Memory> target("mixcon::mixed3d::target", n);
-  prescribedStep(flags_, prescribed_, zero_, loadFactor, kUnknowns, dim(), target);
-  Kokkos::deep_copy(rhs_, 0.0);
-  addDisplacementVector(rhs_, kUnknowns, dim(), loadFactor, load_);
-  CsrMatrix<Memory> scratch = cloneValues(operator_);
-  applyDirichlet(Exec(), scratch, Kokkos::View<const int *, Memory>(flags_),
-                 Kokkos::View<const double *, Memory>(target), rhs_);
-  const LinearSolveStats s = solver_->solve(rhs_, x_);
+  const LinearSolveStats s = solver_->solve(scaledCopy(rhs_, loadFactor), x_);
   gather(x_, kUnknowns, 0, dim(), u_);
   return s;
 }

@@ -41,8 +41,9 @@ private:
   double stabilization_;
   std::vector<SolidMatrix> compliance_; ///< D = C^-1 per material (host)
   CsrMatrix<Memory> operator_, constrained_;
-  Kokkos::View<int *, Memory> flags_;             ///< constrained unknowns, 9 per node
-  Kokkos::View<double *, Memory> x_, rhs_, zero_; ///< 9 per node; zero_: the state of the operator
+  Kokkos::View<int *, Memory> flags_;  ///< constrained unknowns, 9 per node
+  Kokkos::View<double *, Memory> x_;   ///< the unknowns, 9 per node
+  Kokkos::View<double *, Memory> rhs_; ///< constrained right-hand side for lambda = 1
   std::unique_ptr<LinearSolver> solver_;
   double assemblySeconds_ = 0.0;
 };
