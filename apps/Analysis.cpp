@@ -10,6 +10,7 @@
 #include <solver/MixedModel.hpp>
 #include <solver/Nonlinear.hpp>
 #include <solver/SolidMixedModel.hpp>
+#include <solver/SolidNonlinearMixedModel.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -338,7 +339,12 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   const bool mixed = p.model.formulation == Formulation::Mixed;
   std::unique_ptr<NonlinearModel> owner;
   const NonlinearMixedModel *mixedModel = nullptr; // the mixed model's own output
-  if (mixed) {
+  if (mixed && p.mesh.dim() == 3) {
+    auto m = std::make_unique<SolidNonlinearMixedModel>(p.mesh, elementMaterial, solidStiffness,
+                                                        p.model.mixed.stabilization);
+    m->setIterativeSolver(p.model.mixedNewton);
+    owner = std::move(m);
+  } else if (mixed) {
     auto m = std::make_unique<NonlinearMixedModel>(p.mesh, elementMaterial, stiffness,
                                                    p.model.thickness);
     mixedModel = m.get();
@@ -607,12 +613,14 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   const bool mixed = p.model.formulation == Formulation::Mixed;
   // Both owners typed, so each model's own setup and statistics need no cast.
   std::unique_ptr<MixedModel> mixedModel;
-  std::unique_ptr<SolidMixedModel> solidMixedModel; // the 3D mixed model (direct solver so far)
+  std::unique_ptr<SolidMixedModel> solidMixedModel; // the 3D mixed model
   std::unique_ptr<LinearDisplacementModel> displacementModel;
   ModelBase *base = nullptr;
   if (mixed && p.mesh.dim() == 3) {
     solidMixedModel = std::make_unique<SolidMixedModel>(p.mesh, elementMaterial, solidStiffness,
                                                         p.model.mixed.stabilization);
+    solidMixedModel->setIterativeSolver(p.model.mixed.preconditionerTolerance,
+                                        p.model.mixedNewton.restart);
     base = solidMixedModel.get();
   } else if (mixed) {
     mixedModel = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,

@@ -4,6 +4,7 @@
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -15,9 +16,10 @@ double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
                             const ConstDeviceVector &diagonalStress) {
   const double na = std::sqrt(dot(diagonalSchur, diagonalSchur));
   const double nm = std::sqrt(dot(diagonalStress, diagonalStress));
-  // rms over kDisp and kStress entries per node: the norms' ratio times sqrt(kStress / kDisp)
-  const double perNode = std::sqrt(static_cast<double>(kStress) / kDisp);
-  return nm > 0.0 ? std::sqrt(na / nm * perNode) : 1.0;
+  // the ratio of the rms values: the norms' ratio times sqrt(stress entries / displacement ones)
+  const double entries = static_cast<double>(diagonalStress.extent(0)) /
+                         static_cast<double>(std::max<std::size_t>(1, diagonalSchur.extent(0)));
+  return nm > 0.0 ? std::sqrt(na / nm * std::sqrt(entries)) : 1.0;
 }
 
 KrylovStats blockTriangularSolve(const SaddlePointSystem &system, const KrylovOptions &options,
@@ -25,18 +27,19 @@ KrylovStats blockTriangularSolve(const SaddlePointSystem &system, const KrylovOp
                                  const DeviceVector &x, long &inner, KrylovWorkspace *workspace) {
   // With M~ = M, J P^-1 = [S S~^-1, -B M^-1; 0, I] and the iterations are those of the Schur
   // solve; a loose M~ costs a few more outer iterations but no tight inner solve per product.
-  const std::size_t nn = x.extent(0) / kMixed;
+  const int nd = system.displacements, ns = system.stresses, nu = nd + ns;
+  const std::size_t nn = x.extent(0) / nu;
   const double scale = system.stressRowScale;
   const auto work = [](const char *label, std::size_t n) {
     return Vec(Kokkos::view_alloc(Kokkos::WithoutInitializing, std::string(label)), n);
   };
   // Work vectors, each fully written before it is read.
-  Vec masked = work("mixcon::blockTriangular::masked5", kMixed * nn),
-      r2 = work("mixcon::blockTriangular::r2", kDisp * nn),
-      y2 = work("mixcon::blockTriangular::y2", kDisp * nn),
-      w = work("mixcon::blockTriangular::w", kStress * nn),
-      t = work("mixcon::blockTriangular::t", kStress * nn),
-      z = work("mixcon::blockTriangular::z", kStress * nn);
+  Vec masked = work("mixcon::blockTriangular::masked", nu * nn),
+      r2 = work("mixcon::blockTriangular::r2", nd * nn),
+      y2 = work("mixcon::blockTriangular::y2", nd * nn),
+      w = work("mixcon::blockTriangular::w", ns * nn),
+      t = work("mixcon::blockTriangular::t", ns * nn),
+      z = work("mixcon::blockTriangular::z", ns * nn);
   const auto &flags = system.constrained;
   const auto &diag = system.constrainedDiagonal;
   // y = D (P J P + D_c) v, D scaling the stress rows.
@@ -44,26 +47,26 @@ KrylovStats blockTriangularSolve(const SaddlePointSystem &system, const KrylovOp
     maskConstrained(Exec(), flags, v, masked);
     system.jacobian(ConstVec(masked), y);
     finishConstrained(Exec(), flags, diag, v, y);
-    scaleField(y, kMixed, kStressAt, kStress, scale);
+    scaleField(y, nu, nd, ns, scale);
   };
   // y = P^-1 D^-1 r: y_u = S~^-1 r_u, y_tau = M~^-1 (C P y_u - r_tau / s).
   const LinearMap prec = [&](const ConstDeviceVector &r, const DeviceVector &y) {
-    gather(r, kMixed, 0, kDisp, r2);
+    gather(r, nu, 0, nd, r2);
     system.schurPreconditioner(r2, y2);
-    scatter<double>(y2, kMixed, 0, kDisp, y, true);
+    scatter<double>(y2, nu, 0, nd, y, true);
     maskConstrained(Exec(), system.constrainedDisplacement, ConstVec(y2), r2);
     system.coupling(ConstVec(r2), w);
-    gather(r, kMixed, kStressAt, kStress, t, 1.0 / scale);
+    gather(r, nu, nd, ns, t, 1.0 / scale);
     axpby(-1.0, t, 1.0, w);
     inner += system.stressSolve(w, z);
-    scatter<double>(z, kMixed, kStressAt, kStress, y, false);
+    scatter<double>(z, nu, nd, ns, y, false);
   };
   // b = D (P (f - J g) + D_c g), g the prescribed values.
-  Vec jg = work("mixcon::blockTriangular::jg", kMixed * nn),
-      b = work("mixcon::blockTriangular::rhs5", kMixed * nn);
+  Vec jg = work("mixcon::blockTriangular::jg", nu * nn),
+      b = work("mixcon::blockTriangular::rhs", nu * nn);
   system.jacobian(target, jg);
   constrainedRhs(Exec(), flags, diag, f, target, ConstVec(jg), b);
-  scaleField(b, kMixed, kStressAt, kStress, scale);
+  scaleField(b, nu, nd, ns, scale);
   KrylovOptions ko = options;
   ko.method = KrylovMethod::Gmres;
   Kokkos::deep_copy(x, 0.0);

@@ -1,8 +1,9 @@
 // The block-triangular preconditioned Krylov solve of a mixed saddle-point system
-// J = [A B; C -M] on vectors of kMixed interleaved unknowns per node (kDisp displacements, then
-// kStress stresses), shared by the linear mixed model (solver/MixedModel.cpp, C = K12^T) and the
-// nonlinear one's Jacobian (solver/MixedNewtonSolvers.cpp): flexible GMRES on the constrained J
-// with its stress rows scaled, right preconditioned by [S~ 0; C -M~]. Layer: solver.
+// J = [A B; C -M] on vectors of interleaved unknowns per node (the displacements, then the
+// stresses: 2 + 3 in 2D, 3 + 6 in 3D), shared by the linear mixed model (solver/MixedModel.cpp,
+// C = K12^T), the nonlinear one's Jacobian (solver/MixedNewtonSolvers.cpp) and the 3D mixed
+// models (solver/SolidMixedSolve.cpp): flexible GMRES on the constrained J with its stress rows
+// scaled, right preconditioned by [S~ 0; C -M~]. Layer: solver.
 #pragma once
 
 #include <solver/Krylov.hpp>
@@ -12,32 +13,35 @@
 namespace mixcon {
 
 /// What a model supplies to blockTriangularSolve. Vectors are DeviceSpace views; "per node" is
-/// the model's interleaving (fieldops::kMixed, kDisp, kStress).
+/// the model's interleaving: `displacements` then `stresses` unknowns per node (2D: fieldops::
+/// kDisp and kStress, kMixed in all; 3D: 3 and 6).
 struct SaddlePointSystem {
-  /// y = J v, kMixed per node, unconstrained (the solve masks and completes constrained rows).
+  int displacements = ModelLayout::kNumDisplacements;
+  int stresses = ModelLayout::kNumStresses;
+  /// y = J v, all unknowns, unconstrained (the solve masks and completes constrained rows).
   LinearMap jacobian;
-  /// y = S~^-1 r on the displacements (kDisp per node): one AMG V-cycle on an SPD approximation
+  /// y = S~^-1 r on the displacements: one AMG V-cycle on an SPD approximation
   /// of the Schur complement A + B M^-1 C, with the constraints' identity rows.
   LinearMap schurPreconditioner;
-  /// w = C v: the stress rows' displacement block (v kDisp per node, w kStress per node).
+  /// w = C v: the stress rows' displacement block (v displacements, w stresses).
   LinearMap coupling;
-  /// z = M~^-1 w, kStress per node (a loose solve with M); returns its inner iterations.
+  /// z = M~^-1 w on the stresses (a loose solve with M); returns its inner iterations.
   std::function<long(const ConstDeviceVector &w, const DeviceVector &z)> stressSolve;
-  /// Constrained unknowns, kMixed and kDisp per node (the stress entries never are).
+  /// Constrained unknowns, of all unknowns and of the displacements (the stresses never are).
   Kokkos::View<const int *, DeviceSpace> constrained, constrainedDisplacement;
-  /// D_c: the preconditioner matrix's diagonal on constrained rows (kMixed per node, 0 elsewhere).
+  /// D_c: the preconditioner matrix's diagonal on constrained rows (all unknowns, 0 elsewhere).
   ConstDeviceVector constrainedDiagonal;
   /// s multiplying the stress rows of J (blockTriangularScale).
   double stressRowScale = 1.0;
 };
 
 /// s = sqrt(rms diag(S~) / rms diag(M)), the stress-row scale that balances the two off-diagonal
-/// blocks of J P^-1, from the diagonals of S~ (kDisp per node) and M (kStress per node); 1 when
-/// M's diagonal is zero.
+/// blocks of J P^-1, from the diagonals of S~ (displacements per node) and M (stresses per node);
+/// 1 when M's diagonal is zero.
 double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
                             const ConstDeviceVector &diagonalStress);
 
-/// Solves J x = f with x = target on the constrained unknowns (both kMixed per node; f's
+/// Solves J x = f with x = target on the constrained unknowns (all unknowns per node; f's
 /// constrained entries are ignored), starting from x = 0: flexible GMRES (options.method is
 /// ignored) on D (P J P + D_c), D scaling the stress rows by s, right preconditioned by
 /// P^-1 = [S~ 0; C -M~]^-1 D^-1. Adds the stress solves' iterations to `inner`; Krylov vectors

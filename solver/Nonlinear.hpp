@@ -6,3 +6,4 @@
 #include <solver/NonlinearDisplacementModel.hpp>
 #include <solver/NonlinearMixedModel.hpp>
 #include <solver/NonlinearModel.hpp>
+#include <solver/SolidNonlinearMixedModel.hpp>

@@ -60,12 +60,21 @@ enum class MixedNewtonSolver {
   Schur
 };
 
+/// The GMRES restart of the 3D mixed models' block-triangular solve (solver/SolidMixedSolve.hpp):
+/// the 2D models' 30 measured 2.5x the iterations of 100 on the Hex20 cantilever of
+/// tests/unit/test_solid_mixed_solve.cpp (240 against 95; Hex8: 56 with both, docs/performance.md).
+inline constexpr int kSolidMixedRestart = 100;
+/// The largest 3D mixed system the block-triangular solve falls back to the direct LU for (its
+/// fill grows fast: 3.3 s for 9,801 unknowns, 185 s and 11 GB for 54,873, docs/performance.md).
+inline constexpr long kSolidMixedDirectFallback = 30000;
+
 struct MixedNewtonSolverOptions {
   MixedNewtonSolver method = MixedNewtonSolver::BlockTriangular;
   /// BlockTriangular: relative tolerance of the CG on M inside the preconditioner (1e-2: 4-5
   /// CG iterations; 1e-1 and 1e-3 measured slower, docs/performance.md).
   double preconditionerTolerance = 1e-2;
-  /// BlockTriangular: GMRES restart (vectors of 5 unknowns per node: 2 x restart are stored).
+  /// BlockTriangular: GMRES restart (vectors of 5 unknowns per node: 2 x restart are stored);
+  /// the 3D mixed models' default is kSolidMixedRestart.
   int restart = 30;
   /// BlockTriangular: GMRES applies the Jacobian matrix-free at the quadrature points
   /// (kernels/MixedJacobianAction.hpp) at the state of the last tangent evaluation, and J is not

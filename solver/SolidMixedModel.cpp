@@ -4,9 +4,11 @@
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
 #include <solver/SolidMixedModel.hpp>
+#include <solver/SolidMixedSolve.hpp>
 
 #include <kernels/Nonlinear.hpp>
 
+#include <algorithm>
 #include <chrono>
 
 namespace mixcon {
@@ -17,8 +19,17 @@ namespace {
 constexpr int kUnknowns = FieldLayout<3>::kMixedUnknowns; // 9
 constexpr int kStresses = FieldLayout<3>::kNumStresses;   // 6
 constexpr int kStressOffset = FieldLayout<3>::kStressOffset;
+} // namespace
 
-std::vector<SolidMatrix> compliances(const std::vector<SolidMatrix> &stiffness) {
+namespace detail {
+void checkSolidMixedElement(const Mesh &mesh) {
+  if (mesh.elementType != ElementType::Hex8 && mesh.elementType != ElementType::Hex20)
+    throw InputError("the 3D mixed model takes hex8 or hex20 meshes so far (equal-order tet4 and "
+                     "tet10 mixed elements are not checked yet); this mesh is " +
+                     elementTypeName(mesh.elementType));
+}
+
+std::vector<SolidMatrix> solidCompliances(const std::vector<SolidMatrix> &stiffness) {
   std::vector<SolidMatrix> d(stiffness.size());
   for (std::size_t k = 0; k < stiffness.size(); ++k)
     if (!invertConstitutive(stiffness[k], d[k]))
@@ -26,36 +37,46 @@ std::vector<SolidMatrix> compliances(const std::vector<SolidMatrix> &stiffness) 
                        " is not positive definite");
   return d;
 }
-} // namespace
+
+Kokkos::View<SolidMatrix *, DeviceSpace> deviceMatrices(const std::vector<SolidMatrix> &m,
+                                                        const char *label) {
+  Kokkos::View<SolidMatrix *, DeviceSpace> v(std::string(label), m.size());
+  auto h = hostMirror(v);
+  for (std::size_t k = 0; k < m.size(); ++k)
+    h(k) = m[k];
+  copyToDevice(v, h);
+  return v;
+}
+} // namespace detail
 
 SolidMixedModel::SolidMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
                                  const std::vector<SolidMatrix> &stiffness, double stabilization)
     : ModelBase(mesh, elementMaterial, stiffness), stabilization_(stabilization) {
-  if (mesh.elementType != ElementType::Hex8 && mesh.elementType != ElementType::Hex20)
-    throw InputError("the 3D mixed model takes hex8 or hex20 meshes so far (equal-order tet4 and "
-                     "tet10 mixed elements are not checked yet); this mesh is " +
-                     elementTypeName(mesh.elementType));
+  detail::checkSolidMixedElement(mesh);
   if (!(stabilization >= 0.0 && stabilization < 1.0))
     throw InputError("mixed model: the stabilization must lie in [0, 1)");
-  compliance_ = compliances(stiffness); // refuses a law without a compliance before any work
+  compliance_ =
+      detail::solidCompliances(stiffness); // refuses a law without a compliance before any work
+}
+
+SolidMixedModel::~SolidMixedModel() = default;
+
+double SolidMixedModel::solverSetupSeconds() const {
+  return iterative_ ? iterative_->setupSeconds() : solver_ ? solver_->setupSeconds() : 0.0;
+}
+
+std::string SolidMixedModel::solverName() const {
+  return iterative_ ? iterative_->name() : solver_ ? solver_->name() : std::string();
 }
 
 void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
-  if (options.type != LinearSolverType::Direct)
-    throw InputError("the 3D mixed model solves with solver: direct so far (its block-triangular "
-                     "AMG solve is the next step of issue 17)");
   const auto start = std::chrono::steady_clock::now();
   checkRigidBodyModes();
   const LocalIndex nn = mesh_.numNodes();
   const NodeGraph graph = buildNodeGraph(mesh_);
   operator_ = expandGraph<Memory>(graph, kUnknowns);
   const auto map = elementScatterMap<Memory>(mesh_, graph);
-  // The compliance D = C^-1 of each material next to its stiffness, on the device.
-  Kokkos::View<SolidMatrix *, Memory> compliance("mixcon::mixed3d::compliance", compliance_.size());
-  auto hd = hostMirror(compliance);
-  for (std::size_t k = 0; k < compliance_.size(); ++k)
-    hd(k) = compliance_[k];
-  copyToDevice(compliance, hd);
+  const auto compliance = detail::deviceMatrices(compliance_, "mixcon::mixed3d::compliance");
   x_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::unknowns", kUnknowns * nn);
   const Kokkos::View<double *, Memory> zero("mixcon::mixed3d::zero", kUnknowns * nn);
   const Kokkos::View<double *, Memory> tau("mixcon::mixed3d::prestress", kStresses * nn);
@@ -81,26 +102,74 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   rhs_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::rhs", kUnknowns * nn);
   Exec().fence();
   assemblySeconds_ = seconds(start);
+  Kokkos::View<double *, Memory> target("mixcon::mixed3d::target", kUnknowns * nn);
+  prescribedStep(flags_, prescribed_, zero, 1.0, kUnknowns, dim(), target);
+  addDisplacementVector(rhs_, kUnknowns, dim(), 1.0, load_);
+  target_ = target;
+  options_ = options;
+  comm_ = comm;
+  if (options.type == LinearSolverType::Amg) {
+    // The block-triangular solve on the unconstrained operator (F and g of load factor 1 kept),
+    // K^L of the reference configuration for the AMG.
+    Kokkos::View<double **, Memory> positions("mixcon::mixed3d::positions", nn, dim());
+    Kokkos::deep_copy(positions, referenceCoordinates());
+    iterative_ = std::make_unique<SolidMixedSolve>(graph, options, preconditionerTolerance_,
+                                                   restart_, dofs_, comm, positions);
+    iterative_->zeroStiffness();
+    if (mesh_.elementType == ElementType::Hex8)
+      assembleLinearStiffness<Hex8>(Exec(), solid_, map, iterative_->stiffness());
+    else
+      assembleLinearStiffness<Hex20>(Exec(), solid_, map, iterative_->stiffness());
+    iterative_->refresh(operator_, isConstrained_);
+  } else {
+    setupDirect();
+  }
+}
+
+void SolidMixedModel::setupDirect() {
   // Symmetric but indefinite: Eigen's supernodal LU (measured 3.3 s against 13.0 s for the
   // simplicial LDL^T on the 9,801 unknowns of examples/lame_sphere.yaml as Hex20 mixed), which
   // also takes a = 0, whose zero displacement block has no LDL^T without pivoting.
-  LinearSolverOptions o = options;
+  LinearSolverOptions o = options_;
+  o.type = LinearSolverType::Direct;
   o.symmetric = false;
-  solver_ = makeLinearSolver(o, DofMap::serial(nn, kUnknowns), comm);
+  solver_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kUnknowns), comm_);
   // The constrained system of load factor 1 (F on the displacement rows, the prescribed values
   // g), factorized once: loads and prescribed values scale with the load factor, so its
   // right-hand side does too (as in LinearDisplacementModel).
   constrained_ = cloneValues(operator_);
-  Kokkos::View<double *, Memory> target("mixcon::mixed3d::target", kUnknowns * nn);
-  prescribedStep(flags_, prescribed_, zero, 1.0, kUnknowns, dim(), target);
-  addDisplacementVector(rhs_, kUnknowns, dim(), 1.0, load_);
+  constrainedRhs_ =
+      Kokkos::View<double *, Memory>("mixcon::mixed3d::constrainedRhs", rhs_.extent(0));
+  Kokkos::deep_copy(constrainedRhs_, rhs_);
   applyDirichlet(Exec(), constrained_, Kokkos::View<const int *, Memory>(flags_),
-                 Kokkos::View<const double *, Memory>(target), rhs_);
+                 Kokkos::View<const double *, Memory>(target_), constrainedRhs_);
   solver_->setup(constrained_);
 }
 
 LinearSolveStats SolidMixedModel::solve(double loadFactor) {
-  const LinearSolveStats s = solver_->solve(scaledCopy(rhs_, loadFactor), x_);
+  LinearSolveStats s;
+  std::string note;
+  if (iterative_ && !solver_) {
+    s = iterative_->solve(operator_, flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
+                          scaledCopy(target_, loadFactor), x_);
+    int ranks = 1;
+    MPI_Comm_size(comm_, &ranks);
+    const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
+    if (!s.converged && ranks == 1 &&
+        unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
+      appendNote(note, "the block-triangular solve did not converge (relative residual " +
+                           std::to_string(s.relativeResidual) +
+                           "): falling back to the direct LU (" + std::to_string(unknowns) +
+                           " unknowns)");
+      setupDirect();
+    }
+  }
+  if (solver_) {
+    const int iterations = s.iterations;
+    s = solver_->solve(scaledCopy(constrainedRhs_, loadFactor), x_);
+    s.iterations += iterations;
+    s.note = note;
+  }
   gather(x_, kUnknowns, 0, dim(), u_);
   return s;
 }

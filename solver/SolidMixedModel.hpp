@@ -4,15 +4,30 @@
 // of the mixed residual at the undeformed, unstressed state, assembled by the generic element
 // driver (kernels/Nonlinear.hpp SolidMixedKernel): [a K^L, (1 - a) K12; (1 - a) K12^T,
 // -(1 - a) M] with the consistent stabilization a (0: the report's model), and solved with the
-// direct solver (the block-triangular AMG solve of the 2D model is the next step). Data flow:
+// direct solver or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). Data flow:
 // kernels -> solver (this) -> io.
 #pragma once
 
 #include <solver/ModelBase.hpp>
+#include <solver/NonlinearOptions.hpp>
 
 #include <memory>
+#include <string>
 
 namespace mixcon {
+
+class SolidMixedSolve;
+
+namespace detail {
+/// Refuses (InputError) a mesh the 3D mixed models do not take: Hex8 and Hex20 only so far.
+void checkSolidMixedElement(const Mesh &mesh);
+/// The compliance D = C^-1 of each material (InputError naming a material whose stiffness is
+/// not positive definite).
+std::vector<SolidMatrix> solidCompliances(const std::vector<SolidMatrix> &stiffness);
+/// Device copy of per-material 6 x 6 matrices.
+Kokkos::View<SolidMatrix *, DeviceSpace> deviceMatrices(const std::vector<SolidMatrix> &m,
+                                                        const char *label);
+} // namespace detail
 
 class SolidMixedModel final : public ModelBase {
 public:
@@ -21,15 +36,25 @@ public:
   SolidMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
                   const std::vector<SolidMatrix> &stiffness, double stabilization);
 
-  /// Assembles the operator, applies the constraints and factorizes it (options.type must be
-  /// direct). Call after all loads and constraints are given.
+  ~SolidMixedModel() override;
+  /// Assembles the operator and, with solver: direct, applies the constraints and factorizes it;
+  /// with solver: amg, sets up the block-triangular solve (solver/SolidMixedSolve.hpp). Call
+  /// after all loads and constraints are given.
   void setup(const LinearSolverOptions &options, MPI_Comm comm);
-  /// Solves for load factor lambda: loads lambda F, u = lambda g on constrained unknowns.
+  /// solver: amg: the relative tolerance of the CG on the stress block inside the preconditioner
+  /// and the GMRES restart; call before setup().
+  void setIterativeSolver(double preconditionerTolerance, int restart) {
+    preconditionerTolerance_ = preconditionerTolerance;
+    restart_ = restart;
+  }
+  /// Solves for load factor lambda: loads lambda F, u = lambda g on constrained unknowns (solver:
+  /// amg falls back to the direct LU, reported in the note, where it does not converge and the
+  /// system has at most min(directFallbackUnknowns, kSolidMixedDirectFallback) unknowns).
   LinearSolveStats solve(double loadFactor) override;
 
   double assemblySeconds() const override { return assemblySeconds_; }
-  double solverSetupSeconds() const override { return solver_ ? solver_->setupSeconds() : 0.0; }
-  std::string solverName() const override { return solver_ ? solver_->name() : std::string(); }
+  double solverSetupSeconds() const override;
+  std::string solverName() const override;
   /// The stress unknowns (6 per node, Voigt<3> order).
   std::vector<double> nodalStressHost() const override;
   /// The displacement rows of the operator times the solution, minus lambda F (3 per node).
@@ -41,10 +66,20 @@ private:
   double stabilization_;
   std::vector<SolidMatrix> compliance_; ///< D = C^-1 per material (host)
   CsrMatrix<Memory> operator_, constrained_;
-  Kokkos::View<int *, Memory> flags_;  ///< constrained unknowns, 9 per node
-  Kokkos::View<double *, Memory> x_;   ///< the unknowns, 9 per node
-  Kokkos::View<double *, Memory> rhs_; ///< constrained right-hand side for lambda = 1
-  std::unique_ptr<LinearSolver> solver_;
+  Kokkos::View<int *, Memory> flags_; ///< constrained unknowns, 9 per node
+  Kokkos::View<double *, Memory> x_;  ///< the unknowns, 9 per node
+  /// The LU of the constrained operator and its right-hand side for lambda = 1 (solver: direct,
+  /// or the fall back of amg).
+  void setupDirect();
+  /// For lambda = 1: F on the displacement rows, the prescribed values g, and the constrained
+  /// right-hand side of the direct solve.
+  Kokkos::View<double *, Memory> rhs_, target_, constrainedRhs_;
+  std::unique_ptr<LinearSolver> solver_;       ///< solver: direct, or the fall back of amg
+  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
+  LinearSolverOptions options_;
+  MPI_Comm comm_ = MPI_COMM_SELF;
+  double preconditionerTolerance_ = 1e-2;
+  int restart_ = kSolidMixedRestart;
   double assemblySeconds_ = 0.0;
 };
 

@@ -1,6 +1,6 @@
 // Host views of a nonlinear model's device vectors and the central finite differences of its
 // assembled residual, shared by the tangent tests of the displacement model in 2D
-// (tests/unit/test_nonlinear.cpp) and 3D (tests/unit/test_nonlinear_3d.cpp).
+// (tests/unit/test_nonlinear.cpp) and of both models in 3D (tests/unit/test_nonlinear_3d.cpp).
 #pragma once
 
 #include <solver/Nonlinear.hpp>
@@ -20,25 +20,34 @@ inline std::vector<double> toStd(const Eigen::VectorXd &v) {
   return std::vector<double>(v.data(), v.data() + v.size());
 }
 
-/// Central finite differences (step 1e-6) of the displacement model's assembled residual at u,
-/// load factor 1, one column per unknown; the model is left at u.
-inline Eigen::MatrixXd finiteDifferenceTangent(NonlinearDisplacementModel &model,
-                                               const Eigen::VectorXd &u) {
-  Eigen::MatrixXd fd(u.size(), u.size());
+/// Central finite differences (step 1e-6) of a nonlinear model's assembled residual at the
+/// unknowns x, load factor 1, one column per unknown; `set(model, values)` gives the model its
+/// unknowns, and the model is left at x.
+template <class Model, class Set>
+Eigen::MatrixXd finiteDifferenceTangent(Model &model, const Eigen::VectorXd &x, const Set &set) {
+  Eigen::MatrixXd fd(x.size(), x.size());
   const double h = 1e-6;
-  for (int j = 0; j < u.size(); ++j) {
-    Eigen::VectorXd up = u, um = u;
-    up(j) += h;
-    um(j) -= h;
-    model.setDisplacement(toStd(up));
+  for (int j = 0; j < x.size(); ++j) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp(j) += h;
+    xm(j) -= h;
+    set(model, toStd(xp));
     model.evaluate(1.0, false);
     const Eigen::VectorXd gp = hostVector(model.residual());
-    model.setDisplacement(toStd(um));
+    set(model, toStd(xm));
     model.evaluate(1.0, false);
     fd.col(j) = (gp - hostVector(model.residual())) / (2 * h);
   }
-  model.setDisplacement(toStd(u));
+  set(model, toStd(x));
   return fd;
+}
+
+/// The displacement model's: its unknowns are the displacements.
+inline Eigen::MatrixXd finiteDifferenceTangent(NonlinearDisplacementModel &model,
+                                               const Eigen::VectorXd &u) {
+  return finiteDifferenceTangent(
+      model, u,
+      [](NonlinearDisplacementModel &m, const std::vector<double> &v) { m.setDisplacement(v); });
 }
 
 } // namespace mixcon::test

@@ -302,10 +302,13 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
     std::string from, to, expect;
   };
   const Case cases[] = {
-      {"materials:", "model: {formulation: mixed, geometric_nonlinearity: true}\nmaterials:",
-       "solid.yaml:3:53: model.geometric_nonlinearity: the 3D mixed model is linear so far"},
-      {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg}",
-       "solid.yaml:13:16: solver.type: the 3D mixed model solves with type: direct so far"},
+      {"materials:",
+       "model: {formulation: mixed, geometric_nonlinearity: true, mixed_form: incremental}\n"
+       "materials:",
+       "solid.yaml:3:71: model.mixed_form: the geometrically nonlinear 3D mixed model has the "
+       "current form only so far"},
+      {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg, method: schur}",
+       "unknown key 'method'"},
       {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], element: tet4}\nmodel: {formulation: mixed}",
        "solid.yaml:3:22: model.formulation: the 3D mixed model takes hex8 or hex20 meshes so far"},
       {"solver:",

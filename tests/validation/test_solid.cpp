@@ -6,7 +6,8 @@
 // - nonlinear patch test: the geometrically nonlinear model (both laws, every solid element)
 //   reproduces a homogeneous finite deformation x = F X (8 % strain, 0.4 rad rotation) with the
 //   closed-form Cauchy stress (Almansi: C : (I - (F F^T)^-1) / 2; St. Venant-Kirchhoff:
-//   F (C : E) F^T / det F).
+//   F (C : E) F^T / det F); the geometrically nonlinear mixed model (Hex8, Hex20, current form)
+//   the same with its nodal stress unknowns.
 // - uniaxial bar: a traction s on one end, symmetry planes on the other three sides: u = s x / E,
 //   v = -nu s y / E, w = -nu s z / E and sigma_xx = s (Hooke's law; exact for trilinear elements).
 // - cantilever: tip deflection against Timoshenko's beam with shear, P L^3 / (3 E I) +
@@ -19,6 +20,7 @@
 #include <solver/DisplacementModel.hpp>
 #include <solver/Nonlinear.hpp>
 #include <solver/SolidMixedModel.hpp>
+#include <solver/SolidNonlinearMixedModel.hpp>
 #include <support/SolidMesh.hpp>
 
 #include <Eigen/Dense>
@@ -266,6 +268,61 @@ TEST_P(SolidMixedPatchTest, ReproducesALinearFieldWithExactNodalStresses) {
     if (!onBoundary[p]) {
       for (int i = 0; i < 3; ++i)
         EXPECT_NEAR(r[3 * p + i], 0.0, 1e-9 * std::abs(sigma.v[0])) << "node " << p;
+    }
+}
+
+class SolidNonlinearMixedPatchTest : public SolidMixedPatchTest {};
+INSTANTIATE_TEST_SUITE_P(Elements, SolidNonlinearMixedPatchTest,
+                         ::testing::Combine(::testing::Values(ElementType::Hex8,
+                                                              ElementType::Hex20),
+                                            ::testing::Values(0.0, 0.05)),
+                         [](const auto &info) {
+                           return elementTypeName(std::get<0>(info.param)) +
+                                  (std::get<1>(info.param) == 0.0 ? "Report" : "Stabilized");
+                         });
+
+// The finite-deformation patch test of the geometrically nonlinear 3D mixed model (current form,
+// issue 17): x = F X prescribed on the boundary of the distorted box (8 % strain, 0.4 rad about
+// an oblique axis) is reproduced inside, and every nodal stress unknown is the closed-form Cauchy
+// stress C : e of the Almansi strain e = (I - (F F^T)^-1) / 2 (patchCauchy), for a = 0 and 0.05.
+TEST_P(SolidNonlinearMixedPatchTest, ReproducesAHomogeneousFiniteDeformation) {
+  const auto [type, a] = GetParam();
+  const Mesh mesh = distortedBox(3, type);
+  const SolidMatrix c = rotatedOrthotropicSolid();
+  SolidNonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c}, a);
+  const Eigen::Matrix3d f = patchDeformation();
+  const Eigen::Matrix3d g = f - Eigen::Matrix3d::Identity();
+  const std::vector<char> onBoundary =
+      prescribeOnFaces(mesh, model, [&](double x, double y, double z) {
+        const Eigen::Vector3d u = g * Eigen::Vector3d(x, y, z);
+        return std::array<double, 3>{u(0), u(1), u(2)};
+      });
+  LinearSolverOptions o;
+  o.type = LinearSolverType::Direct;
+  model.setup(o, MPI_COMM_WORLD);
+  ASSERT_TRUE(model.solve(1.0).converged);
+  const auto u = model.displacementHost();
+  int interior = 0;
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p) {
+    const Eigen::Vector3d ue = g * Eigen::Vector3d(mesh.x(p), mesh.y(p), mesh.z(p));
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(u[3 * p + i], ue(i), 1e-10) << "node " << p << " component " << i;
+    interior += !onBoundary[p];
+  }
+  EXPECT_GE(interior, 8);
+  const Eigen::Matrix<double, 6, 1> sigma = patchCauchy(c, f, ElasticLaw::Almansi);
+  const double tol = 1e-8 * sigma.cwiseAbs().maxCoeff();
+  const auto s = model.nodalStressHost();
+  ASSERT_EQ(s.size(), 6 * static_cast<std::size_t>(mesh.numNodes()));
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    for (int k = 0; k < 6; ++k)
+      ASSERT_NEAR(s[6 * p + k], sigma(k), tol) << "node " << p << " component " << k;
+  const auto r = model.reactionHost(1.0);
+  ASSERT_EQ(r.size(), 3 * static_cast<std::size_t>(mesh.numNodes()));
+  for (LocalIndex p = 0; p < mesh.numNodes(); ++p)
+    if (!onBoundary[p]) {
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(r[3 * p + i], 0.0, tol) << "node " << p;
     }
 }
 

@@ -1,0 +1,127 @@
+// SolidMixedSolve (solver/SolidMixedSolve.hpp). Layer: solver.
+#include <solver/BlockTriangular.hpp>
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/SolidMixedSolve.hpp>
+
+#include <chrono>
+#include <stdexcept>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+namespace {
+constexpr int kDim = FieldLayout<3>::kNumDisplacements;      // 3
+constexpr int kStresses = FieldLayout<3>::kNumStresses;      // 6
+constexpr int kUnknowns = FieldLayout<3>::kMixedUnknowns;    // 9
+constexpr int kStressOffset = FieldLayout<3>::kStressOffset; // 3
+} // namespace
+
+SolidMixedSolve::SolidMixedSolve(const NodeGraph &graph, const LinearSolverOptions &options,
+                                 double preconditionerTolerance, int restart, const DofMap &dofs,
+                                 MPI_Comm comm,
+                                 const Kokkos::View<const double **, Memory> &positions)
+    : options_(options), preconditionerTolerance_(preconditionerTolerance), restart_(restart) {
+  stiffness_ = expandGraph<Memory>(graph, kDim);
+  coupling_ = expandGraph<Memory>(graph, kStresses, kDim);
+  stressBlock_ = expandGraph<Memory>(graph, kStresses);
+  const std::size_t nn = graph.numNodes();
+  diag3_ = Vec("mixcon::mixed3d::constrainedDiagonal", kDim * nn);
+  diag9_ = Vec("mixcon::mixed3d::constrainedDiagonal9", kUnknowns * nn);
+  stressDiagonal_ = Vec("mixcon::mixed3d::stressDiagonal", kStresses * nn);
+  LinearSolverOptions amg = options;
+  amg.type = LinearSolverType::Amg;
+  amg.symmetric = true; // K^L
+  amg_ = makeLinearSolver(amg, dofs, comm);
+  amg_->setNearNullSpace(positions);
+}
+
+SolidMixedSolve::~SolidMixedSolve() = default;
+
+void SolidMixedSolve::zeroStiffness() { Kokkos::deep_copy(stiffness_.values, 0.0); }
+
+void SolidMixedSolve::refresh(const CsrMatrix<Memory> &jacobian,
+                              const Kokkos::View<const int *, Memory> &flags3) {
+  const auto start = std::chrono::steady_clock::now();
+  Vec zero("mixcon::mixed3d::zero", diag3_.extent(0)),
+      scratch("mixcon::mixed3d::scratch", diag3_.extent(0));
+  applyDirichlet(Exec(), stiffness_, flags3, ConstVec(zero), scratch);
+  constrainedDiagonal(Exec(), stiffness_, flags3, diag3_);
+  scatter<double>(ConstVec(diag3_), kUnknowns, 0, kDim, diag9_, true);
+  extractFieldBlock(jacobian, kUnknowns, kStressOffset, kStresses, 0, kDim, coupling_, 1.0);
+  extractFieldBlock(jacobian, kUnknowns, kStressOffset, kStresses, kStressOffset, kStresses,
+                    stressBlock_, -1.0);
+  fieldDiagonal(stressBlock_, 1, 0, 1, stressDiagonal_, 1.0);
+  Vec da("mixcon::mixed3d::diagK", diag3_.extent(0));
+  fieldDiagonal(stiffness_, 1, 0, 1, da, 1.0);
+  stressRowScale_ = blockTriangularScale(ConstVec(da), ConstVec(stressDiagonal_));
+  Exec().fence();
+  amg_->setup(stiffness_);
+  setupSeconds_ += seconds(start);
+}
+
+LinearSolveStats SolidMixedSolve::solve(const CsrMatrix<Memory> &jacobian,
+                                        const Kokkos::View<const int *, Memory> &flags9,
+                                        const Kokkos::View<const int *, Memory> &flags3,
+                                        const ConstVec &f, const ConstVec &target, const Vec &x) {
+  const auto start = std::chrono::steady_clock::now();
+  // M z = w: CG with Jacobi on M (SPD: the compliance mass of the current configuration).
+  const LinearMap applyM = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    multiply(Exec(), stressBlock_, a, y);
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
+    divide(a, ConstVec(stressDiagonal_), y);
+  };
+  SaddlePointSystem system;
+  system.displacements = kDim;
+  system.stresses = kStresses;
+  system.jacobian = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+    multiply(Exec(), jacobian, v, y);
+  };
+  system.schurPreconditioner = [&](const ConstDeviceVector &r, const DeviceVector &y) {
+    amg_->precondition(r, y);
+  };
+  system.coupling = [&](const ConstDeviceVector &v, const DeviceVector &w) {
+    multiply(Exec(), coupling_, v, w);
+  };
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) -> long {
+    KrylovOptions o;
+    o.tolerance = preconditionerTolerance_;
+    o.maxIterations = 2000;
+    Kokkos::deep_copy(z, 0.0);
+    const KrylovStats st = krylovSolve(o, applyM, jacobi, w, z, &stressWork_);
+    if (!st.converged)
+      throw std::runtime_error("3D mixed model: the CG on the stress block did not converge "
+                               "(relative residual " +
+                               std::to_string(st.relativeResidual) + ")");
+    return st.iterations;
+  };
+  system.constrained = flags9;
+  system.constrainedDisplacement = flags3;
+  system.constrainedDiagonal = diag9_;
+  system.stressRowScale = stressRowScale_;
+  KrylovOptions ko;
+  ko.tolerance = options_.tolerance;
+  ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
+  ko.maxIterations = options_.maxIterations;
+  ko.restart = restart_;
+  inner_ = 0;
+  const KrylovStats ks = blockTriangularSolve(system, ko, f, target, x, inner_, &outerWork_);
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.solveSeconds = seconds(start);
+  return s;
+}
+
+std::string SolidMixedSolve::name() const {
+  return "flexible GMRES(" + std::to_string(restart_) +
+         ") on the assembled Jacobian, block-triangular preconditioner: one BoomerAMG V-cycle on "
+         "K^L (" +
+         amg_->name() + "), Jacobi CG on the stress block to " +
+         std::to_string(preconditionerTolerance_);
+}
+
+} // namespace mixcon

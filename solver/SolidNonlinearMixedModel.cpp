@@ -1,0 +1,233 @@
+// SolidNonlinearMixedModel (solver/SolidNonlinearMixedModel.hpp): host orchestration of device
+// kernels. Layer: solver.
+#include <core/Transfer.hpp>
+#include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
+#include <solver/Rules.hpp>
+#include <solver/SolidMixedModel.hpp>
+#include <solver/SolidNonlinearMixedModel.hpp>
+
+#include <kernels/Nonlinear.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace mixcon {
+
+using namespace fieldops;
+
+namespace {
+constexpr int kStresses = FieldLayout<3>::kNumStresses; // 6
+constexpr int kStressOffset = FieldLayout<3>::kStressOffset;
+} // namespace
+
+SolidNonlinearMixedModel::SolidNonlinearMixedModel(const Mesh &mesh,
+                                                   const std::vector<int> &elementMaterial,
+                                                   const std::vector<SolidMatrix> &stiffness,
+                                                   double stabilization)
+    : NonlinearModel(mesh, elementMaterial, stiffness), stabilization_(stabilization) {
+  detail::checkSolidMixedElement(mesh);
+  if (const auto why = rules::stabilizationRange(stabilization))
+    throw InputError("nonlinear mixed model: " + *why);
+  compliance_ = detail::deviceMatrices(detail::solidCompliances(stiffness),
+                                       "mixcon::nonlinear3d::compliance");
+  for (const auto &c : stiffness)
+    for (int i = 0; i < kStresses; ++i)
+      maxModulus_ = std::max(maxModulus_, std::abs(c(i, i)));
+  x_ = Vec("mixcon::nonlinear3d::unknowns", kUnknowns * mesh.numNodes());
+  mixedOptions_.restart = kSolidMixedRestart;
+}
+
+SolidNonlinearMixedModel::~SolidNonlinearMixedModel() = default;
+
+void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
+  if (contact_)
+    throw InputError("nonlinear mixed model: contact is 2D only so far (issue 17)");
+  const auto start = std::chrono::steady_clock::now();
+  graph_ = buildNodeGraph(mesh_);
+  map_ = elementScatterMap<Memory>(mesh_, graph_);
+  setStiffnessScale(graph_, map_);
+  tangent_ = expandGraph<Memory>(graph_, kUnknowns);
+  work_ = CsrMatrix<Memory>{};
+  commitStaged();
+  follower_ = followerLoads();
+  const LocalIndex n = kUnknowns * mesh_.numNodes();
+  flags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear3d::constrained", n);
+  scatter<int>(isConstrained_, kUnknowns, 0, dim(), flags_, true);
+  committed_ = Vec("mixcon::nonlinear3d::committed", n);
+  g_ = Vec("mixcon::nonlinear3d::residual", n);
+  dx_ = Vec("mixcon::nonlinear3d::correction", n);
+  rhs_ = Vec("mixcon::nonlinear3d::rhs", n);
+  target_ = Vec("mixcon::nonlinear3d::target", n);
+  diag_ = Vec("mixcon::nonlinear3d::diagonal", n);
+  Kokkos::deep_copy(committed_, x_);
+  linearOptions_ = options;
+  linearOptions_.symmetric = false; // the exact Jacobian of the current form is not symmetric
+  comm_ = comm;
+  solver_.reset();
+  iterative_.reset();
+  if (options.type == LinearSolverType::Direct) {
+    solver_ = makeLinearSolver(linearOptions_, DofMap::serial(mesh_.numNodes(), kUnknowns), comm);
+  } else {
+    positions_ =
+        Kokkos::View<double **, Memory>("mixcon::nonlinear3d::positions", mesh_.numNodes(), dim());
+    Kokkos::deep_copy(positions_, referenceCoordinates());
+    iterative_ =
+        std::make_unique<SolidMixedSolve>(graph_, options, mixedOptions_.preconditionerTolerance,
+                                          mixedOptions_.restart, dofs_, comm, positions_);
+  }
+  assemblySeconds_ = seconds(start);
+}
+
+std::string SolidNonlinearMixedModel::solverName() const {
+  std::ostringstream o;
+  o << "mixed current-configuration form (3D), a = " << stabilization_ << ", "
+    << (iterative_ ? iterative_->name()
+        : solver_  ? solver_->name()
+                   : std::string("none"));
+  return o.str();
+}
+
+long SolidNonlinearMixedModel::innerIterations() const {
+  return iterative_ ? iterative_->innerIterations() : 0;
+}
+
+void SolidNonlinearMixedModel::setUnknowns(const std::vector<double> &x) {
+  fromHost(x, x_);
+  updateDisplacement();
+}
+
+void SolidNonlinearMixedModel::updateDisplacement() { gather(x_, kUnknowns, 0, dim(), u_); }
+
+double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
+  const auto start = std::chrono::steady_clock::now();
+  Kokkos::deep_copy(g_, 0.0);
+  if (tangent)
+    Kokkos::deep_copy(tangent_.values, 0.0);
+  const CsrMatrix<Memory> none;
+  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  LocalIndex inverted = -1;
+  double fint = 0.0;
+  const auto assemble = [&](auto elem) { // the hexahedra (the constructor refuses the rest)
+    using Elem = decltype(elem);
+    using Law = MixedCurrentLaw<Memory, 3>;
+    const Law law{solid_.material, solid_.stiffness, compliance_, stabilization_};
+    // One test node's row block at a time: the whole Hex20 Jacobian (180 x 180) does not fit a
+    // thread.
+    inverted = assembleNonlinearRows<kUnknowns, Elem>(
+        Exec(), solid_.mesh,
+        SolidMixedKernel<Elem, Memory, Law>{solid_.mesh, law, ConstVec(x_), {}}, map_, a, g_);
+    fint = strideNorm(g_, kUnknowns, 0, dim(), {}, 0);
+    addDisplacementVector(g_, kUnknowns, dim(), -lambda, load_);
+    if (follower_.edges.extent(0) > 0)
+      assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), solid_.mesh, ConstVec(x_),
+                                                    follower_.edges, ConstVec(follower_.pressure),
+                                                    lambda, map_, a, g_);
+  };
+  if (mesh_.elementType == ElementType::Hex8)
+    assemble(Hex8{});
+  else
+    assemble(Hex20{});
+  return finishEvaluate(lambda, tangent, inverted, fint, g_, kUnknowns, flags_,
+                        referenceCoordinates(), x_, start);
+}
+
+LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increment) {
+  prescribedStep(flags_, prescribed_, u_, lambda, kUnknowns, dim(), target_);
+  const LinearSolveStats s =
+      iterative_ ? solveIterative()
+                 : constrainedSolve(tangent_, fresh_, work_, flags_, g_, target_, rhs_, diag_,
+                                    *solver_, dx_, solverSetupSeconds_);
+  fresh_ = false;
+  axpby(1.0, dx_, 1.0, x_);
+  updateDisplacement();
+  const double du =
+      relative(strideNorm(dx_, kUnknowns, 0, dim(), {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
+  const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
+  const double ds =
+      relative(strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
+               std::max(strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0), stressFloor));
+  increment = std::max(du, ds);
+  return s;
+}
+
+LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
+  if (solver_) // the iterative solve failed before: the LU it fell back to stays
+    return constrainedSolve(tangent_, fresh_, work_, flags_, g_, target_, rhs_, diag_, *solver_,
+                            dx_, solverSetupSeconds_);
+  if (fresh_) {
+    // K^L on the current configuration x = X + u (also the AMG's rigid-body modes).
+    movedCoordinates(referenceCoordinates(), x_, kUnknowns, positions_);
+    ElementData<Memory, 3> d = solid_;
+    d.mesh.coordinates = positions_;
+    iterative_->zeroStiffness();
+    if (mesh_.elementType == ElementType::Hex8)
+      assembleLinearStiffness<Hex8>(Exec(), d, map_, iterative_->stiffness());
+    else
+      assembleLinearStiffness<Hex20>(Exec(), d, map_, iterative_->stiffness());
+    const double before = iterative_->setupSeconds();
+    iterative_->refresh(tangent_, isConstrained_);
+    solverSetupSeconds_ += iterative_->setupSeconds() - before;
+  }
+  Vec f(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::nonlinear3d::negativeResidual"),
+        g_.extent(0));
+  axpby(-1.0, g_, 0.0, f);
+  LinearSolveStats s =
+      iterative_->solve(tangent_, flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_);
+  int ranks = 1;
+  MPI_Comm_size(comm_, &ranks);
+  const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
+  if (!s.converged && ranks == 1 &&
+      unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
+    LinearSolverOptions o = linearOptions_;
+    o.type = LinearSolverType::Direct;
+    solver_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kUnknowns), comm_);
+    const int iterations = s.iterations;
+    std::string note;
+    appendNote(note, "the block-triangular solve did not converge (relative residual " +
+                         std::to_string(s.relativeResidual) +
+                         "): falling back to the direct LU of the Jacobian (" +
+                         std::to_string(unknowns) + " unknowns)");
+    s = constrainedSolve(tangent_, true, work_, flags_, g_, target_, rhs_, diag_, *solver_, dx_,
+                         solverSetupSeconds_);
+    s.iterations += iterations;
+    s.note = note;
+  }
+  return s;
+}
+
+void SolidNonlinearMixedModel::commit() { Kokkos::deep_copy(committed_, x_); }
+
+void SolidNonlinearMixedModel::rollback() {
+  Kokkos::deep_copy(x_, committed_);
+  updateDisplacement();
+}
+
+// The committed unknowns (total displacement and nodal Cauchy stress), as the 2D model's current
+// form saves them; the sizes tell a 2D state from a 3D one.
+void SolidNonlinearMixedModel::saveCommitted(Checkpoint &state) const {
+  state.putScalar("model/formulation", 1.0);
+  state.put("model/unknowns", toHost(committed_));
+}
+
+void SolidNonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
+  detail::checkFormulation(state, 1.0);
+  fromHost(state.get("model/unknowns", committed_.extent(0)), committed_);
+  rollback();
+}
+
+std::vector<double> SolidNonlinearMixedModel::nodalStressHost() const {
+  Vec s("mixcon::nonlinear3d::stress", kStresses * mesh_.numNodes());
+  gather(x_, kUnknowns, kStressOffset, kStresses, s);
+  return toHost(s);
+}
+
+std::vector<double> SolidNonlinearMixedModel::reactionHost(double) const {
+  Vec r("mixcon::nonlinear3d::reaction", dim() * mesh_.numNodes());
+  gather(g_, kUnknowns, 0, dim(), r);
+  return toHost(r);
+}
+
+} // namespace mixcon

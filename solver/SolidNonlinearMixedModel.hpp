@@ -1,0 +1,87 @@
+// The geometrically nonlinear mixed (Hellinger-Reissner) model on solids (issue 17): the 2D
+// model's current-configuration form (NonlinearMixedModel, MixedForm::Current) on Hex8/Hex8 and
+// Hex20/Hex20, 9 unknowns per node (u, v, w, then the Voigt Cauchy stresses xx, yy, zz, yz, xz,
+// xy). Unknowns the total displacement and the nodal Cauchy stress; residual and exact Jacobian
+// from the generic element driver (kernels/Nonlinear.hpp SolidMixedKernel with
+// MixedCurrentLaw<Memory, 3>): G_u = int B(x)^T [(1 - a) tau + a C e(u)] da - f_ext,
+// G_S = (1 - a) int psi (e(u) - D tau) da, e the Almansi strain, with the stabilization a (0:
+// the report's model). Path independent, so no stress update between increments; load stepping,
+// cutting, restart and follower face pressures as the displacement model. Solved with the direct
+// solver (sparse LU) or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). Data flow:
+// kernels -> solver (this) -> io.
+#pragma once
+
+#include <solver/NonlinearModel.hpp>
+#include <solver/SolidMixedSolve.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mixcon {
+
+class SolidNonlinearMixedModel final : public NonlinearModel {
+public:
+  /// A 3D mesh of Hex8 or Hex20 (InputError otherwise), the 6 x 6 [C] of each material and the
+  /// stabilization a in [0, 1).
+  SolidNonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
+                           const std::vector<SolidMatrix> &stiffness, double stabilization);
+  ~SolidNonlinearMixedModel() override;
+
+  /// solver: direct — sparse LU of the Jacobian (not symmetric); amg — flexible GMRES on the
+  /// assembled Jacobian with the block-triangular preconditioner of SolidMixedSolve (one
+  /// BoomerAMG V-cycle on K^L of the current configuration), falling back to the LU (reported)
+  /// where it does not converge and the fall back is allowed.
+  void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
+  /// GMRES restart and the CG tolerance on M of solver: amg (method and matrixFreeJacobian are
+  /// not used); call before setup().
+  void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
+  /// CG iterations on the stress block in the last correction (solver: amg).
+  long innerIterations() const;
+  double evaluate(double lambda, bool tangent) override;
+  LinearSolveStats correct(double lambda, double &increment) override;
+  void commit() override;
+  void rollback() override;
+  void saveCommitted(Checkpoint &state) const override;
+  void restoreCommitted(const Checkpoint &state) override;
+
+  std::string solverName() const override;
+  /// The nodal Cauchy stress unknowns (6 per node, Voigt<3> order).
+  std::vector<double> nodalStressHost() const override;
+  /// The displacement rows of the last residual (internal minus external force, 3 per node).
+  std::vector<double> reactionHost(double loadFactor) const override;
+  std::vector<double> residualVectorHost() const override { return toHost(g_); }
+  std::vector<double> residualVectorHost(const std::vector<LocalIndex> &nodes) const override {
+    return toHostAt(g_, kUnknowns, nodes);
+  }
+  int unknownsPerNode() const override { return kUnknowns; }
+
+  /// Test access: the unknowns (9 per node) and the last Jacobian and residual.
+  void setUnknowns(const std::vector<double> &x);
+  const CsrMatrix<Memory> &tangent() const { return tangent_; }
+  Kokkos::View<const double *, Memory> residual() const { return g_; }
+
+private:
+  static constexpr int kUnknowns = FieldLayout<3>::kMixedUnknowns; // 9
+  void updateDisplacement();
+  /// The correction by the iterative solve (K^L of the current configuration and the AMG
+  /// refreshed with a fresh Jacobian), or by the LU it fell back to.
+  LinearSolveStats solveIterative();
+
+  double stabilization_;
+  double maxModulus_ = 0.0; ///< largest diagonal entry of the materials' [C]
+  Kokkos::View<SolidMatrix *, Memory> compliance_;
+  NodeGraph graph_;
+  Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
+  CsrMatrix<Memory> tangent_, work_;
+  Kokkos::View<int *, Memory> flags_; ///< constrained unknowns, 9 per node
+  /// The unknowns, the last committed ones, the residual and the correction's work vectors.
+  Kokkos::View<double *, Memory> x_, committed_, g_, dx_, rhs_, target_, diag_;
+  FollowerLoads follower_;
+  std::unique_ptr<LinearSolver> solver_; ///< solver: direct, or the fall back of solver: amg
+  MixedNewtonSolverOptions mixedOptions_;
+  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
+  MPI_Comm comm_ = MPI_COMM_SELF;
+};
+
+} // namespace mixcon
