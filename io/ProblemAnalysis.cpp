@@ -111,13 +111,12 @@ void readSolver(const YamlItem &top, Problem &p) {
     p.solver.type = LinearSolverType::Direct;
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;
-  if (p.mesh.dim() == 3 && !solidMixed) {
+  if (p.mesh.dim() == 3) {
     // 3D AMG defaults (the cube N^3 of docs/performance.md: with the 2D ones the setup is 82% of
     // the run at N = 64 and N = 100 does not fit 24 GB; one aggressive level with truncated
-    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations). Not
-    // for the 3D mixed model's V-cycle on K^L inside its block-triangular GMRES: there they made
-    // the Hex8 and Hex20 cantilevers of tests/unit/test_solid_mixed_solve.cpp take 2-3x the
-    // iterations (docs/performance.md).
+    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations). The
+    // 3D mixed model's V-cycle on K^L too: 2.6x faster on its cube, 9 % on a beam of L/h = 20,
+    // for 0-33 % more GMRES iterations (docs/performance.md).
     p.solver.aggressiveLevels = 1;
     p.solver.interpolationMaxElements = 4;
   }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 namespace mixcon {
@@ -20,6 +21,22 @@ double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
   const double entries = static_cast<double>(diagonalStress.extent(0)) /
                          static_cast<double>(std::max<std::size_t>(1, diagonalSchur.extent(0)));
   return nm > 0.0 ? std::sqrt(na / nm * std::sqrt(entries)) : 1.0;
+}
+
+long stressBlockSolve(const LinearMap &apply, const LinearMap &precondition,
+                      const ConstDeviceVector &w, const DeviceVector &z, double tolerance,
+                      KrylovWorkspace &workspace, const std::string &who) {
+  KrylovOptions o;
+  o.tolerance = tolerance;
+  o.maxIterations = 2000;
+  Kokkos::deep_copy(z, 0.0);
+  const KrylovStats st = krylovSolve(o, apply, precondition, w, z, &workspace);
+  if (!st.converged)
+    throw std::runtime_error(who +
+                             ": the CG on the stress block did not converge (relative "
+                             "residual " +
+                             std::to_string(st.relativeResidual) + ")");
+  return st.iterations;
 }
 
 KrylovStats blockTriangularSolve(const SaddlePointSystem &system, const KrylovOptions &options,

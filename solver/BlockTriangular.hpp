@@ -9,6 +9,7 @@
 #include <solver/Krylov.hpp>
 
 #include <functional>
+#include <string>
 
 namespace mixcon {
 
@@ -40,6 +41,13 @@ struct SaddlePointSystem {
 /// 1 when M's diagonal is zero.
 double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
                             const ConstDeviceVector &diagonalStress);
+
+/// z = M^-1 w by CG from z = 0 to the relative `tolerance` (at most 2000 iterations), `apply`
+/// the product with the SPD stress block M and `precondition` its preconditioner; returns the
+/// iterations. Throws std::runtime_error, naming `who`, when the CG does not converge.
+long stressBlockSolve(const LinearMap &apply, const LinearMap &precondition,
+                      const ConstDeviceVector &w, const DeviceVector &z, double tolerance,
+                      KrylovWorkspace &workspace, const std::string &who);
 
 /// Solves J x = f with x = target on the constrained unknowns (all unknowns per node; f's
 /// constrained entries are ignored), starting from x = 0: flexible GMRES (options.method is

@@ -57,16 +57,7 @@ long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, doub
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
     applyNodalBlocks(Exec(), stressBlockInverse_, a, y);
   };
-  KrylovOptions o;
-  o.tolerance = tolerance;
-  o.maxIterations = 2000;
-  Kokkos::deep_copy(z, 0.0);
-  const KrylovStats st = krylovSolve(o, apply, jacobi, w, z, &stressWork_);
-  if (!st.converged)
-    throw std::runtime_error("nonlinear mixed model: the CG on the stress block did not converge "
-                             "(relative residual " +
-                             std::to_string(st.relativeResidual) + ")");
-  return st.iterations;
+  return stressBlockSolve(apply, jacobi, w, z, tolerance, stressWork_, "nonlinear mixed model");
 }
 
 LinearSolveStats NonlinearMixedModel::solveSchur() {

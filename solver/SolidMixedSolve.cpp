@@ -4,6 +4,8 @@
 #include <solver/FieldOps.hpp>
 #include <solver/SolidMixedSolve.hpp>
 
+#include <kernels/Material.hpp>
+
 #include <chrono>
 #include <stdexcept>
 
@@ -30,6 +32,7 @@ SolidMixedSolve::SolidMixedSolve(const NodeGraph &graph, const LinearSolverOptio
   diag3_ = Vec("mixcon::mixed3d::constrainedDiagonal", kDim * nn);
   diag9_ = Vec("mixcon::mixed3d::constrainedDiagonal9", kUnknowns * nn);
   stressDiagonal_ = Vec("mixcon::mixed3d::stressDiagonal", kStresses * nn);
+  stressBlockInverse_ = Kokkos::View<SolidMatrix *, Memory>("mixcon::mixed3d::stressBlocks", nn);
   LinearSolverOptions amg = options;
   amg.type = LinearSolverType::Amg;
   amg.symmetric = true; // K^L
@@ -53,6 +56,28 @@ void SolidMixedSolve::refresh(const CsrMatrix<Memory> &jacobian,
   extractFieldBlock(jacobian, kUnknowns, kStressOffset, kStresses, kStressOffset, kStresses,
                     stressBlock_, -1.0);
   fieldDiagonal(stressBlock_, 1, 0, 1, stressDiagonal_, 1.0);
+  // The inverses of M's 6 x 6 nodal diagonal blocks (the six stress components coupled through
+  // the compliance at a node), the CG's preconditioner.
+  {
+    auto ro = stressBlock_.rowOffsets;
+    auto co = stressBlock_.columns;
+    auto va = stressBlock_.values;
+    auto inverse = stressBlockInverse_;
+    Kokkos::parallel_for(
+        "mixcon::mixed3d::invertStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex p) {
+          SolidMatrix b{};
+          for (int i = 0; i < kStresses; ++i)
+            for (Offset k = ro(kStresses * p + i); k < ro(kStresses * p + i + 1); ++k)
+              if (co(k) / kStresses == p)
+                b.m[i][co(k) % kStresses] = va(k);
+          SolidMatrix inv{};
+          if (!invertConstitutive(b, inv)) // not expected (M is SPD): Jacobi for that node
+            for (int i = 0; i < kStresses; ++i)
+              inv.m[i][i] = b.m[i][i] != 0.0 ? 1.0 / b.m[i][i] : 0.0;
+          inverse(p) = inv;
+        });
+  }
   Vec da("mixcon::mixed3d::diagK", diag3_.extent(0));
   fieldDiagonal(stiffness_, 1, 0, 1, da, 1.0);
   stressRowScale_ = blockTriangularScale(ConstVec(da), ConstVec(stressDiagonal_));
@@ -66,12 +91,23 @@ LinearSolveStats SolidMixedSolve::solve(const CsrMatrix<Memory> &jacobian,
                                         const Kokkos::View<const int *, Memory> &flags3,
                                         const ConstVec &f, const ConstVec &target, const Vec &x) {
   const auto start = std::chrono::steady_clock::now();
-  // M z = w: CG with Jacobi on M (SPD: the compliance mass of the current configuration).
+  // M z = w: CG on M (SPD: the compliance mass of the current configuration) preconditioned by
+  // the inverses of its nodal 6 x 6 blocks.
   const LinearMap applyM = [&](const ConstDeviceVector &a, const DeviceVector &y) {
     multiply(Exec(), stressBlock_, a, y);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
-    divide(a, ConstVec(stressDiagonal_), y);
+    auto inverse = stressBlockInverse_;
+    Kokkos::parallel_for(
+        "mixcon::mixed3d::applyStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex p) {
+          for (int i = 0; i < kStresses; ++i) {
+            double v = 0.0;
+            for (int j = 0; j < kStresses; ++j)
+              v += inverse(p).m[i][j] * a(kStresses * p + j);
+            y(kStresses * p + i) = v;
+          }
+        });
   };
   SaddlePointSystem system;
   system.displacements = kDim;
@@ -85,17 +121,9 @@ LinearSolveStats SolidMixedSolve::solve(const CsrMatrix<Memory> &jacobian,
   system.coupling = [&](const ConstDeviceVector &v, const DeviceVector &w) {
     multiply(Exec(), coupling_, v, w);
   };
-  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) -> long {
-    KrylovOptions o;
-    o.tolerance = preconditionerTolerance_;
-    o.maxIterations = 2000;
-    Kokkos::deep_copy(z, 0.0);
-    const KrylovStats st = krylovSolve(o, applyM, jacobi, w, z, &stressWork_);
-    if (!st.converged)
-      throw std::runtime_error("3D mixed model: the CG on the stress block did not converge "
-                               "(relative residual " +
-                               std::to_string(st.relativeResidual) + ")");
-    return st.iterations;
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) {
+    return stressBlockSolve(applyM, jacobi, w, z, preconditionerTolerance_, stressWork_,
+                            "3D mixed model");
   };
   system.constrained = flags9;
   system.constrainedDisplacement = flags3;
@@ -120,7 +148,7 @@ std::string SolidMixedSolve::name() const {
   return "flexible GMRES(" + std::to_string(restart_) +
          ") on the assembled Jacobian, block-triangular preconditioner: one BoomerAMG V-cycle on "
          "K^L (" +
-         amg_->name() + "), Jacobi CG on the stress block to " +
+         amg_->name() + "), block-Jacobi CG on the stress block to " +
          std::to_string(preconditionerTolerance_);
 }
 

@@ -2,7 +2,8 @@
 // node: 3 displacements, then the 6 Voigt stresses), `solver: amg`: flexible GMRES right-
 // preconditioned by the block lower-triangular [S~ 0; C -M~] (solver/BlockTriangular.hpp, as the
 // 2D models), with S~^-1 one BoomerAMG V-cycle on K^L (3 functions per node, the rigid-body modes
-// of the node positions as interpolation vectors) and M~^-1 a loose Jacobi CG on M. Shared by
+// of the node positions as interpolation vectors) and M~^-1 a loose CG on M preconditioned by
+// its nodal 6 x 6 blocks. Shared by
 // SolidMixedModel (K^L and J of the reference configuration, once) and SolidNonlinearMixedModel
 // (of the current configuration, at every tangent). Layer: solver.
 #pragma once
@@ -55,6 +56,7 @@ private:
   std::unique_ptr<LinearSolver> amg_;
   CsrMatrix<Memory> stiffness_, coupling_, stressBlock_;
   Kokkos::View<double *, Memory> diag3_, diag9_, stressDiagonal_;
+  Kokkos::View<SolidMatrix *, Memory> stressBlockInverse_; ///< of M's nodal 6 x 6 blocks
   double stressRowScale_ = 1.0;
   KrylovWorkspace outerWork_, stressWork_;
   double setupSeconds_ = 0.0;

@@ -57,10 +57,10 @@ Solid makeSolid(ElementType type) {
   return s;
 }
 
-std::unique_ptr<NonlinearDisplacementModel> makeModel(const Solid &s, ElasticLaw law,
-                                                      bool follower) {
-  auto model = std::make_unique<NonlinearDisplacementModel>(s.mesh, s.material, s.stiffness);
-  model->setElasticLaw(law);
+/// The support and loads of the tangent tests (node 0 fixed, a dead traction on zmax and, if
+/// `follower`, a follower pressure on xmax) given to `model`, then set up with the direct solver.
+template <class Model>
+std::unique_ptr<Model> loadedModel(std::unique_ptr<Model> model, const Solid &s, bool follower) {
   for (int i = 0; i < 3; ++i)
     model->prescribe(0, i, 0.0);
   model->addSideLoad(s.mesh.boundaries.at("zmax"), {10.0, -20.0, -30.0}, 0.0);
@@ -70,6 +70,13 @@ std::unique_ptr<NonlinearDisplacementModel> makeModel(const Solid &s, ElasticLaw
   o.type = LinearSolverType::Direct;
   model->setup(o, MPI_COMM_WORLD);
   return model;
+}
+
+std::unique_ptr<NonlinearDisplacementModel> makeModel(const Solid &s, ElasticLaw law,
+                                                      bool follower) {
+  auto model = std::make_unique<NonlinearDisplacementModel>(s.mesh, s.material, s.stiffness);
+  model->setElasticLaw(law);
+  return loadedModel(std::move(model), s, follower);
 }
 
 class SolidNonlinear : public ::testing::TestWithParam<ElementType> {};
@@ -164,16 +171,8 @@ TEST_P(SolidNonlinear, FollowerPressureOnTheUndeformedBodyIsTheDeadPressure) {
 /// The geometrically nonlinear mixed model (current form) on the distorted box of `type`, with
 /// stabilization a, the loads of makeModel and, if `follower`, its follower face pressure.
 std::unique_ptr<SolidNonlinearMixedModel> makeMixedModel(const Solid &s, double a, bool follower) {
-  auto model = std::make_unique<SolidNonlinearMixedModel>(s.mesh, s.material, s.stiffness, a);
-  for (int i = 0; i < 3; ++i)
-    model->prescribe(0, i, 0.0);
-  model->addSideLoad(s.mesh.boundaries.at("zmax"), {10.0, -20.0, -30.0}, 0.0);
-  if (follower)
-    model->addFollowerPressure(s.mesh.boundaries.at("xmax"), 40.0);
-  LinearSolverOptions o;
-  o.type = LinearSolverType::Direct;
-  model->setup(o, MPI_COMM_WORLD);
-  return model;
+  return loadedModel(std::make_unique<SolidNonlinearMixedModel>(s.mesh, s.material, s.stiffness, a),
+                     s, follower);
 }
 
 /// Unknowns of the mixed model (9 per node): displacements u, stresses `stress` times a random

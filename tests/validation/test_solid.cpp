@@ -228,14 +228,14 @@ TEST_P(SolidNonlinearPatchTest, ReproducesAHomogeneousFiniteDeformation) {
 }
 
 class SolidMixedPatchTest : public ::testing::TestWithParam<std::tuple<ElementType, double>> {};
-INSTANTIATE_TEST_SUITE_P(Elements, SolidMixedPatchTest,
-                         ::testing::Combine(::testing::Values(ElementType::Hex8,
-                                                              ElementType::Hex20),
-                                            ::testing::Values(0.0, 0.05)),
-                         [](const auto &info) {
-                           return elementTypeName(std::get<0>(info.param)) +
-                                  (std::get<1>(info.param) == 0.0 ? "Report" : "Stabilized");
-                         });
+/// The mixed patch tests' parameters: both hexahedra, the report's model (a = 0) and a = 0.05.
+const auto kMixedPatchCases = ::testing::Combine(
+    ::testing::Values(ElementType::Hex8, ElementType::Hex20), ::testing::Values(0.0, 0.05));
+std::string mixedPatchName(const ::testing::TestParamInfo<std::tuple<ElementType, double>> &info) {
+  return elementTypeName(std::get<0>(info.param)) +
+         (std::get<1>(info.param) == 0.0 ? "Report" : "Stabilized");
+}
+INSTANTIATE_TEST_SUITE_P(Elements, SolidMixedPatchTest, kMixedPatchCases, mixedPatchName);
 
 // The patch test of the 3D mixed model (issue 17): the linear field prescribed on the boundary of
 // the distorted box is reproduced inside, and every nodal stress unknown is the constant C eps,
@@ -272,14 +272,7 @@ TEST_P(SolidMixedPatchTest, ReproducesALinearFieldWithExactNodalStresses) {
 }
 
 class SolidNonlinearMixedPatchTest : public SolidMixedPatchTest {};
-INSTANTIATE_TEST_SUITE_P(Elements, SolidNonlinearMixedPatchTest,
-                         ::testing::Combine(::testing::Values(ElementType::Hex8,
-                                                              ElementType::Hex20),
-                                            ::testing::Values(0.0, 0.05)),
-                         [](const auto &info) {
-                           return elementTypeName(std::get<0>(info.param)) +
-                                  (std::get<1>(info.param) == 0.0 ? "Report" : "Stabilized");
-                         });
+INSTANTIATE_TEST_SUITE_P(Elements, SolidNonlinearMixedPatchTest, kMixedPatchCases, mixedPatchName);
 
 // The finite-deformation patch test of the geometrically nonlinear 3D mixed model (current form,
 // issue 17): x = F X prescribed on the boundary of the distorted box (8 % strain, 0.4 rad about
