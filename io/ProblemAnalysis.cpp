@@ -104,8 +104,8 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
   // The 2D nonlinear mixed model solves with the direct solver by default. The 3D mixed model
   // (linear and nonlinear) with its block-triangular AMG solve: the LU of its 9-per-node system
-  // grows too fast in 3D (the Hex8 Lame sphere of 54,873 unknowns: 185 s and 11 GB against 4.2 s
-  // and 0.44 GB, docs/performance.md), which also bounds its direct fall back.
+  // grows too fast in 3D (the Hex8 Lame sphere of 54,873 unknowns: 185 s and 10.7 GiB against 4.2 s
+  // and 0.42 GiB, docs/performance.md), which also bounds its direct fall back.
   const bool solidMixed = p.model.formulation == Formulation::Mixed && p.mesh.dim() == 3;
   if (nonlinearMixed && !solidMixed)
     p.solver.type = LinearSolverType::Direct;
@@ -130,11 +130,17 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "stress_block_tolerance", "jacobian", "rigid_body_modes", "coarsest_size",
                  "reuse_hierarchy", "direct_fallback"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
-    if (solidMixed) // the 3D mixed model: the direct solver or the block-triangular AMG solve
+    if (solidMixed) { // the 3D mixed model: the direct solver or the block-triangular AMG solve
+      for (const char *key : {"method", "krylov", "preconditioner", "inner_tolerance", "jacobian"})
+        if (s.has(key))
+          s[key].fail(std::string(key) +
+                      " applies to the 2D mixed model's solvers; the 3D mixed model solves with "
+                      "the block-triangular GMRES (type: amg) or the sparse LU (type: direct)");
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
                    "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
                    "coarsest_size", "reuse_hierarchy", "print_level"});
+    }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
         s[key].fail(std::string(key) + " applies to the mixed model's solver: amg only");

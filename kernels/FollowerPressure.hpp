@@ -101,7 +101,13 @@ void assembleFollowerFacePressure(const ExecSpace &exec, const MeshView<MemorySp
         double xf[nf][3], ge[nf][3] = {};
         // The face's load stiffness, summed over its quadrature points before the scatter (one
         // atomic per entry and face): ke[a][b][i][j] = d g_(a,i) / d x_(b,j).
-        double ke[nf][nf][3][3] = {}; // nf <= 8: 4.6 KB
+        double ke[nf][nf][3][3]; // nf <= 8: 4.6 KB, zeroed only with a tangent
+        if (tangent)
+          for (int a = 0; a < nf; ++a)
+            for (int b = 0; b < nf; ++b)
+              for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j)
+                  ke[a][b][i][j] = 0.0;
         for (int a = 0; a < nf; ++a) {
           local[a] = Elem::sideNode(face, a);
           nodes[a] = m.connectivity(e, local[a]);

@@ -62,7 +62,8 @@ enum class MixedNewtonSolver {
 
 /// The GMRES restart of the 3D mixed models' block-triangular solve (solver/SolidMixedSolve.hpp):
 /// the 2D models' 30 measured 2.5x the iterations of 100 on the Hex20 cantilever of
-/// tests/unit/test_solid_mixed_solve.cpp (240 against 95; Hex8: 56 with both, docs/performance.md).
+/// tests/unit/test_solid_mixed_solve.cpp (240 against 95; Hex8: 80 against 56,
+/// docs/performance.md).
 inline constexpr int kSolidMixedRestart = 100;
 /// The largest 3D mixed system the block-triangular solve falls back to the direct LU for (its
 /// fill grows fast: 3.3 s for 9,801 unknowns, 185 s and 11 GB for 54,873, docs/performance.md).

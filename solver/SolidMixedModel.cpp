@@ -62,11 +62,13 @@ SolidMixedModel::SolidMixedModel(const Mesh &mesh, const std::vector<int> &eleme
 SolidMixedModel::~SolidMixedModel() = default;
 
 double SolidMixedModel::solverSetupSeconds() const {
-  return iterative_ ? iterative_->setupSeconds() : solver_ ? solver_->setupSeconds() : 0.0;
+  return (iterative_ ? iterative_->setupSeconds() : 0.0) +
+         (solver_ ? solver_->setupSeconds() : 0.0);
 }
 
 std::string SolidMixedModel::solverName() const {
-  return iterative_ ? iterative_->name() : solver_ ? solver_->name() : std::string();
+  // After a fall back the LU solves.
+  return solver_ ? solver_->name() : iterative_ ? iterative_->name() : std::string();
 }
 
 void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
@@ -168,6 +170,7 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
     const int iterations = s.iterations;
     s = solver_->solve(scaledCopy(constrainedRhs_, loadFactor), x_);
     s.iterations += iterations;
+    appendNote(note, s.note);
     s.note = note;
   }
   gather(x_, kUnknowns, 0, dim(), u_);

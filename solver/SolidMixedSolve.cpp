@@ -36,6 +36,11 @@ SolidMixedSolve::SolidMixedSolve(const NodeGraph &graph, const LinearSolverOptio
   LinearSolverOptions amg = options;
   amg.type = LinearSolverType::Amg;
   amg.symmetric = true; // K^L
+  // A fresh hierarchy at every refresh(), on K^L and the rigid-body modes of the configuration
+  // of that tangent: the kept-hierarchy rule of reuse_hierarchy watches solve(), which this
+  // class does not call (it only applies V-cycles). Setups were 7 % of a Newton step at 1e6
+  // Hex8 unknowns (docs/performance.md).
+  amg.reuseHierarchy = false;
   amg_ = makeLinearSolver(amg, dofs, comm);
   amg_->setNearNullSpace(positions);
 }

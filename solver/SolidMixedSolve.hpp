@@ -34,7 +34,8 @@ public:
   CsrMatrix<Memory> &stiffness() { return stiffness_; }
   void zeroStiffness();
   /// Takes a new Jacobian: constrains K^L (flags3: the constrained displacements, 3 per node) and
-  /// sets the AMG up on it, extracts C and M from J, and the stress-row scale.
+  /// builds a new AMG hierarchy on it (with the rigid-body modes of `positions` as they are
+  /// now), extracts C and M from J, and the stress-row scale.
   void refresh(const CsrMatrix<Memory> &jacobian, const Kokkos::View<const int *, Memory> &flags3);
   /// J x = f with x = target on the constrained unknowns (flags9, flags3: 9 and 3 per node),
   /// from x = 0 (f's constrained entries are ignored).

@@ -83,9 +83,9 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
 std::string SolidNonlinearMixedModel::solverName() const {
   std::ostringstream o;
   o << "mixed current-configuration form (3D), a = " << stabilization_ << ", "
-    << (iterative_ ? iterative_->name()
-        : solver_  ? solver_->name()
-                   : std::string("none"));
+    << (solver_      ? solver_->name()
+        : iterative_ ? iterative_->name()
+                     : std::string("none"));
   return o.str();
 }
 
@@ -193,6 +193,7 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
     s = constrainedSolve(tangent_, true, work_, flags_, g_, target_, rhs_, diag_, *solver_, dx_,
                          solverSetupSeconds_);
     s.iterations += iterations;
+    appendNote(note, s.note);
     s.note = note;
   }
   return s;

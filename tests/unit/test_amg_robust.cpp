@@ -219,7 +219,8 @@ TEST(AmgReuse, KeepsTheHierarchyForTheSamePatternAndStillSolves) {
 }
 
 namespace {
-// y = diag^p v elementwise (p = 1 or -1). Free functions: nvcc refuses device lambdas in a TEST body.
+// y = diag^p v elementwise (p = 1 or -1). Free functions: nvcc refuses device lambdas in a TEST
+// body.
 void diagonalApply(const Kokkos::View<double *, Memory> &diag, const ConstDeviceVector &v,
                    const DeviceVector &y, bool inverse) {
   Kokkos::parallel_for(

@@ -14,9 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 using namespace mixcon;

@@ -4,11 +4,12 @@
 //    solid: the AMG solve reproduces the linear field and the exact constant nodal stresses;
 //  - linear model, a 10 x 1 x 1 cantilever under a tip shear (Hex8 and Hex20, a = 0 and 0.05):
 //    displacements and stresses equal to the direct solve's to 1e-6 of their largest value, in a
-//    bounded number of GMRES iterations;
+//    bounded number of GMRES iterations, with BoomerAMG's defaults and the problem files' 3D ones;
 //  - geometrically nonlinear model (SolidNonlinearMixedModel), the same cantilever to a tip
 //    deflection of about a fifth of its length in three load steps: the same states as with the
 //    direct solver, step by step;
-//  - both models fall back to the direct LU, reported, where the iterative solve fails.
+//  - both models fall back to the direct LU, reported, where the iterative solve fails, and keep
+//    it for the later solves.
 #include <mesh/Generators.hpp>
 #include <solver/Nonlinear.hpp>
 #include <solver/SolidMixedModel.hpp>
@@ -104,25 +105,36 @@ TEST(SolidMixedSolve, LinearCantileverAsTheDirectSolve) {
   for (ElementType type : {ElementType::Hex8, ElementType::Hex20})
     for (double a : {0.0, 0.05}) {
       const Mesh mesh = cantileverMesh(type);
-      std::vector<double> u[2], s[2];
-      int iterations = 0;
-      for (int k = 0; k < 2; ++k) {
+      // direct; amg with BoomerAMG's defaults; amg with the problem files' 3D defaults (one
+      // aggressive level, PMaxElmts 4).
+      std::vector<double> u[3], s[3];
+      int iterations[3] = {0, 0, 0};
+      for (int k = 0; k < 3; ++k) {
         SolidMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), kIsotropic, a);
         loadCantilever(mesh, model, 1.0);
-        model.setup(solverOptions(k == 0 ? LinearSolverType::Direct : LinearSolverType::Amg),
-                    MPI_COMM_WORLD);
+        LinearSolverOptions o =
+            solverOptions(k == 0 ? LinearSolverType::Direct : LinearSolverType::Amg);
+        if (k == 2) {
+          o.aggressiveLevels = 1;
+          o.interpolationMaxElements = 4;
+        }
+        model.setup(o, MPI_COMM_WORLD);
         const LinearSolveStats st = model.solve(1.0);
-        ASSERT_TRUE(st.converged) << elementTypeName(type) << " a = " << a;
-        if (k == 1)
-          iterations = st.iterations;
+        ASSERT_TRUE(st.converged) << elementTypeName(type) << " a = " << a << " run " << k;
+        iterations[k] = st.iterations;
         u[k] = model.displacementHost();
         s[k] = model.nodalStressHost();
       }
-      std::printf("  %s a = %.2f: %d GMRES iterations\n", elementTypeName(type).c_str(), a,
-                  iterations);
-      EXPECT_LT(relativeDifference(u[1], u[0]), 1e-6) << elementTypeName(type) << " a = " << a;
-      EXPECT_LT(relativeDifference(s[1], s[0]), 1e-6) << elementTypeName(type) << " a = " << a;
-      EXPECT_LE(iterations, 300) << elementTypeName(type) << " a = " << a;
+      std::printf("  %s a = %.2f: %d and %d GMRES iterations\n", elementTypeName(type).c_str(), a,
+                  iterations[1], iterations[2]);
+      for (int k = 1; k < 3; ++k) {
+        EXPECT_LT(relativeDifference(u[k], u[0]), 1e-6) << elementTypeName(type) << " a = " << a;
+        EXPECT_LT(relativeDifference(s[k], s[0]), 1e-6) << elementTypeName(type) << " a = " << a;
+        // Measured: 48-94 with BoomerAMG's defaults, 99-600 with the 3D ones on this small
+        // beam (which halve them on larger ones, docs/performance.md).
+        EXPECT_LE(iterations[k], k == 1 ? 150 : 800)
+            << elementTypeName(type) << " a = " << a << " run " << k;
+      }
     }
 }
 
@@ -168,8 +180,13 @@ TEST(SolidMixedSolve, FailingIterativeSolveFallsBackToTheDirectLu) {
     linear.setup(o, MPI_COMM_WORLD);
     const LinearSolveStats s = linear.solve(1.0);
     EXPECT_EQ(s.converged, allowed);
-    EXPECT_EQ(s.note.find("falling back to the direct LU") != std::string::npos, allowed)
-        << s.note;
+    EXPECT_EQ(s.note.find("falling back to the direct LU") != std::string::npos, allowed) << s.note;
+    if (allowed) { // the LU stays: the next solve has no GMRES iterations and nothing to report
+      const LinearSolveStats again = linear.solve(0.5);
+      EXPECT_TRUE(again.converged);
+      EXPECT_TRUE(again.note.empty()) << again.note;
+      EXPECT_NE(linear.solverName().find("LU"), std::string::npos) << linear.solverName();
+    }
     SolidNonlinearMixedModel nonlinear(mesh, std::vector<int>(mesh.numElements(), 0), kIsotropic,
                                        0.05);
     loadCantilever(mesh, nonlinear, 1.0);
@@ -178,7 +195,13 @@ TEST(SolidMixedSolve, FailingIterativeSolveFallsBackToTheDirectLu) {
     double increment = 0.0;
     const LinearSolveStats n = nonlinear.correct(1.0, increment);
     EXPECT_EQ(n.converged, allowed);
-    EXPECT_EQ(n.note.find("falling back to the direct LU") != std::string::npos, allowed)
-        << n.note;
+    EXPECT_EQ(n.note.find("falling back to the direct LU") != std::string::npos, allowed) << n.note;
+    if (allowed) {
+      nonlinear.evaluate(1.0, true);
+      const LinearSolveStats again = nonlinear.correct(1.0, increment);
+      EXPECT_TRUE(again.converged);
+      EXPECT_TRUE(again.note.empty()) << again.note;
+      EXPECT_NE(nonlinear.solverName().find("LU"), std::string::npos) << nonlinear.solverName();
+    }
   }
 }

@@ -308,7 +308,7 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
        "solid.yaml:3:71: model.mixed_form: the geometrically nonlinear 3D mixed model has the "
        "current form only so far"},
       {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg, method: schur}",
-       "unknown key 'method'"},
+       "solid.yaml:13:29: solver.method: method applies to the 2D mixed model's solvers"},
       {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], element: tet4}\nmodel: {formulation: mixed}",
        "solid.yaml:3:22: model.formulation: the 3D mixed model takes hex8 or hex20 meshes so far"},
       {"solver:",
