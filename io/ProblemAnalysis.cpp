@@ -111,12 +111,13 @@ void readSolver(const YamlItem &top, Problem &p) {
     p.solver.type = LinearSolverType::Direct;
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;
-  if (p.mesh.dim() == 3) {
+  if (p.mesh.dim() == 3 && !solidMixed) {
     // 3D AMG defaults (the cube N^3 of docs/performance.md: with the 2D ones the setup is 82% of
     // the run at N = 64 and N = 100 does not fit 24 GB; one aggressive level with truncated
-    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations). The
-    // 3D mixed model's V-cycle on K^L too: 2.6x faster on its cube, 9 % on a beam of L/h = 20,
-    // for 0-33 % more GMRES iterations (docs/performance.md).
+    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations). Not
+    // the 3D mixed model's V-cycle on K^L inside its GMRES: faster on large compact meshes (2.6x
+    // on a 24^3 cube) but with the threaded hypre a small cantilever took 1000 iterations or did
+    // not converge, against 52-173 with BoomerAMG's defaults (docs/performance.md).
     p.solver.aggressiveLevels = 1;
     p.solver.interpolationMaxElements = 4;
   }
