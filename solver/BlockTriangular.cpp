@@ -23,6 +23,17 @@ double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
   return nm > 0.0 ? std::sqrt(na / nm * std::sqrt(entries)) : 1.0;
 }
 
+LinearSolveStats statsOf(const KrylovStats &ks, std::chrono::steady_clock::time_point start,
+                         double setupSeconds) {
+  LinearSolveStats s;
+  s.iterations = ks.iterations;
+  s.relativeResidual = ks.relativeResidual;
+  s.converged = ks.converged;
+  s.setupSeconds = setupSeconds;
+  s.solveSeconds = seconds(start);
+  return s;
+}
+
 long stressBlockSolve(const LinearMap &apply, const LinearMap &precondition,
                       const ConstDeviceVector &w, const DeviceVector &z, double tolerance,
                       KrylovWorkspace &workspace, const std::string &who) {

@@ -7,7 +7,9 @@
 #pragma once
 
 #include <solver/Krylov.hpp>
+#include <solver/LinearSolver.hpp>
 
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -41,6 +43,11 @@ struct SaddlePointSystem {
 /// 1 when M's diagonal is zero.
 double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
                             const ConstDeviceVector &diagonalStress);
+
+/// A Krylov solve's figures as the mixed models report them: its iterations, residual and
+/// convergence, `setupSeconds`, and the seconds since `start` as the solve time.
+LinearSolveStats statsOf(const KrylovStats &ks, std::chrono::steady_clock::time_point start,
+                         double setupSeconds = 0.0);
 
 /// z = M^-1 w by CG from z = 0 to the relative `tolerance` (at most 2000 iterations), `apply`
 /// the product with the SPD stress block M and `precondition` its preconditioner; returns the

@@ -22,18 +22,6 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// A Krylov solve's figures as the model reports them.
-LinearSolveStats statsOf(const KrylovStats &ks, double setupSeconds,
-                         std::chrono::steady_clock::time_point start) {
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.setupSeconds = setupSeconds;
-  s.solveSeconds = secondsSince(start);
-  return s;
-}
-
 } // namespace
 
 /// The saddle-point system on the host: unknowns [u (2N); S (3N)], sparse LU.
@@ -385,7 +373,7 @@ LinearSolveStats MixedModel::solveBlockTriangular(double loadFactor) {
   gather(x, kMixed, kStressAt, kStress, s_);
   Exec().fence();
 
-  return statsOf(ks, solverSetupSeconds_, start);
+  return statsOf(ks, start, solverSetupSeconds_);
 }
 
 LinearSolveStats MixedModel::solveSchur(double loadFactor) {
@@ -434,7 +422,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   solveCompliance(ConstDeviceVector(workStressRhs_), s_, std::min(options_.innerTolerance, 1e-12));
   Exec().fence();
 
-  return statsOf(ks, solverSetupSeconds_, start);
+  return statsOf(ks, start, solverSetupSeconds_);
 }
 
 void MixedModel::setupDirect() {

@@ -119,12 +119,7 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   scatter<double>(du, kMixed, 0, kDisp, dx_, true);
   scatter<double>(z, kMixed, kStressAt, kStress, dx_, false);
   innerIterations_ = inner;
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.solveSeconds = seconds(start);
-  return s;
+  return statsOf(ks, start);
 }
 
 LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
@@ -186,12 +181,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   const KrylovStats ks =
       blockTriangularSolve(system, ko, ConstVec(f), ConstVec(target_), dx_, inner, &outerWork_);
   innerIterations_ = inner;
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.solveSeconds = seconds(start);
-  return s;
+  return statsOf(ks, start);
 }
 
 } // namespace mixcon

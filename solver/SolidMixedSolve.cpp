@@ -141,12 +141,7 @@ LinearSolveStats SolidMixedSolve::solve(const CsrMatrix<Memory> &jacobian,
   ko.restart = restart_;
   inner_ = 0;
   const KrylovStats ks = blockTriangularSolve(system, ko, f, target, x, inner_, &outerWork_);
-  LinearSolveStats s;
-  s.iterations = ks.iterations;
-  s.relativeResidual = ks.relativeResidual;
-  s.converged = ks.converged;
-  s.solveSeconds = seconds(start);
-  return s;
+  return statsOf(ks, start);
 }
 
 std::string SolidMixedSolve::name() const {
