@@ -1,6 +1,7 @@
 // runAnalysis: builds the displacement or the mixed model from a Problem, steps through the load
 // factors, prints a progress line per step, and writes HDF5/XDMF/summary.json.
 #include <apps/Analysis.hpp>
+#include <apps/Stages.hpp>
 #include <contact/RigidContact.hpp>
 #include <contact/SurfaceContact.hpp>
 #include <io/Measurements.hpp>
@@ -24,52 +25,6 @@
 namespace mixcon {
 
 namespace {
-
-/// Prescribed displacements and loads of the problem on a model; pressures marked follower go to
-/// `nonlinear` (geometrically nonlinear runs) as follower pressures.
-void applyConditions(const Problem &p, ModelBase &model, NonlinearModel *nonlinear) {
-  for (const auto &bc : p.dirichlet)
-    for (LocalIndex n : p.mesh.nodesOf(bc.target)) {
-      if (bc.ux)
-        model.prescribe(n, 0, *bc.ux);
-      if (bc.uy)
-        model.prescribe(n, 1, *bc.uy);
-      if (bc.uz)
-        model.prescribe(n, 2, *bc.uz);
-    }
-  for (const auto &l : p.loads) {
-    switch (l.kind) {
-    case LoadKind::Traction:
-      model.addSideLoad(p.mesh.boundaries.at(l.target), l.vector, 0.0);
-      break;
-    case LoadKind::Pressure:
-      if (nonlinear && l.follower)
-        nonlinear->addFollowerPressure(p.mesh.boundaries.at(l.target), l.pressure);
-      else
-        model.addSideLoad(p.mesh.boundaries.at(l.target), {0.0, 0.0, 0.0}, l.pressure);
-      break;
-    case LoadKind::Force:
-      for (LocalIndex n : p.mesh.nodesOf(l.target))
-        model.addNodalForce(n, l.vector);
-      break;
-    case LoadKind::BodyForce: {
-      const int region = p.mesh.regionIndex(l.target);
-      const auto f = l.vector;
-      const Mesh &mesh = p.mesh;
-      if (mesh.dim() == 3)
-        model.addBodyForce3D([&mesh, region, f](double, double, double, LocalIndex e) {
-          return mesh.elementRegion[e] == region ? f : std::array<double, 3>{0.0, 0.0, 0.0};
-        });
-      else
-        model.addBodyForce([&mesh, region, f](double, double, LocalIndex e) {
-          return mesh.elementRegion[e] == region ? std::array<double, 2>{f[0], f[1]}
-                                                 : std::array<double, 2>{0.0, 0.0};
-        });
-      break;
-    }
-    }
-  }
-}
 
 /// The boundary length (times thickness) each node of `edges` stands for, the row sums of the
 /// edges' boundary mass matrix t int N_a ds (3-point Gauss), in the configuration the nodal
@@ -144,7 +99,7 @@ std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
 /// coefficients; with `verbose`, also the obstacle motions (obstacles named as in `contacts`).
 void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, StepFields &f,
                 std::ostream *log, bool verbose, const std::vector<ContactSpec> &contacts,
-                int nsteps, std::chrono::steady_clock::time_point start,
+                int nsteps, int nstages, std::chrono::steady_clock::time_point start,
                 const Checkpoint *state = nullptr, int firstStep = 0) {
   writer.writeStep(r, f, state);
   result.steps.push_back(r);
@@ -162,6 +117,10 @@ void recordStep(ResultsWriter &writer, RunResult &result, const StepRecord &r, S
                   r.contactStick, r.contactSlip, r.contactIterations,
                   r.contactCycled ? ", active set CYCLED (last pattern kept)" : "");
   char line[400];
+  if (!r.stageName.empty()) { // a load history: the stage first
+    std::snprintf(line, sizeof line, "stage %d/%d '%s'  ", r.stage, nstages, r.stageName.c_str());
+    *log << line;
+  }
   std::snprintf(line, sizeof line,
                 "step %d/%d  load factor %.4g  iterations %d  cuts %d  linear its %d  residual "
                 "%.2e  %s%s  %.3f s  ETA %.1f s\n",
@@ -291,9 +250,26 @@ void contactFields(const Contact &contact, const Problem &p, const std::vector<d
   }
 }
 
+/// One step of a run: its stage (0-based) and its load factor within the stage.
+struct ScheduledStep {
+  int stage = 0;
+  double loadFactor = 0.0;
+};
+
+/// The steps of all stages in order.
+std::vector<ScheduledStep> schedule(const std::vector<StagePlan> &plan) {
+  std::vector<ScheduledStep> steps;
+  for (std::size_t s = 0; s < plan.size(); ++s)
+    for (double f : plan[s].loadFactors)
+      steps.push_back({static_cast<int>(s), f});
+  return steps;
+}
+
 /// The restart point in `directory`, checked against the problem: the same mesh and the same
-/// load factors up to the restart step (later steps may differ, e.g. smaller increments).
-RestartPoint restartPoint(const Problem &p, const std::string &directory) {
+/// stages and load factors up to the restart step (later steps may differ, e.g. smaller
+/// increments).
+RestartPoint restartPoint(const Problem &p, const std::vector<ScheduledStep> &steps,
+                          const std::string &directory) {
   RestartPoint point = readRestart(directory);
   const std::string from = directory + "/results.h5";
   const Mesh &mesh = p.mesh;
@@ -310,16 +286,18 @@ RestartPoint restartPoint(const Problem &p, const std::string &directory) {
                      " (" + std::to_string(mesh.numNodes()) + " nodes, " +
                      std::to_string(mesh.numElements()) + " elements)");
   const int last = point.lastStep();
-  if (last >= static_cast<int>(p.loadFactors.size()))
+  if (last >= static_cast<int>(steps.size()))
     throw InputError(from + ": the run already ended at step " + std::to_string(last) + " of " +
-                     std::to_string(p.loadFactors.size()) + "; nothing to restart");
+                     std::to_string(steps.size()) + "; nothing to restart");
   for (int i = 0; i < last; ++i) {
-    const double saved = point.steps[i].record.loadFactor, now = p.loadFactors[i];
-    if (std::abs(saved - now) > 1e-12 * std::max(1.0, std::abs(now))) {
+    const StepRecord &saved = point.steps[i].record;
+    const double now = steps[i].loadFactor;
+    if (std::abs(saved.loadFactor - now) > 1e-12 * std::max(1.0, std::abs(now)) ||
+        saved.stage != steps[i].stage + 1) {
       std::ostringstream m;
-      m << from << ": step " << i + 1 << " ran at load factor " << saved << ", but " << p.file
-        << " gives " << now << " for it; the steps up to the restart point (" << last
-        << ") must be the same";
+      m << from << ": step " << i + 1 << " ran in stage " << saved.stage << " at load factor "
+        << saved.loadFactor << ", but " << p.file << " gives stage " << steps[i].stage + 1 << " at "
+        << now << " for it; the steps up to the restart point (" << last << ") must be the same";
       throw InputError(m.str());
     }
   }
@@ -365,7 +343,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     owner = std::move(d);
   }
   NonlinearModel &model = *owner;
-  applyConditions(p, model, p.model.geometricNonlinearity ? &model : nullptr);
+  const std::vector<StagePlan> plan = planStages(p);
+  const std::vector<ScheduledStep> steps = schedule(plan);
+  applyConditions(p.mesh, plan[0].dirichlet, plan[0].loads, model,
+                  p.model.geometricNonlinearity ? &model : nullptr);
   std::unique_ptr<RigidContact> contact;
   std::unique_ptr<SurfaceContact> surface;
   if (!p.contact.empty() && p.contact.front().type == "node_to_segment") {
@@ -391,10 +372,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       s.obstacle.normal[0] = c.normal[0];
       s.obstacle.normal[1] = c.normal[1];
       s.friction = c.friction;
+      const std::size_t index = specs.size();
       for (int i = 0; i < 2; ++i) {
-        s.drive[i] = c.driveDisplacement[i];
+        s.drive[i] = plan[0].drive[index][i];
         s.forceDriven[i] = c.forceDriven[i];
-        s.force[i] = c.driveForce[i];
+        s.force[i] = plan[0].force[index][i];
       }
       s.statusFromStress = c.statusFromStress;
       s.nodes = p.mesh.nodesOf(c.boundary);
@@ -439,7 +421,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   }
   std::optional<RestartPoint> restart;
   if (!options.restartDirectory.empty())
-    restart = restartPoint(p, options.restartDirectory);
+    restart = restartPoint(p, steps, options.restartDirectory);
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file,
                        restart ? &*restart : nullptr);
   if (log)
@@ -453,12 +435,52 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "
          << p.nonlinear.tolerance << ", residual tolerance " << p.nonlinear.residualTolerance
          << ", linear solver " << model.solverName() << "\n";
-  LoadStepper stepper(model, p.nonlinear, warn, options.verbosity);
-  const int nsteps = static_cast<int>(p.loadFactors.size());
+  LoadStepper stepper(model, plan[0].nonlinear, warn, options.verbosity);
+  const int nsteps = static_cast<int>(steps.size());
+  const int nstages = static_cast<int>(plan.size());
   const int firstStep = restart ? restart->lastStep() : 0;
+  int stage = 0; // the stage the model is in
+  // Moves the model into stage `next` (0-based); `restoring`: a restart then restores the loading.
+  const auto beginStage = [&](int next, bool restoring) {
+    std::vector<double> reaction;
+    if (!restoring) { // the support forces that releases carry over
+      model.evaluate(1.0, false);
+      reaction = model.reactionHost(1.0);
+    }
+    enterStage(p, plan, next, model, contact.get(), restoring ? nullptr : &reaction);
+    if (p.contact.empty() && !restoring) {
+      try {
+        model.checkRigidBodyModes();
+      } catch (const InputError &e) {
+        throw InputError(p.file + ":" + std::to_string(plan[next].line) + ": stage " +
+                         std::to_string(next + 1) + " '" + plan[next].name + "': " + e.what());
+      }
+    }
+    stepper.setOptions(plan[next].nonlinear);
+    stepper.resume(0.0);
+    stage = next;
+    if (log && !restoring)
+      *log << "mixcon: stage " << next + 1 << "/" << nstages << " '" << plan[next].name << "' ("
+           << plan[next].loadFactors.size() << " steps)\n";
+  };
+  if (log && nstages > 1 && !restart)
+    *log << "mixcon: stage 1/" << nstages << " '" << plan[0].name << "' ("
+         << plan[0].loadFactors.size() << " steps)\n";
   if (restart) {
     const std::string from = restart->directory + "/results.h5";
     try {
+      if (restart->state.has("stepper/stage")) {
+        const int saved = static_cast<int>(restart->state.getScalar("stepper/stage")) - 1;
+        if (saved != steps[firstStep - 1].stage)
+          throw std::runtime_error("the saved state is of stage " + std::to_string(saved + 1) +
+                                   ", its step of stage " +
+                                   std::to_string(steps[firstStep - 1].stage + 1));
+        if (saved > 0)
+          beginStage(saved, true);
+      }
+      model.restoreLoading(restart->state);
+      if (restart->state.has("stepper/history_scales"))
+        model.setHistoryScales(restart->state.get("stepper/history_scales", 3));
       model.restoreCommitted(restart->state);
       if (model.contactIterations())
         model.contactIterations()->restoreCommitted(restart->state);
@@ -474,8 +496,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   }
   result.converged = true;
   for (int k = firstStep; k < nsteps; ++k) {
+    if (steps[k].stage != stage)
+      beginStage(steps[k].stage, false);
     const auto stepStart = clock::now();
-    const double lambda = p.loadFactors[k];
+    const double lambda = steps[k].loadFactor;
     const double setupBefore = model.solverSetupSeconds();
     if (p.hybrid) {
       // The stepper prescribes lambda times the reference value: reference = measured / lambda.
@@ -491,6 +515,9 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     StepRecord r;
     r.step = k + 1;
     r.loadFactor = o.converged ? lambda : stepper.loadFactor();
+    r.stage = stage + 1;
+    r.stageName = plan[stage].name;
+    r.time = stage + r.loadFactor;
     r.iterations = o.iterations;
     r.linearIterations = o.linearIterations;
     r.residual = o.history.empty() ? o.initialResidual : o.history.back().residual;
@@ -558,8 +585,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       if (model.contactIterations())
         model.contactIterations()->saveCommitted(state);
       state.putScalar("stepper/load_factor", stepper.loadFactor());
+      state.putScalar("stepper/stage", stage + 1);
+      state.put("stepper/history_scales", model.historyScales());
+      model.saveLoading(state);
     }
-    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, start,
+    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, nstages, start,
                o.converged ? &state : nullptr, firstStep);
     if (!o.converged) {
       result.converged = false;
@@ -603,7 +633,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
   for (LocalIndex e = 0; e < p.mesh.numElements(); ++e)
     elementMaterial[e] = materialOfRegion[p.mesh.elementRegion[e]];
 
-  if (p.model.geometricNonlinearity || !p.contact.empty() || p.hybrid)
+  if (p.model.geometricNonlinearity || !p.contact.empty() || p.hybrid || !p.stages.empty())
     return runNonlinear(p, options, comm, elementMaterial, stiffness, solidStiffness,
                         std::move(result));
   if (!options.restartDirectory.empty())
@@ -635,7 +665,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     base = displacementModel.get();
   }
   ModelBase &model = *base;
-  applyConditions(p, model, nullptr);
+  applyConditions(p.mesh, p.dirichlet, p.loads, model, nullptr);
 
   ResultsWriter writer(result.outputDirectory, p.mesh, p.writeHdf5, p.file);
   if (log)
@@ -668,6 +698,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     StepRecord r;
     r.step = k + 1;
     r.loadFactor = lambda;
+    r.time = lambda;
     r.iterations = 1;
     r.linearIterations = s.iterations;
     r.residual = s.relativeResidual;
@@ -685,7 +716,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
     r.totalSeconds =
         std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
-    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, start);
+    recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, 1, start);
     if (log && verbose) {
       char line[256];
       if (mixedModel) {

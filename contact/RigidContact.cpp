@@ -31,6 +31,8 @@ RigidContact::RigidContact(LocalIndex numNodes, std::vector<RigidContactSpec> sp
   anchorArc_.assign(m, 0.0);
   committedArc_.assign(m, 0.0);
   motion_.assign(2 * specs_.size(), 0.0);
+  baseMotion_.assign(2 * specs_.size(), 0.0);
+  baseForce_.assign(2 * specs_.size(), 0.0);
   for (std::size_t s = 0; s < specs_.size(); ++s)
     for (int i = 0; i < 2; ++i)
       if (specs_[s].forceDriven[i])
@@ -72,12 +74,25 @@ void RigidContact::setLoadFactor(double lambda) {
   for (std::size_t s = 0; s < specs_.size(); ++s)
     for (int i = 0; i < 2; ++i)
       if (!specs_[s].forceDriven[i])
-        motion_[2 * s + i] = lambda * specs_[s].drive[i];
+        motion_[2 * s + i] = baseMotion_[2 * s + i] + lambda * specs_[s].drive[i];
   uploadObstacles();
 }
 
+void RigidContact::setStageDrive(int s, const std::array<double, 2> &baseMotion,
+                                 const std::array<double, 2> &drive,
+                                 const std::array<double, 2> &baseForce,
+                                 const std::array<double, 2> &force) {
+  RigidContactSpec &spec = specs_.at(static_cast<std::size_t>(s));
+  for (int i = 0; i < 2; ++i) {
+    baseMotion_[2 * s + i] = baseMotion[i];
+    baseForce_[2 * s + i] = baseForce[i];
+    spec.drive[i] = drive[i];
+    spec.force[i] = force[i];
+  }
+}
+
 double RigidContact::drivenForce(const DrivenComponent &c) const {
-  return lambda_ * specs_[c.obstacle].force[c.direction];
+  return baseForce_[2 * c.obstacle + c.direction] + lambda_ * specs_[c.obstacle].force[c.direction];
 }
 
 void RigidContact::moveObstacle(int s, const double *delta) {
@@ -96,8 +111,8 @@ int RigidContact::seatForceDriven() {
     for (std::size_t k = 0; k < node_.size(); ++k)
       supported = supported || (obstacle_[k] == static_cast<int>(s) &&
                                 (status_[k] != ContactStatus::Open || gap_[k] <= 0.0));
-    double d[2] = {spec.forceDriven[0] ? spec.force[0] : 0.0,
-                   spec.forceDriven[1] ? spec.force[1] : 0.0};
+    double d[2] = {spec.forceDriven[0] ? baseForce_[2 * s] + spec.force[0] : 0.0,
+                   spec.forceDriven[1] ? baseForce_[2 * s + 1] + spec.force[1] : 0.0};
     const double len = std::hypot(d[0], d[1]);
     if (supported || !(len > 0.0))
       continue;
@@ -238,7 +253,10 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     const CoulombOutcome r =
         updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
     if (r.anchor) {
-      anchorArc_[k] = arc_[k];
+      // A node that closes sticks where it touches. A slipping node that reverses sticks where
+      // it was at the last converged state: in the reversed direction it would not have moved
+      // (stick is the trial state from there).
+      anchorArc_[k] = before == ContactStatus::Slip ? committedArc_[k] : arc_[k];
       if (before == ContactStatus::Open)
         committedArc_[k] = arc_[k]; // slip is measured from where the node closed
     }

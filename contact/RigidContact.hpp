@@ -16,6 +16,7 @@
 #include <solver/ContactIterations.hpp>
 #include <solver/LinearSolver.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,12 @@ public:
   /// Moves every obstacle to its position at load factor lambda: point + lambda drive along
   /// displacement-driven components; force-driven components keep their current motion.
   void setLoadFactor(double lambda) override;
+  /// Stages: over the stage, obstacle s moves from `baseMotion` by `drive` (lambda drive at load
+  /// factor lambda, displacement-driven components), and the force on it goes from `baseForce`
+  /// by `force` (force-driven components). Which components are force driven stays.
+  void setStageDrive(int s, const std::array<double, 2> &baseMotion,
+                     const std::array<double, 2> &drive, const std::array<double, 2> &baseForce,
+                     const std::array<double, 2> &force);
   /// The force-driven components of all obstacles (empty: every obstacle is displacement
   /// driven), the force on them at the current load factor, and their current motion.
   const std::vector<DrivenComponent> &drivenComponents() const { return driven_; }
@@ -195,6 +202,7 @@ private:
   std::vector<double> motion_;                   ///< 2 per obstacle: motion from `point`
   std::vector<DrivenComponent> driven_;
   double lambda_ = 0.0;
+  std::vector<double> baseMotion_, baseForce_; ///< stages: 2 per obstacle, where a stage starts
   struct Saved {
     std::vector<ContactStatus> status;
     std::vector<double> anchorArc, normalForce, tangentForce, motion, committedArc;

@@ -185,6 +185,8 @@ const ConstraintSet &RigidContact::buildSet(const ContactCorrection &sys) {
   const auto cflags = dev.flags;
   const auto values = dev.values;
   const auto presc = sys.prescribed;
+  const auto prescBase = sys.prescribedBase;
+  const bool hasBase = prescBase.extent(0) > 0;
   const auto u = sys.displacement;
   if (setFlags_.extent(0) != fv.extent(0))
     setFlags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::contactFlags", fv.extent(0));
@@ -202,7 +204,9 @@ const ConstraintSet &RigidContact::buildSet(const ContactCorrection &sys) {
         const LocalIndex i0 = stride * p;
         for (int i = 0; i < stride; ++i) {
           df(i0 + i) = fv(i0 + i);
-          target(i0 + i) = i < 2 && fv(i0 + i) ? lambda * presc(2 * p + i) - u(2 * p + i) : 0.0;
+          target(i0 + i) = i < 2 && fv(i0 + i) ? (hasBase ? prescBase(2 * p + i) : 0.0) +
+                                                     lambda * presc(2 * p + i) - u(2 * p + i)
+                                               : 0.0;
         }
         dfr(p) = 0;
         dn(p, 0) = dn(p, 1) = 0.0;

@@ -507,8 +507,11 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
     const CoulombOutcome r =
         updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
     if (r.anchor) {
-      anchorSegment_[k] = segment_[k];
-      anchorXi_[k] = xi_[k];
+      // A node that closes sticks where it touches; a slipping node that reverses sticks where
+      // it was at the last converged state (stick is the trial state from there).
+      const bool reverses = before == ContactStatus::Slip && committedSegment_[k] >= 0;
+      anchorSegment_[k] = reverses ? committedSegment_[k] : segment_[k];
+      anchorXi_[k] = reverses ? committedXi_[k] : xi_[k];
       if (before == ContactStatus::Open) {
         committedSegment_[k] = segment_[k];
         committedXi_[k] = xi_[k];

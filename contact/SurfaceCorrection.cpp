@@ -134,7 +134,7 @@ void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
 
 const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys) {
   prescribedStep(sys.flags, sys.prescribed, sys.displacement, sys.lambda, sys.stride, kDisp,
-                 sys.target);
+                 sys.target, sys.prescribedBase);
   set_ = ConstraintSet{};
   set_.stride = sys.stride;
   set_.flags = sys.flags;

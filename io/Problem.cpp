@@ -54,6 +54,110 @@ void checkTarget(const Mesh &mesh, const YamlItem &i, const std::string &target)
   checkNotEmpty(mesh, i, target);
 }
 
+DirichletSpec readDirichlet(const YamlItem &b, const Mesh &mesh, bool stage) {
+  const int dim = mesh.dim();
+  if (dim == 2 && b.has("uz"))
+    b["uz"].fail("uz applies to 3D meshes; this mesh is 2D");
+  std::vector<const char *> keys{"boundary", "node_set", "ux", "uy"};
+  if (dim == 3)
+    keys.push_back("uz");
+  if (stage)
+    keys.push_back("release");
+  b.allowOnly(keys);
+  if (b.has("boundary") == b.has("node_set"))
+    b.fail("give exactly one of 'boundary' or 'node_set'");
+  DirichletSpec d;
+  d.line = b.line();
+  const YamlItem t = b.has("boundary") ? b["boundary"] : b["node_set"];
+  d.target = t.string();
+  checkTarget(mesh, t, d.target);
+  if (b.has("ux"))
+    d.ux = b["ux"].number();
+  if (b.has("uy"))
+    d.uy = b["uy"].number();
+  if (b.has("uz"))
+    d.uz = b["uz"].number();
+  if (b.has("release")) {
+    // release: true (every component), or a list of component names
+    const YamlItem r = b["release"];
+    const char *names[3] = {"ux", "uy", "uz"};
+    if (r.node.IsScalar()) {
+      if (!r.boolean())
+        r.fail("release: true frees every component; to keep a support, leave release out");
+      for (int c = 0; c < dim; ++c)
+        d.release[c] = true;
+    } else {
+      r.requireSequence();
+      for (std::size_t k = 0; k < r.node.size(); ++k) {
+        const std::string c =
+            dim == 3 ? r.at(k).choice({"ux", "uy", "uz"}) : r.at(k).choice({"ux", "uy"});
+        d.release[c == "ux" ? 0 : c == "uy" ? 1 : 2] = true;
+      }
+    }
+    for (int c = 0; c < dim; ++c)
+      if (d.release[c] && b.has(names[c]))
+        b[names[c]].fail(std::string("component ") + names[c] +
+                         " is both released and prescribed by this entry");
+  }
+  const bool released = d.release[0] || d.release[1] || d.release[2];
+  if (!d.ux && !d.uy && !d.uz && !released)
+    b.fail(std::string(dim == 2 ? "a boundary condition needs 'ux' and/or 'uy'"
+                                : "a boundary condition needs one or more of 'ux', 'uy', 'uz'") +
+           (stage ? " (or 'release')" : ""));
+  return d;
+}
+
+LoadSpec readLoad(const YamlItem &l, const Problem &p) {
+  l.allowOnly({"boundary", "node_set", "region", "traction", "pressure", "force", "body_force",
+               "follower"});
+  LoadSpec s;
+  s.line = l.line();
+  const int kinds = l.has("traction") + l.has("pressure") + l.has("force") + l.has("body_force");
+  if (kinds != 1)
+    l.fail("give exactly one of 'traction', 'pressure', 'force' or 'body_force'");
+  if (l.has("traction") || l.has("pressure")) {
+    const YamlItem t = l.required("boundary");
+    s.target = t.string();
+    if (!p.mesh.hasBoundary(s.target))
+      t.fail("unknown boundary '" + s.target + "' (tractions and pressures act on boundaries)");
+    checkNotEmpty(p.mesh, t, s.target);
+    if (l.has("traction")) {
+      s.kind = LoadKind::Traction;
+      s.vector = l["traction"].vector(p.mesh.dim());
+    } else {
+      s.kind = LoadKind::Pressure;
+      s.pressure = l["pressure"].number();
+    }
+  } else if (l.has("force")) {
+    const YamlItem t = l.has("node_set") ? l["node_set"] : l.required("boundary");
+    s.target = t.string();
+    checkTarget(p.mesh, t, s.target);
+    s.kind = LoadKind::Force;
+    s.vector = l["force"].vector(p.mesh.dim());
+  } else {
+    const YamlItem t = l.required("region");
+    s.target = t.string();
+    if (p.mesh.regionIndex(s.target) < 0)
+      t.fail("unknown region '" + s.target + "'");
+    if (std::count(p.mesh.elementRegion.begin(), p.mesh.elementRegion.end(),
+                   p.mesh.regionIndex(s.target)) == 0)
+      t.fail("region '" + s.target +
+             "' is empty (no elements): the body force would act on "
+             "nothing");
+    s.kind = LoadKind::BodyForce;
+    s.vector = l["body_force"].vector(p.mesh.dim());
+  }
+  if (l.has("follower")) {
+    if (s.kind != LoadKind::Pressure)
+      l["follower"].fail("follower applies to pressures only (tractions, forces and body "
+                         "forces are dead loads)");
+    if (!p.model.geometricNonlinearity)
+      l["follower"].fail("follower pressure needs model: geometric_nonlinearity: true");
+    s.follower = l["follower"].boolean();
+  }
+  return s;
+}
+
 } // namespace detail
 
 namespace {
@@ -77,7 +181,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   if (!root.IsMap())
     top.fail("a problem file is a YAML map with keys mesh, model, materials, ...");
   top.allowOnly({"mesh", "model", "materials", "boundary_conditions", "loads", "contact", "hybrid",
-                 "steps", "solver", "output", "verification", "title"});
+                 "steps", "stages", "solver", "output", "verification", "title"});
 
   p.mesh = detail::readMesh(top.required("mesh"), baseDirectory);
   if (top.has("model"))
@@ -92,33 +196,8 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   const YamlItem bcs = top.required("boundary_conditions");
   if (!bcs.node.IsNull())
     bcs.requireSequence();
-  for (std::size_t i = 0; i < bcs.node.size(); ++i) {
-    const YamlItem b = bcs.at(i);
-    const int dim = p.mesh.dim();
-    if (dim == 2 && b.has("uz"))
-      b["uz"].fail("uz applies to 3D meshes; this mesh is 2D");
-    if (dim == 3)
-      b.allowOnly({"boundary", "node_set", "ux", "uy", "uz"});
-    else
-      b.allowOnly({"boundary", "node_set", "ux", "uy"});
-    if (b.has("boundary") == b.has("node_set"))
-      b.fail("give exactly one of 'boundary' or 'node_set'");
-    DirichletSpec d;
-    d.line = b.line();
-    const YamlItem t = b.has("boundary") ? b["boundary"] : b["node_set"];
-    d.target = t.string();
-    checkTarget(p.mesh, t, d.target);
-    if (b.has("ux"))
-      d.ux = b["ux"].number();
-    if (b.has("uy"))
-      d.uy = b["uy"].number();
-    if (b.has("uz"))
-      d.uz = b["uz"].number();
-    if (!d.ux && !d.uy && !d.uz)
-      b.fail(dim == 2 ? "a boundary condition needs 'ux' and/or 'uy'"
-                      : "a boundary condition needs one or more of 'ux', 'uy', 'uz'");
-    p.dirichlet.push_back(d);
-  }
+  for (std::size_t i = 0; i < bcs.node.size(); ++i)
+    p.dirichlet.push_back(detail::readDirichlet(bcs.at(i), p.mesh, false));
   if (p.dirichlet.empty())
     bcs.fail("no Dirichlet condition anywhere: the body is free to move as a rigid body");
   detail::checkDirichletConflicts(p.mesh, p.dirichlet, p.file, p.mesh.warnings);
@@ -126,58 +205,8 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   if (top.has("loads")) {
     const YamlItem loads = top["loads"];
     loads.requireSequence();
-    for (std::size_t i = 0; i < loads.node.size(); ++i) {
-      const YamlItem l = loads.at(i);
-      l.allowOnly({"boundary", "node_set", "region", "traction", "pressure", "force", "body_force",
-                   "follower"});
-      LoadSpec s;
-      s.line = l.line();
-      const int kinds =
-          l.has("traction") + l.has("pressure") + l.has("force") + l.has("body_force");
-      if (kinds != 1)
-        l.fail("give exactly one of 'traction', 'pressure', 'force' or 'body_force'");
-      if (l.has("traction") || l.has("pressure")) {
-        const YamlItem t = l.required("boundary");
-        s.target = t.string();
-        if (!p.mesh.hasBoundary(s.target))
-          t.fail("unknown boundary '" + s.target + "' (tractions and pressures act on boundaries)");
-        checkNotEmpty(p.mesh, t, s.target);
-        if (l.has("traction")) {
-          s.kind = LoadKind::Traction;
-          s.vector = l["traction"].vector(p.mesh.dim());
-        } else {
-          s.kind = LoadKind::Pressure;
-          s.pressure = l["pressure"].number();
-        }
-      } else if (l.has("force")) {
-        const YamlItem t = l.has("node_set") ? l["node_set"] : l.required("boundary");
-        s.target = t.string();
-        checkTarget(p.mesh, t, s.target);
-        s.kind = LoadKind::Force;
-        s.vector = l["force"].vector(p.mesh.dim());
-      } else {
-        const YamlItem t = l.required("region");
-        s.target = t.string();
-        if (p.mesh.regionIndex(s.target) < 0)
-          t.fail("unknown region '" + s.target + "'");
-        if (std::count(p.mesh.elementRegion.begin(), p.mesh.elementRegion.end(),
-                       p.mesh.regionIndex(s.target)) == 0)
-          t.fail("region '" + s.target +
-                 "' is empty (no elements): the body force would act on "
-                 "nothing");
-        s.kind = LoadKind::BodyForce;
-        s.vector = l["body_force"].vector(p.mesh.dim());
-      }
-      if (l.has("follower")) {
-        if (s.kind != LoadKind::Pressure)
-          l["follower"].fail("follower applies to pressures only (tractions, forces and body "
-                             "forces are dead loads)");
-        if (!p.model.geometricNonlinearity)
-          l["follower"].fail("follower pressure needs model: geometric_nonlinearity: true");
-        s.follower = l["follower"].boolean();
-      }
-      p.loads.push_back(s);
-    }
+    for (std::size_t i = 0; i < loads.node.size(); ++i)
+      p.loads.push_back(detail::readLoad(loads.at(i), p));
   }
 
   if (top.has("contact"))
@@ -185,6 +214,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
   if (top.has("hybrid"))
     detail::readHybrid(top, p, baseDirectory);
   detail::readSteps(top, p);
+  detail::readStages(top, p);
   detail::readSolver(top, p);
 
   if (top.has("output")) {

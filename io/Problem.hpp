@@ -50,6 +50,8 @@ struct MaterialSpec {
 struct DirichletSpec {
   std::string target;
   std::optional<double> ux, uy, uz; ///< uz: 3D meshes only
+  /// Stages after the first only: the components (x, y, z) this entry frees (`release`).
+  std::array<bool, 3> release{false, false, false};
   int line = 0;
 };
 
@@ -80,6 +82,29 @@ struct ContactSpec {
   std::array<bool, 2> forceDriven{false, false};     ///< components driven by a force instead
   std::array<double, 2> driveForce{0.0, 0.0};        ///< force on the obstacle at load factor 1
   bool statusFromStress = true; ///< mixed model: nodal stresses (true) or forces decide
+  int line = 0;
+};
+
+/// A rigid obstacle's drive at the end of a stage (a `contact:` entry of a stage): its
+/// displacement and the force on it, per component as the obstacle's own `drive` gives them.
+struct DriveSpec {
+  std::string boundary; ///< names the obstacle (its contact boundary)
+  std::array<double, 2> displacement{0.0, 0.0};
+  std::array<double, 2> force{0.0, 0.0};
+  std::array<bool, 2> forceDriven{false, false};
+  int line = 0;
+};
+
+/// One stage of a load history (`stages:`). Its loads, prescribed displacements and obstacle
+/// drives are the values reached at its end; it starts where the previous stage ended and moves
+/// linearly to them with its load factors. What a stage does not name keeps its value.
+struct StageSpec {
+  std::string name;
+  std::vector<double> loadFactors{1.0}; ///< within the stage, increasing, the last 1
+  std::vector<DirichletSpec> dirichlet; ///< end values, or components released
+  std::vector<LoadSpec> loads;          ///< end values per kind and target (they replace)
+  std::vector<DriveSpec> drives;        ///< end values per obstacle
+  NonlinearOptions nonlinear;           ///< the stage's iteration settings
   int line = 0;
 };
 
@@ -115,6 +140,10 @@ struct Problem {
   std::vector<ContactSpec> contact;
   std::optional<HybridSpec> hybrid;
   std::vector<double> loadFactors{1.0};
+  /// The load history (`stages:`); empty: one proportional stage, the top-level
+  /// boundary_conditions, loads and contact drives scaled by `loadFactors`. With stages, those
+  /// top-level entries are where the first stage goes (with its own entries).
+  std::vector<StageSpec> stages;
   /// Equilibrium iterations of geometrically nonlinear analyses (steps: iteration, tolerance...).
   NonlinearOptions nonlinear;
   /// Displacement model: the tangent of the iterations (steps: tangent).

@@ -16,6 +16,29 @@ constexpr int kMaxIncrements = 1000000;
 
 } // namespace
 
+void readIterationKeys(const YamlItem &s, NonlinearOptions &n) {
+  if (s.has("iteration")) {
+    const std::string v = s["iteration"].choice({"newton", "modified_newton", "none"});
+    n.method = v == "none"              ? IterationMethod::None
+               : v == "modified_newton" ? IterationMethod::ModifiedNewton
+                                        : IterationMethod::Newton;
+  }
+  if (s.has("tolerance"))
+    n.tolerance = s["tolerance"].positive();
+  if (s.has("residual_tolerance"))
+    n.residualTolerance = s["residual_tolerance"].positive();
+  if (s.has("max_iterations")) {
+    n.maxIterations = s["max_iterations"].integer();
+    if (n.maxIterations < 1)
+      s["max_iterations"].fail("must be at least 1");
+  }
+  if (s.has("max_cuts")) {
+    n.maxCuts = s["max_cuts"].integer();
+    if (n.maxCuts < 0)
+      s["max_cuts"].fail("must be 0 or more");
+  }
+}
+
 void readSteps(const YamlItem &top, Problem &p) {
   if (top.has("steps")) {
     const YamlItem s = top["steps"];
@@ -32,13 +55,7 @@ void readSteps(const YamlItem &top, Problem &p) {
                     " applies to geometrically nonlinear or contact analyses (model: "
                     "geometric_nonlinearity: true, or a contact: section); linear steps are single "
                     "solves");
-    auto &n = p.nonlinear;
-    if (s.has("iteration")) {
-      const std::string v = s["iteration"].choice({"newton", "modified_newton", "none"});
-      n.method = v == "none"              ? IterationMethod::None
-                 : v == "modified_newton" ? IterationMethod::ModifiedNewton
-                                          : IterationMethod::Newton;
-    }
+    readIterationKeys(s, p.nonlinear);
     if (s.has("tangent")) {
       if (p.model.formulation != Formulation::Displacement)
         s["tangent"].fail("tangent applies to formulation: displacement (the mixed model always "
@@ -50,20 +67,6 @@ void readSteps(const YamlItem &top, Problem &p) {
                           "meshes iterate with the exact tangent (issue 17)");
       if (const auto why = rules::reportTangentLaw(p.tangent, p.model.elasticLaw))
         s["tangent"].fail(*why);
-    }
-    if (s.has("tolerance"))
-      n.tolerance = s["tolerance"].positive();
-    if (s.has("residual_tolerance"))
-      n.residualTolerance = s["residual_tolerance"].positive();
-    if (s.has("max_iterations")) {
-      n.maxIterations = s["max_iterations"].integer();
-      if (n.maxIterations < 1)
-        s["max_iterations"].fail("must be at least 1");
-    }
-    if (s.has("max_cuts")) {
-      n.maxCuts = s["max_cuts"].integer();
-      if (n.maxCuts < 0)
-        s["max_cuts"].fail("must be 0 or more");
     }
     if (s.has("increments") && s.has("load_factors"))
       s.fail("give 'increments' or 'load_factors', not both");

@@ -124,36 +124,39 @@ void readContact(const YamlItem &list, Problem &p) {
       if (!(s.friction >= 0.0))
         c["friction"].fail("the friction coefficient must be 0 or positive");
     }
-    if (c.has("drive")) {
-      const YamlItem d = c["drive"];
-      d.requireMap();
-      d.allowOnly({"displacement", "force"});
-      // Per component either a displacement or a force (the other list holds null there).
-      std::array<int, 2> given{0, 0};
-      for (const char *key : {"displacement", "force"}) {
-        if (!d.has(key))
-          continue;
-        const YamlItem v = d[key];
-        if (!v.node.IsSequence() || v.node.size() != 2)
-          v.fail("expected a list of two entries [x, y] (numbers, or null for a component "
-                 "given by the other list)");
-        const bool force = std::string(key) == "force";
-        for (int i = 0; i < 2; ++i) {
-          if (v.at(i).node.IsNull())
-            continue;
-          ++given[i];
-          (force ? s.driveForce : s.driveDisplacement)[i] = v.at(i).number();
-          s.forceDriven[i] = force;
-        }
-      }
-      for (int i = 0; i < 2; ++i)
-        if (given[i] != 1)
-          d.fail(std::string("component ") + (i == 0 ? "x" : "y") +
-                 " of the drive must be given exactly once, as a displacement or as a force "
-                 "(write null in the other list)");
-    }
+    if (c.has("drive"))
+      readDrive(c["drive"], s.driveDisplacement, s.driveForce, s.forceDriven);
     p.contact.push_back(s);
   }
+}
+
+void readDrive(const YamlItem &d, std::array<double, 2> &displacement, std::array<double, 2> &force,
+               std::array<bool, 2> &forceDriven) {
+  d.requireMap();
+  d.allowOnly({"displacement", "force"});
+  // Per component either a displacement or a force (the other list holds null there).
+  std::array<int, 2> given{0, 0};
+  for (const char *key : {"displacement", "force"}) {
+    if (!d.has(key))
+      continue;
+    const YamlItem v = d[key];
+    if (!v.node.IsSequence() || v.node.size() != 2)
+      v.fail("expected a list of two entries [x, y] (numbers, or null for a component "
+             "given by the other list)");
+    const bool isForce = std::string(key) == "force";
+    for (int i = 0; i < 2; ++i) {
+      if (v.at(i).node.IsNull())
+        continue;
+      ++given[i];
+      (isForce ? force : displacement)[i] = v.at(i).number();
+      forceDriven[i] = isForce;
+    }
+  }
+  for (int i = 0; i < 2; ++i)
+    if (given[i] != 1)
+      d.fail(std::string("component ") + (i == 0 ? "x" : "y") +
+             " of the drive must be given exactly once, as a displacement or as a force "
+             "(write null in the other list)");
 }
 
 void readHybrid(const YamlItem &top, Problem &p, const std::string &baseDirectory) {

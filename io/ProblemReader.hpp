@@ -157,6 +157,19 @@ void checkNotEmpty(const Mesh &mesh, const YamlItem &i, const std::string &targe
 /// Refuses a name that is neither a boundary nor a node set of the mesh, or an empty one.
 void checkTarget(const Mesh &mesh, const YamlItem &i, const std::string &target);
 
+/// One boundary_conditions entry (`stage`: of a stage, where `release` is allowed).
+DirichletSpec readDirichlet(const YamlItem &b, const Mesh &mesh, bool stage);
+
+/// One loads entry.
+LoadSpec readLoad(const YamlItem &l, const Problem &p);
+
+/// A rigid obstacle's `drive` map: per component a displacement or a force.
+void readDrive(const YamlItem &d, std::array<double, 2> &displacement, std::array<double, 2> &force,
+               std::array<bool, 2> &forceDriven);
+
+/// stages: the load history (io/ProblemStages.cpp); after steps and contact.
+void readStages(const YamlItem &top, Problem &p);
+
 /// mesh: one mesh from a file or a generator, or several bodies (io/ProblemMesh.cpp).
 Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body = false);
 
@@ -172,6 +185,10 @@ void readContact(const YamlItem &list, Problem &p);
 
 /// hybrid: measured displacements on a boundary (io/ProblemContact.cpp).
 void readHybrid(const YamlItem &top, Problem &p, const std::string &baseDirectory);
+
+/// The iteration keys of `steps` (and of a stage) into `n`: iteration, tolerance,
+/// residual_tolerance, max_iterations, max_cuts.
+void readIterationKeys(const YamlItem &s, NonlinearOptions &n);
 
 /// steps: load factors and the equilibrium iterations (io/ProblemAnalysis.cpp).
 void readSteps(const YamlItem &top, Problem &p);

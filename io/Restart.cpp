@@ -153,6 +153,9 @@ RestartPoint readRestart(const std::string &directory) {
       r.step = k;
       r.converged = readAttribute<int>(g, "converged", H5T_NATIVE_INT, 0) != 0;
       r.loadFactor = readAttribute<double>(g, "load_factor", H5T_NATIVE_DOUBLE, 0.0);
+      r.stage = readAttribute<int>(g, "stage", H5T_NATIVE_INT, 1);
+      r.time = readAttribute<double>(g, "time", H5T_NATIVE_DOUBLE, r.loadFactor);
+      r.stageName = readStringAttribute(g, "stage_name");
       r.iterations = readAttribute<int>(g, "iterations", H5T_NATIVE_INT, 0);
       r.linearIterations = readAttribute<int>(g, "linear_iterations", H5T_NATIVE_INT, 0);
       r.residual = readAttribute<double>(g, "residual", H5T_NATIVE_DOUBLE, 0.0);

@@ -229,7 +229,10 @@ std::string number(double v) {
 /// One step's entry of summary.json (also kept in the step's HDF5 group for a restart).
 std::string stepSummary(const StepRecord &s) {
   std::ostringstream j;
-  j << "{\"step\": " << s.step << ", \"load_factor\": " << number(s.loadFactor)
+  j << "{\"step\": " << s.step << ", \"stage\": " << s.stage;
+  if (!s.stageName.empty())
+    j << ", \"stage_name\": " << jsonString(s.stageName);
+  j << ", \"time\": " << number(s.time) << ", \"load_factor\": " << number(s.loadFactor)
     << ", \"iterations\": " << s.iterations << ", \"linear_iterations\": " << s.linearIterations
     << ", \"residual\": " << number(s.residual) << ", \"setup_seconds\": " << number(s.setupSeconds)
     << ", \"solve_seconds\": " << number(s.solveSeconds)
@@ -461,6 +464,10 @@ void ResultsWriter::writeStep(const StepRecord &r, const StepFields &f, const Ch
       if (!f.hybrid.node.empty())
         writeHybrid(g, r, f.hybrid);
       writeAttribute(g, "load_factor", r.loadFactor, H5T_NATIVE_DOUBLE);
+      writeAttribute(g, "stage", r.stage, H5T_NATIVE_INT);
+      writeAttribute(g, "time", r.time, H5T_NATIVE_DOUBLE);
+      if (!r.stageName.empty())
+        writeStringAttribute(g, "stage_name", r.stageName);
       writeAttribute(g, "iterations", r.iterations, H5T_NATIVE_INT);
       writeAttribute(g, "linear_iterations", r.linearIterations, H5T_NATIVE_INT);
       writeAttribute(g, "residual", r.residual, H5T_NATIVE_DOUBLE);
@@ -578,14 +585,14 @@ void ResultsWriter::writeContact(long long group, const StepRecord &r, const Con
   std::ofstream csv = appendCsv("contact.csv", contactCsvStarted_,
                                 "step,load_factor,obstacle,node_id,status,gap,normal_force,"
                                 "tangential_force,angle_deg,arc,x,y,normal_stress,"
-                                "tangential_stress,sigma_nn,tau_nt");
+                                "tangential_stress,sigma_nn,tau_nt,stage,time");
   static const char *names[] = {"open", "stick", "slip"};
   for (hsize_t k = 0; k < n; ++k)
     csv << r.step << "," << r.loadFactor << "," << c.obstacle[k] + 1 << "," << c.node[k] << ","
         << names[c.status[k]] << "," << c.gap[k] << "," << c.normalForce[k] << ","
         << c.tangentForce[k] << "," << c.angle[k] * 180.0 / M_PI << "," << c.arc[k] << "," << c.x[k]
         << "," << c.y[k] << "," << c.normalStress[k] << "," << c.tangentStress[k] << ","
-        << c.sigmaNN[k] << "," << c.tauNT[k] << "\n";
+        << c.sigmaNN[k] << "," << c.tauNT[k] << "," << r.stage << "," << r.time << "\n";
   closeChecked(csv, directory_ + "/contact.csv");
 }
 
@@ -659,7 +666,7 @@ void ResultsWriter::writeXdmf() const {
     const StepArrays &has = w.arrays;
     const std::string base = "/steps/" + std::to_string(s.step);
     x << "     <Grid Name=\"step " << s.step << "\" GridType=\"Uniform\">\n"
-      << "      <Time Value=\"" << number(s.loadFactor) << "\"/>\n"
+      << "      <Time Value=\"" << number(s.time) << "\"/>\n"
       << "      <Topology TopologyType=\"" << names.topology << "\" NumberOfElements=\"" << ne
       << "\">\n";
     item("/mesh/elements", ne, mesh_.nodesPerElement, true);

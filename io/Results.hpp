@@ -22,8 +22,13 @@ namespace mixcon {
 
 /// Convergence record of one load step.
 struct StepRecord {
-  int step = 0;
-  double loadFactor = 0.0;
+  int step = 0;            ///< numbered continuously over all stages, from 1
+  double loadFactor = 0.0; ///< within its stage (the whole run without stages)
+  int stage = 1;           ///< the stage (1-based; 1 without stages)
+  std::string stageName;   ///< its name (empty without stages)
+  /// Pseudo-time of the load history: stage k runs from k - 1 to k, time = k - 1 + load factor
+  /// (the load factor without stages).
+  double time = 0.0;
   int iterations = 0;        ///< nonlinear (Newton) iterations; 1 for a linear step
   int linearIterations = 0;  ///< Krylov iterations summed over the step
   double residual = 0.0;     ///< relative residual of the last solve

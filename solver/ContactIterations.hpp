@@ -36,6 +36,9 @@ struct ContactCorrection {
   Kokkos::View<const double *, DeviceSpace> g;     ///< the residual f_int - f_ext
   /// Prescribed displacements at load factor 1 and the current total displacement (2 per node).
   Kokkos::View<const double *, DeviceSpace> prescribed, displacement;
+  /// Stages: the prescribed values the stage starts from (empty: none); the prescribed values
+  /// at lambda are prescribedBase + lambda prescribed.
+  Kokkos::View<const double *, DeviceSpace> prescribedBase;
   Kokkos::View<double *, DeviceSpace> rhs, target; ///< work vectors (one value per unknown)
   LinearSolver *solver = nullptr;
   double stiffnessScale = 0.0; ///< RMS diagonal of K^L (scales eliminated constraints)

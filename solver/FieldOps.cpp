@@ -168,13 +168,15 @@ void movedCoordinates(const Kokkos::View<const double **, Memory> &base, const C
 /// lambda g(width k + c) - u(width k + c) where flags(stride k + c) != 0 (c < width), 0
 /// elsewhere.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
-                    const ConstVec &u, double lambda, int stride, int width, const Vec &t) {
+                    const ConstVec &u, double lambda, int stride, int width, const Vec &t,
+                    const ConstVec &base) {
+  const bool hasBase = base.extent(0) > 0;
   Kokkos::parallel_for(
       "mixcon::nonlinear::prescribedStep", Kokkos::RangePolicy<Exec>(0, t.extent(0)),
       KOKKOS_LAMBDA(LocalIndex i) {
         // the displacement dof when i % stride < width
         const LocalIndex j = width * (i / stride) + i % stride;
-        t(i) = flags(i) ? lambda * g(j) - u(j) : 0.0;
+        t(i) = flags(i) ? (hasBase ? base(j) : 0.0) + lambda * g(j) - u(j) : 0.0;
       });
 }
 

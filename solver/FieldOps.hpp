@@ -106,8 +106,10 @@ void movedCoordinates(const Kokkos::View<const double **, Memory> &base, const C
 /// The remaining prescribed change of every constrained unknown: t(stride k + c) =
 /// lambda g(width k + c) - u(width k + c) where flags(stride k + c) != 0 (c < width: only
 /// displacement unknowns are flagged), 0 elsewhere; g and u hold `width` displacements per node.
+/// With `base` (stages; empty: none) the prescribed values are base + lambda g.
 void prescribedStep(const Kokkos::View<const int *, Memory> &flags, const ConstVec &g,
-                    const ConstVec &u, double lambda, int stride, int width, const Vec &t);
+                    const ConstVec &u, double lambda, int stride, int width, const Vec &t,
+                    const ConstVec &base = {});
 
 /// Solves the constrained tangent for the correction: rhs = -g on free rows; prescribed rows
 /// reach `target` (the remaining prescribed change). A freshly assembled tangent is constrained

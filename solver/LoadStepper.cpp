@@ -167,6 +167,7 @@ IncrementOutcome LoadStepper::advance(double target) {
     std::string why;
     if (attempt(next, out, why) && settleContact(next, out, why)) {
       model_.commit();
+      model_.noteCommitted();
       if (model_.contactIterations())
         model_.contactIterations()->commit();
       lambda_ = next;
@@ -176,7 +177,7 @@ IncrementOutcome LoadStepper::advance(double target) {
     model_.rollback();
     if (model_.contactIterations())
       model_.contactIterations()->rollback();
-    if (out.subincrements == 0 && lambda_ == 0.0)
+    if (out.subincrements == 0 && lambda_ == 0.0 && !resumed_)
       contactStarted_ = false; // back at the initial state: close the touching nodes again
     if (++out.cuts > options_.maxCuts) {
       std::ostringstream m;

@@ -50,7 +50,10 @@ public:
   void resume(double lambda) {
     lambda_ = lambda;
     contactStarted_ = model_.contactIterations() != nullptr;
+    resumed_ = true;
   }
+  /// The iteration settings from the next increment on (a stage's own).
+  void setOptions(const NonlinearOptions &options) { options_ = options; }
 
 private:
   bool attempt(double lambda, IncrementOutcome &out, std::string &why);
@@ -62,6 +65,7 @@ private:
   std::ostream *detail_; ///< log_ with Verbosity::Verbose, else nullptr
   double lambda_ = 0.0;
   bool contactStarted_ = false;
+  bool resumed_ = false; ///< continued from a committed state (restart, a later stage)
 };
 
 /// Convergence orders log(r_k+1 / r_k) / log(r_k / r_k-1) of a residual history (2: quadratic).

@@ -1,5 +1,6 @@
 // ModelBase: loads, constraints and displacement output shared by both models.
 #include <core/Transfer.hpp>
+#include <solver/FieldOps.hpp>
 #include <solver/ModelBase.hpp>
 
 #include <algorithm>
@@ -133,10 +134,116 @@ void ModelBase::updatePrescribed(const std::vector<PrescribedValue> &values) {
                        std::to_string(v.comp) + " is not prescribed; cannot update its value");
     prescribedHost_[i] = v.value;
   }
+  uploadPrescribed();
+}
+
+void ModelBase::uploadPrescribed() {
+  std::vector<double> base;
+  if (staged())
+    base = toHost(prescribedBase_);
   auto hp = hostMirror(prescribed_);
   for (std::size_t i = 0; i < prescribedHost_.size(); ++i)
-    hp(i) = prescribedHost_[i];
+    hp(i) = prescribedHost_[i] - (!base.empty() && constrainedHost_[i] ? base[i] : 0.0);
   copyToDevice(prescribed_, hp);
+}
+
+void ModelBase::beginStage() {
+  const LocalIndex n = dofs_.numOwned();
+  if (!staged()) {
+    loadBase_ = Kokkos::View<double *, Memory>("mixcon::model::loadBase", n);
+    prescribedBase_ = Kokkos::View<double *, Memory>("mixcon::model::prescribedBase", n);
+  }
+  // The constrained components have reached their end values; a component constrained now
+  // starts where it is.
+  Kokkos::deep_copy(prescribedBase_, u_);
+  Kokkos::deep_copy(load_, 0.0);
+  Kokkos::deep_copy(loadBase_, 0.0);
+  std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
+  stagedBase_.assign(n, 0.0);
+}
+
+void ModelBase::loadsToBase() {
+  auto h = copyToHost(load_);
+  for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
+    h(i) += stagedNodalForce_[i];
+  copyToDevice(loadBase_, h);
+  Kokkos::deep_copy(load_, 0.0);
+  std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
+}
+
+void ModelBase::release(LocalIndex node, int comp, double reaction) {
+  const LocalIndex i = dofs_.dof(node, comp);
+  constrainedHost_[i] = 0;
+  prescribedHost_[i] = 0.0;
+  stagedBase_.resize(constrainedHost_.size(), 0.0);
+  stagedBase_[i] += reaction;
+  stagedNodalForce_[i] -= reaction;
+}
+
+void ModelBase::commitStage() {
+  commitStaged();
+  if (!stagedBase_.empty()) {
+    auto h = copyToHost(loadBase_);
+    for (std::size_t i = 0; i < stagedBase_.size(); ++i)
+      h(i) += stagedBase_[i];
+    copyToDevice(loadBase_, h);
+    std::fill(stagedBase_.begin(), stagedBase_.end(), 0.0);
+  }
+  constraintsChanged();
+}
+
+void ModelBase::saveLoading(Checkpoint &state) const {
+  if (!staged())
+    return;
+  state.put("loading/load_base", toHost(loadBase_));
+  state.put("loading/load", toHost(load_));
+  state.put("loading/prescribed_base", toHost(prescribedBase_));
+  state.put("loading/prescribed_end", prescribedHost_);
+  state.putIntegers("loading/constrained", constrainedHost_);
+}
+
+void ModelBase::restoreLoading(const Checkpoint &state) {
+  if (!state.has("loading/load"))
+    return; // saved before the first stage change: the loads as set up
+  const std::size_t n = dofs_.numOwned();
+  if (!staged())
+    beginStage();
+  fromHost(state.get("loading/load_base", n), loadBase_);
+  fromHost(state.get("loading/load", n), load_);
+  fromHost(state.get("loading/prescribed_base", n), prescribedBase_);
+  prescribedHost_ = state.get("loading/prescribed_end", n);
+  constrainedHost_ = state.getIntegers<int>("loading/constrained", n);
+  std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
+  std::fill(stagedBase_.begin(), stagedBase_.end(), 0.0);
+  auto hc = hostMirror(isConstrained_);
+  for (std::size_t i = 0; i < n; ++i)
+    hc(i) = constrainedHost_[i];
+  copyToDevice(isConstrained_, hc);
+  uploadPrescribed();
+  constraintsChanged();
+}
+
+void ModelBase::subtractLoad(const Kokkos::View<double *, Memory> &g, int stride,
+                             double lambda) const {
+  fieldops::addDisplacementVector(g, stride, dim(), -lambda, load_);
+  if (staged())
+    fieldops::addDisplacementVector(g, stride, dim(), -1.0, loadBase_);
+}
+
+double ModelBase::appliedLoadNorm(double lambda) const {
+  if (!staged())
+    return std::abs(lambda) * fieldops::strideNorm(load_, 1, 0, 1, {}, 0);
+  const auto f = load_;
+  const auto b = loadBase_;
+  double sum = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::model::appliedLoadNorm", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, double &s) {
+        const double v = b(i) + lambda * f(i);
+        s += v * v;
+      },
+      sum);
+  return std::sqrt(sum);
 }
 
 LocalIndex ModelBase::numConstrained() const {
@@ -152,13 +259,10 @@ void ModelBase::commitStaged() {
   copyToDevice(load_, h);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
   auto hc = hostMirror(isConstrained_);
-  auto hp = hostMirror(prescribed_);
-  for (std::size_t i = 0; i < constrainedHost_.size(); ++i) {
+  for (std::size_t i = 0; i < constrainedHost_.size(); ++i)
     hc(i) = constrainedHost_[i];
-    hp(i) = prescribedHost_[i];
-  }
   copyToDevice(isConstrained_, hc);
-  copyToDevice(prescribed_, hp);
+  uploadPrescribed();
 }
 
 Kokkos::View<double *, DeviceSpace> scaledCopy(const Kokkos::View<const double *, DeviceSpace> &v,
@@ -208,6 +312,11 @@ ModelBase::reactionFrom(const Kokkos::View<const double *, Memory> &internalForc
   const auto load = toHost(load_);
   for (std::size_t i = 0; i < r.size(); ++i)
     r[i] -= loadFactor * load[i];
+  if (staged()) {
+    const auto base = toHost(loadBase_);
+    for (std::size_t i = 0; i < r.size(); ++i)
+      r[i] -= base[i];
+  }
   return r;
 }
 

@@ -91,17 +91,22 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
                      : assembleAlmansi<Elem>(Exec(), d, ConstVec(u_), map_, report ? none : a, g_);
     }
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
-    addDisplacementVector(g_, kDim, kDim, -lambda, load_);
+    subtractLoad(g_, kDim, lambda);
     if constexpr (kDim == 2) {
       if (report && !small_) // setup() refuses it in 3D
         assembleReportTangent<Elem>();
-      if (follower_.edges.extent(0) > 0)
+      if (follower_.edges.extent(0) > 0) {
+        const auto [pressure, factor] = followerPressureAt(lambda);
         assembleFollowerPressure<kDim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
-                                             ConstVec(follower_.pressure), lambda, d.thickness,
-                                             map_, a, g_);
+                                             pressure, factor, d.thickness, map_, a,
+                                             followerForce(g_));
+        addFollowerForce(g_, kDim);
+      }
     } else if (follower_.edges.extent(0) > 0) {
+      const auto [pressure, factor] = followerPressureAt(lambda);
       assembleFollowerFacePressure<kDim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
-                                               ConstVec(follower_.pressure), lambda, map_, a, g_);
+                                               pressure, factor, map_, a, followerForce(g_));
+      addFollowerForce(g_, kDim);
     }
   });
   return finishEvaluate(lambda, tangent, inverted, fint, g_, dim(), isConstrained_,
@@ -134,13 +139,15 @@ LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &incr
       contact_ && contact_->constrains()
           ? correctWithContact(lambda, dim(), tangent_, constrained_, isConstrained_, g_, rhs_,
                                target_, *solver_, du_)
-          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, dim(), dim(), target_),
+          : (prescribedStep(isConstrained_, prescribed_, u_, lambda, dim(), dim(), target_,
+                            prescribedBase_),
              constrainedSolve(tangent_, fresh_ || contactIterations() != nullptr, constrained_,
                               isConstrained_, g_, target_, rhs_, diag_, *solver_, du_,
                               solverSetupSeconds_));
   fresh_ = false;
   axpby(1.0, du_, 1.0, u_);
-  increment = relative(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  increment = relativeToHistory(strideNorm(du_, 1, 0, 1, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0),
+                                kDisplacementScale);
   return s;
 }
 

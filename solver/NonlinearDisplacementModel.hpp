@@ -55,7 +55,6 @@ private:
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
   CsrMatrix<Memory> tangent_, constrained_;
   Kokkos::View<double *, Memory> g_, committed_, du_, rhs_, target_, diag_;
-  FollowerLoads follower_;
   std::unique_ptr<LinearSolver> solver_;
 };
 

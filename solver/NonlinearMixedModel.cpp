@@ -70,7 +70,7 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   diag_ = Vec("mixcon::nonlinear::diagonal", kMixed * nn);
   work_ = CsrMatrix<Memory>{};
   constrained5_ = Kokkos::View<int *, Memory>("mixcon::nonlinear::constrained5", kMixed * nn);
-  scatter<int>(isConstrained_, kMixed, 0, kDisp, constrained5_, true);
+  constraintsChanged();
   Kokkos::deep_copy(committed_, u_);
   committedState_ = Vec("mixcon::nonlinear::committedState", kMixed * nn);
   Kokkos::deep_copy(committedState_, x_);
@@ -208,11 +208,14 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
           inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
                                                   stabilization_, map_, a, g_);
         fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
-        addDisplacementVector(g_, kMixed, kDisp, -lambda, load_);
-        if (follower_.edges.extent(0) > 0)
-          assembleFollowerPressure<kMixed, Elem>(
-              Exec(), current ? reference_.mesh : current_.mesh, ConstVec(x_), follower_.edges,
-              ConstVec(follower_.pressure), lambda, data_.thickness, map_, a, g_);
+        subtractLoad(g_, kMixed, lambda);
+        if (follower_.edges.extent(0) > 0) {
+          const auto [pressure, factor] = followerPressureAt(lambda);
+          assembleFollowerPressure<kMixed, Elem>(Exec(), current ? reference_.mesh : current_.mesh,
+                                                 ConstVec(x_), follower_.edges, pressure, factor,
+                                                 data_.thickness, map_, a, followerForce(g_));
+          addFollowerForce(g_, kMixed);
+        }
       });
   return finishEvaluate(lambda, tangent, inverted, fint, g_, kMixed, constrained5_,
                         form_ == MixedForm::Current ? reference_.mesh.coordinates
@@ -241,7 +244,7 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   if (matrixFree_ && mixedOptions_.method != MixedNewtonSolver::BlockTriangular)
     throw std::logic_error("nonlinear mixed model: the matrix-free Jacobian was set up for the "
                            "block-triangular solve");
-  prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, kDisp, target_);
+  prescribedStep(constrained5_, prescribed_, u_, lambda, kMixed, kDisp, target_, prescribedBase_);
   const LinearSolveStats s =
       contact_ && contact_->constrains()
           ? correctWithContact(lambda, kMixed, tangent_, work_, constrained5_, g_, rhs_, target_,
@@ -254,12 +257,13 @@ LinearSolveStats NonlinearMixedModel::correct(double lambda, double &increment) 
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateTotalDisplacement();
-  const double du =
-      relative(strideNorm(dx_, kMixed, 0, kDisp, {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  const double du = relativeToHistory(strideNorm(dx_, kMixed, 0, kDisp, {}, 0),
+                                      strideNorm(u_, 1, 0, 1, {}, 0), kDisplacementScale);
   // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
   const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
-  const double ds = relative(strideNorm(dx_, kMixed, kStressAt, kStress, {}, 0),
-                             std::max(strideNorm(stressOnly(), 1, 0, 1, {}, 0), stressFloor));
+  const double ds = relativeToHistory(
+      strideNorm(dx_, kMixed, kStressAt, kStress, {}, 0),
+      std::max(strideNorm(stressOnly(), 1, 0, 1, {}, 0), stressFloor), kStressScale);
   increment = std::max(du, ds);
   return s;
 }
@@ -406,5 +410,10 @@ std::vector<double> NonlinearMixedModel::interpolatedGaussStressHost() const {
 }
 
 std::vector<double> NonlinearMixedModel::contactStressHost() const { return toHost(stressOnly()); }
+
+void NonlinearMixedModel::constraintsChanged() {
+  if (constrained5_.extent(0) > 0)
+    scatter<int>(isConstrained_, kMixed, 0, kDisp, constrained5_, true);
+}
 
 } // namespace mixcon

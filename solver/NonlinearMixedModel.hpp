@@ -40,6 +40,7 @@ public:
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
   void rollback() override;
+  void constraintsChanged() override; ///< the flags over all unknowns anew
   void saveCommitted(Checkpoint &state) const override;
   void restoreCommitted(const Checkpoint &state) override;
   void setStressUpdate(StressUpdate u) { stressUpdate_ = u; }
@@ -124,7 +125,6 @@ private:
   double stabilization_ = 0.0;
   double maxModulus_ = 0.0; ///< largest diagonal entry of the materials' [C]
   Kokkos::View<int *, Memory> constrained5_;
-  FollowerLoads follower_;
   std::unique_ptr<LinearSolver> solver_;
 };
 

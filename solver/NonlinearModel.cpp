@@ -34,18 +34,44 @@ const char *iterationMethodName(IterationMethod m) {
 // ---------------------------------------------------------------------------------------------
 // NonlinearModel
 
-void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure) {
+void NonlinearModel::addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure,
+                                         double base) {
   for (const auto &e : edges) {
     followerEdges_.push_back(e);
     followerPressure_.push_back(pressure);
+    followerBase_.push_back(base);
   }
 }
 
+void NonlinearModel::clearFollowerPressures() {
+  followerEdges_.clear();
+  followerPressure_.clear();
+  followerBase_.clear();
+}
+
+void NonlinearModel::commitStage() {
+  ModelBase::commitStage();
+  follower_ = followerLoads();
+  contactElimination_ = ConstraintElimination{};
+}
+
+std::pair<Kokkos::View<const double *, NonlinearModel::Memory>, double>
+NonlinearModel::followerPressureAt(double lambda) const {
+  if (follower_.base.extent(0) == 0)
+    return {follower_.pressure, lambda};
+  const auto p = follower_.pressure, b = follower_.base, out = follower_.applied;
+  Kokkos::parallel_for(
+      "mixcon::nonlinear::followerPressureAt", Kokkos::RangePolicy<Exec>(0, p.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex k) { out(k) = b(k) + lambda * p(k); });
+  return {follower_.applied, 1.0};
+}
+
 NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
-  FollowerLoads f{Kokkos::View<LocalIndex *[2], Memory>("mixcon::nonlinear::followerEdges",
-                                                        followerEdges_.size()),
-                  Kokkos::View<double *, Memory>("mixcon::nonlinear::followerPressure",
-                                                 followerPressure_.size())};
+  FollowerLoads f;
+  f.edges = Kokkos::View<LocalIndex *[2], Memory>("mixcon::nonlinear::followerEdges",
+                                                  followerEdges_.size());
+  f.pressure = Kokkos::View<double *, Memory>("mixcon::nonlinear::followerPressure",
+                                              followerPressure_.size());
   auto he = hostMirror(f.edges);
   auto hp = hostMirror(f.pressure);
   for (std::size_t k = 0; k < followerEdges_.size(); ++k) {
@@ -55,6 +81,13 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
   }
   copyToDevice(f.edges, he);
   copyToDevice(f.pressure, hp);
+  if (staged()) { // a stage: each pressure starts from its base
+    f.base =
+        Kokkos::View<double *, Memory>("mixcon::nonlinear::followerBase", followerBase_.size());
+    f.applied =
+        Kokkos::View<double *, Memory>("mixcon::nonlinear::followerApplied", followerBase_.size());
+    copyToDevice(f.base, followerBase_);
+  }
   return f;
 }
 
@@ -74,11 +107,13 @@ double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex in
   } else {
     free = strideNorm(g, stride, 0, dim(), flags, 0);
   }
-  double fext = std::abs(lambda) * strideNorm(load_, 1, 0, 1, {}, 0);
+  double fext = std::max(appliedLoadNorm(lambda), followerNorm_);
+  followerNorm_ = 0.0;
   if (contact_)
     fext = contact_->externalForceNorm(fext);
-  const double r =
-      relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0))}));
+  last_[kForceScale] = std::max(fint, fext);
+  const double r = relative(free, std::max({fint, fext, forceFloor(strideNorm(u_, 1, 0, 1, {}, 0)),
+                                            kHistoryFraction * history_[kForceScale]}));
   fresh_ = tangent;
   assemblySeconds_ += seconds(start);
   invertedElement_ = inverted;
@@ -97,6 +132,35 @@ void NonlinearModel::setStiffnessScale(
   Vec d("mixcon::nonlinear::stiffnessDiagonal", k.numRows);
   fieldDiagonal(k, 1, 0, 1, d, 1.0);
   stiffnessScale_ = strideNorm(d, 1, 0, 1, {}, 0) / std::sqrt(std::max<double>(1.0, k.numRows));
+}
+
+Kokkos::View<double *, NonlinearModel::Memory>
+NonlinearModel::followerForce(const Kokkos::View<double *, Memory> &g) {
+  if (followerForce_.extent(0) != g.extent(0))
+    followerForce_ = Vec("mixcon::nonlinear::followerForce", g.extent(0));
+  else
+    Kokkos::deep_copy(followerForce_, 0.0);
+  return followerForce_;
+}
+
+void NonlinearModel::addFollowerForce(const Kokkos::View<double *, Memory> &g, int stride) {
+  axpby(1.0, followerForce_, 1.0, g);
+  followerNorm_ = strideNorm(followerForce_, stride, 0, dim(), {}, 0);
+}
+
+void NonlinearModel::noteCommitted() {
+  for (int k = 0; k < 3; ++k)
+    history_[k] = std::max(history_[k], last_[k]);
+}
+
+void NonlinearModel::setHistoryScales(const std::vector<double> &scales) {
+  for (std::size_t k = 0; k < 3 && k < scales.size(); ++k)
+    history_[k] = scales[k];
+}
+
+double NonlinearModel::relativeToHistory(double change, double norm, Scale scale) {
+  last_[scale] = norm;
+  return relative(change, std::max(norm, kHistoryFraction * history_[scale]));
 }
 
 double NonlinearModel::forceFloor(double displacementNorm) const {
@@ -172,6 +236,7 @@ LinearSolveStats NonlinearModel::correctWithContact(
   system.flags = flags;
   system.g = g;
   system.prescribed = prescribed_;
+  system.prescribedBase = prescribedBase_;
   system.displacement = u_;
   system.rhs = rhs;
   system.target = target;

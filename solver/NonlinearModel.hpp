@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mixcon {
@@ -26,7 +27,13 @@ public:
 
   /// A follower pressure p (reference value, scaled by the load factor; positive pushes into the
   /// body) on the current, deformed position of `edges` (element edges in 2D, faces in 3D).
-  void addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure);
+  /// Stages: `base` is the pressure the stage starts from, `pressure` its change over the stage.
+  void addFollowerPressure(const std::vector<BoundaryEdge> &edges, double pressure,
+                           double base = 0.0);
+  /// Removes every follower pressure (a new stage gives them again with their base).
+  void clearFollowerPressures();
+  /// ModelBase::commitStage, and the follower pressures and contact work copied anew.
+  void commitStage() override;
 
   /// Builds the sparsity pattern and the linear solver. Call after loads and constraints.
   virtual void setup(const LinearSolverOptions &options, MPI_Comm comm) = 0;
@@ -80,6 +87,15 @@ public:
   LocalIndex invertedElement() const { return invertedElement_; }
   std::string invertedElementMessage() const;
 
+  /// The largest force, displacement and stress norms of the committed states so far (3
+  /// values): below kHistoryFraction of them, a norm no longer scales the convergence criteria,
+  /// so that a body unloaded to zero converges (its forces and displacements go to round-off).
+  /// The load stepper calls noteCommitted() after every commit; a restart restores them.
+  void noteCommitted();
+  std::vector<double> historyScales() const { return {history_[0], history_[1], history_[2]}; }
+  void setHistoryScales(const std::vector<double> &scales);
+  static constexpr double kHistoryFraction = 1e-3;
+
   /// Quadrature-point output of the current state, in one kernel pass: coordinates (reference),
   /// the Cauchy stress of the Almansi law from the displacements, the spatial displacement
   /// gradient du/dx (4 per point), and the current coordinates.
@@ -93,9 +109,21 @@ protected:
   struct FollowerLoads {
     Kokkos::View<LocalIndex *[2], Memory> edges;
     Kokkos::View<double *, Memory> pressure;
+    Kokkos::View<double *, Memory> base;    ///< stages: the start of each pressure (else empty)
+    Kokkos::View<double *, Memory> applied; ///< stages: base + lambda pressure (work)
   };
   /// Device copy of the staged follower pressures (empty views when none).
   FollowerLoads followerLoads() const;
+  /// The follower pressures at lambda and the factor the kernels scale them by: (pressure,
+  /// lambda), or in a stage (base + lambda pressure, 1).
+  std::pair<Kokkos::View<const double *, Memory>, double> followerPressureAt(double lambda) const;
+  FollowerLoads follower_; ///< the device copy setup() and commitStage() make
+  /// The follower pressures' forces are assembled into followerForce(g) (zeroed, g's length) and
+  /// then added to g by addFollowerForce(g, stride), which notes their norm: the residual's
+  /// reference force includes them (a body loaded only by follower pressures starts at u = 0
+  /// with no internal force and no dead load).
+  Kokkos::View<double *, Memory> followerForce(const Kokkos::View<double *, Memory> &g);
+  void addFollowerForce(const Kokkos::View<double *, Memory> &g, int stride);
   LinearSolverOptions linearOptions_;
   double assemblySeconds_ = 0.0, solverSetupSeconds_ = 0.0;
   /// The correction `dx` with the contact constraints enforced (contact_ constrains()): solved
@@ -121,6 +149,11 @@ protected:
   void setStiffnessScale(const NodeGraph &graph,
                          const Kokkos::View<int ***, Kokkos::LayoutRight, Memory> &map);
   double stiffnessScale_ = 0.0;
+  /// The norms that scale the convergence criteria, in history_ and last_.
+  enum Scale { kForceScale = 0, kDisplacementScale = 1, kStressScale = 2 };
+  /// change / max(norm, kHistoryFraction times the largest committed `scale` norm); notes norm
+  /// as the current iterate's.
+  double relativeToHistory(double change, double norm, Scale scale);
   bool fresh_ = false; ///< the last evaluate() assembled a tangent not yet given to the solver
   LocalIndex invertedElement_ = -1;
   ContactIterations *contact_ = nullptr;
@@ -134,8 +167,11 @@ protected:
   Kokkos::View<double **, Memory> positions_;
 
 private:
+  double history_[3] = {0.0, 0.0, 0.0}, last_[3] = {0.0, 0.0, 0.0};
+  Kokkos::View<double *, Memory> followerForce_;
+  double followerNorm_ = 0.0; ///< of the last addFollowerForce, until finishEvaluate
   std::vector<BoundaryEdge> followerEdges_;
-  std::vector<double> followerPressure_;
+  std::vector<double> followerPressure_, followerBase_;
 };
 
 namespace detail {

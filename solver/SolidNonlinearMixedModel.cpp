@@ -54,7 +54,7 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   follower_ = followerLoads();
   const LocalIndex n = kUnknowns * mesh_.numNodes();
   flags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear3d::constrained", n);
-  scatter<int>(isConstrained_, kUnknowns, 0, dim(), flags_, true);
+  constraintsChanged();
   committed_ = Vec("mixcon::nonlinear3d::committed", n);
   g_ = Vec("mixcon::nonlinear3d::residual", n);
   dx_ = Vec("mixcon::nonlinear3d::correction", n);
@@ -119,11 +119,14 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
         Exec(), solid_.mesh,
         SolidMixedKernel<Elem, Memory, Law>{solid_.mesh, law, ConstVec(x_), {}}, map_, a, g_);
     fint = strideNorm(g_, kUnknowns, 0, dim(), {}, 0);
-    addDisplacementVector(g_, kUnknowns, dim(), -lambda, load_);
-    if (follower_.edges.extent(0) > 0)
+    subtractLoad(g_, kUnknowns, lambda);
+    if (follower_.edges.extent(0) > 0) {
+      const auto [pressure, factor] = followerPressureAt(lambda);
       assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), solid_.mesh, ConstVec(x_),
-                                                    follower_.edges, ConstVec(follower_.pressure),
-                                                    lambda, map_, a, g_);
+                                                    follower_.edges, pressure, factor, map_, a,
+                                                    followerForce(g_));
+      addFollowerForce(g_, kUnknowns);
+    }
   };
   if (mesh_.elementType == ElementType::Hex8)
     assemble(Hex8{});
@@ -134,7 +137,7 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
 }
 
 LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increment) {
-  prescribedStep(flags_, prescribed_, u_, lambda, kUnknowns, dim(), target_);
+  prescribedStep(flags_, prescribed_, u_, lambda, kUnknowns, dim(), target_, prescribedBase_);
   const LinearSolveStats s =
       iterative_ ? solveIterative()
                  : constrainedSolve(tangent_, fresh_, work_, flags_, g_, target_, rhs_, diag_,
@@ -142,13 +145,14 @@ LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increm
   fresh_ = false;
   axpby(1.0, dx_, 1.0, x_);
   updateDisplacement();
-  const double du =
-      relative(strideNorm(dx_, kUnknowns, 0, dim(), {}, 0), strideNorm(u_, 1, 0, 1, {}, 0));
+  const double du = relativeToHistory(strideNorm(dx_, kUnknowns, 0, dim(), {}, 0),
+                                      strideNorm(u_, 1, 0, 1, {}, 0), kDisplacementScale);
   // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
   const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
-  const double ds =
-      relative(strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
-               std::max(strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0), stressFloor));
+  const double ds = relativeToHistory(
+      strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
+      std::max(strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0), stressFloor),
+      kStressScale);
   increment = std::max(du, ds);
   return s;
 }
@@ -229,6 +233,11 @@ std::vector<double> SolidNonlinearMixedModel::reactionHost(double) const {
   Vec r("mixcon::nonlinear3d::reaction", dim() * mesh_.numNodes());
   gather(g_, kUnknowns, 0, dim(), r);
   return toHost(r);
+}
+
+void SolidNonlinearMixedModel::constraintsChanged() {
+  if (flags_.extent(0) > 0)
+    scatter<int>(isConstrained_, kUnknowns, 0, dim(), flags_, true);
 }
 
 } // namespace mixcon

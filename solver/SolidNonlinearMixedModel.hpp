@@ -42,6 +42,7 @@ public:
   LinearSolveStats correct(double lambda, double &increment) override;
   void commit() override;
   void rollback() override;
+  void constraintsChanged() override; ///< the flags over all unknowns anew
   void saveCommitted(Checkpoint &state) const override;
   void restoreCommitted(const Checkpoint &state) override;
 
@@ -77,7 +78,6 @@ private:
   Kokkos::View<int *, Memory> flags_; ///< constrained unknowns, 9 per node
   /// The unknowns, the last committed ones, the residual and the correction's work vectors.
   Kokkos::View<double *, Memory> x_, committed_, g_, dx_, rhs_, target_, diag_;
-  FollowerLoads follower_;
   std::unique_ptr<LinearSolver> solver_; ///< solver: direct, or the fall back of solver: amg
   MixedNewtonSolverOptions mixedOptions_;
   std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg

@@ -909,7 +909,7 @@ TEST(Cli, ContactRunWritesContactFieldsAndCsv) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header, "step,load_factor,obstacle,node_id,status,gap,normal_force,tangential_force,"
-                    "angle_deg,arc,x,y,normal_stress,tangential_stress,sigma_nn,tau_nt");
+                    "angle_deg,arc,x,y,normal_stress,tangential_stress,sigma_nn,tau_nt,stage,time");
   int rows = 0, closed = 0;
   for (std::string line; std::getline(csv, line); ++rows)
     closed += line.find(",slip,") != std::string::npos;
@@ -960,7 +960,7 @@ TEST(Cli, ContactTractionsOfAUniformlyCompressedBlock) {
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');)
       cells.push_back(c);
-    ASSERT_EQ(cells.size(), 16u) << line;
+    ASSERT_EQ(cells.size(), 18u) << line;
     EXPECT_EQ(cells[4], "slip") << line;
     EXPECT_NEAR(std::stod(cells[12]), expected, 1e-6 * expected) << line;
     EXPECT_NEAR(std::stod(cells[13]), 0.0, 1e-6 * expected) << line;
@@ -1318,7 +1318,7 @@ TEST(Cli, NodeToSegmentRunWritesTheMultipliers) {
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');)
       cells.push_back(c);
-    ASSERT_EQ(cells.size(), 16u) << line;
+    ASSERT_EQ(cells.size(), 18u) << line;
     EXPECT_EQ(cells[2], "1") << line; // the pair, numbered from 1
     EXPECT_EQ(cells[4], "slip") << line;
     EXPECT_NEAR(std::stod(cells[11]), 1.0 - 0.005, 1e-6) << line; // current y of the interface

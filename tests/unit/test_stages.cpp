@@ -1,0 +1,388 @@
+// Load histories (stages, issue 26): the problem grammar and its refusals, and runs that load,
+// hold, unload, prop and release, press and lift, through the C++ API (runAnalysis) and the
+// program. References: an elastic body's state depends only on its loads and supports, so a
+// body unloaded returns to zero, a support released under load leaves the state the load alone
+// gives, and stages that scale every load together equal the same load factors.
+#include <apps/Analysis.hpp>
+#include <io/Problem.hpp>
+#include <support/Program.hpp>
+#include <support/ResultsFile.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace mixcon;
+using mixcon::test::readStep;
+using mixcon::test::relativeDifference;
+using mixcon::test::stepsOf;
+
+/// Runs `yaml` through the C++ API into `dir`; returns the result.
+RunResult run(const std::string &yaml, const fs::path &dir) {
+  const Problem p = parseProblem(yaml, "stages.yaml", dir.string());
+  RunOptions o;
+  o.outputDirectory = dir.string();
+  return runAnalysis(p, o, MPI_COMM_WORLD);
+}
+
+double maxAbs(const std::vector<double> &v) {
+  double m = 0.0;
+  for (double x : v)
+    m = std::max(m, std::abs(x));
+  return m;
+}
+
+/// The message of the InputError that parsing `yaml` throws ("" when it does not).
+std::string refusal(const std::string &yaml) {
+  try {
+    parseProblem(yaml, "stages.yaml", ".");
+  } catch (const InputError &e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char *kCantilever = R"(
+mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: quad8}}
+model: {formulation: displacement, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0}, {node_set: left_center, uy: 0}]
+solver: {type: direct}
+)";
+
+} // namespace
+
+TEST(Stages, ReadsTheHistory) {
+  const Problem p = parseProblem(std::string(kCantilever) + R"(
+steps: {tolerance: 0.01}
+stages:
+  - {name: load, increments: 4, loads: [{boundary: right, traction: [0, -1]}]}
+  - {load_factors: [0.5, 1], max_iterations: 7,
+     boundary_conditions: [{node_set: right_center, uy: -0.1}]}
+  - {name: free, boundary_conditions: [{node_set: right_center, release: [uy]}]}
+)",
+                                 "stages.yaml", ".");
+  ASSERT_EQ(p.stages.size(), 3u);
+  EXPECT_EQ(p.stages[0].name, "load");
+  EXPECT_EQ(p.stages[0].loadFactors, (std::vector<double>{0.25, 0.5, 0.75, 1.0}));
+  ASSERT_EQ(p.stages[0].loads.size(), 1u);
+  EXPECT_EQ(p.stages[0].loads[0].vector[1], -1.0);
+  EXPECT_EQ(p.stages[1].name, "stage 2");
+  EXPECT_EQ(p.stages[1].loadFactors, (std::vector<double>{0.5, 1.0}));
+  EXPECT_EQ(p.stages[1].nonlinear.maxIterations, 7);
+  EXPECT_EQ(p.stages[1].nonlinear.tolerance, 0.01); // from steps
+  EXPECT_EQ(p.stages[0].nonlinear.maxIterations, p.nonlinear.maxIterations);
+  ASSERT_EQ(p.stages[2].dirichlet.size(), 1u);
+  EXPECT_TRUE(p.stages[2].dirichlet[0].release[1]);
+  EXPECT_FALSE(p.stages[2].dirichlet[0].release[0]);
+  EXPECT_EQ(p.stages[2].loadFactors, (std::vector<double>{1.0}));
+}
+
+TEST(Stages, RefusesWhatItCannotRunWithFileAndLine) {
+  const std::string base = kCantilever;
+  const std::string load = "loads: [{boundary: right, traction: [0, -1]}]";
+  const struct {
+    std::string yaml, expected;
+  } cases[] = {
+      {base + "stages: []\n", "stages.yaml:7:9: stages: needs at least one stage"},
+      {base + "steps: {increments: 3}\nstages: [{" + load + "}]\n",
+       "steps.increments: with stages, each stage gives its own increments"},
+      {base + "stages: [{load_factors: [0.5, 0.8], " + load + "}]\n",
+       "the last load factor of a stage must be 1"},
+      {base + "stages: [{load_factors: [0.5, 0.2, 1], " + load + "}]\n",
+       "stages[0].load_factors[1]: the load factors of a stage increase within (0, 1]"},
+      {base + "stages: [{boundary_conditions: [{boundary: left, release: [ux]}]}]\n",
+       "the first stage has nothing to release yet"},
+      {base + "stages: [{" + load +
+           "}, {boundary_conditions: [{node_set: right_center, release: true}]}]\n",
+       "releases ux of node"},
+      {base + "stages: [{" + load +
+           "}, {contact: [{boundary: right, drive: {displacement: [0, "
+           "1]}}]}]\n",
+       "no rigid obstacle of the contact section acts on 'right' (the problem has none"},
+      {base + "stages: [{loads: [{boundary: right, pressure: 1}]}, {loads: [{boundary: right, "
+              "pressure: 2, follower: false}]}]\n",
+       "a stage changes its value, not its kind"},
+      {base +
+           "verification: {type: cantilever, length: 10, height: 1, load: -1, tip: "
+           "right_center}\nstages: [{" +
+           load + "}]\n",
+       "verification: verification checks one proportional load"},
+      {base + "stages: [{name: a, " + load + "}, {name: a}]\n", "stage name 'a' given twice"},
+      {base + "stages: [{increment: 2, " + load + "}]\n", "unknown key 'increment'"},
+      {R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [4, 1], element: quad4}}
+model: {formulation: mixed, analysis: plane_stress}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
+stages: [{loads: [{boundary: right, traction: [0, -1]}]}]
+)",
+       "stages with formulation: mixed need geometric_nonlinearity: true"},
+      {R"(
+mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [3, 2], element: quad4}}
+model: {formulation: displacement, analysis: plane_strain}
+materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
+boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1],
+           drive: {force: [null, -10], displacement: [0, null]}}]
+stages: [{contact: [{boundary: arc, drive: {displacement: [0, -0.01]}}]}]
+)",
+       "component y of the obstacle on 'arc' is driven by a force"},
+  };
+  for (const auto &c : cases) {
+    const std::string message = refusal(c.yaml);
+    EXPECT_NE(message.find(c.expected), std::string::npos)
+        << "expected '" << c.expected << "' in: " << message << "\n"
+        << c.yaml;
+    EXPECT_EQ(message.rfind("stages.yaml:", 0), 0u) << message;
+  }
+}
+
+// Stages that move every load together are the load factors of one proportional stage: the same
+// steps, to round-off.
+TEST(Stages, StagesOfOneProportionalLoadEqualItsLoadFactors) {
+  test::ScratchDir dir("stages");
+  const std::string staged = std::string(kCantilever) + R"(
+stages:
+  - {name: half, loads: [{boundary: right, traction: [0, -1]}]}
+  - {name: whole, increments: 2, loads: [{boundary: right, traction: [0, -2]}]}
+)";
+  const std::string proportional = std::string(kCantilever) + R"(
+loads: [{boundary: right, traction: [0, -2]}]
+steps: {load_factors: [0.5, 0.75, 1.0]}
+)";
+  const RunResult a = run(staged, dir.path() / "staged");
+  const RunResult b = run(proportional, dir.path() / "proportional");
+  ASSERT_TRUE(a.converged && b.converged);
+  ASSERT_EQ(a.steps.size(), 3u);
+  EXPECT_EQ(a.steps[1].stage, 2);
+  EXPECT_EQ(a.steps[1].stageName, "whole");
+  EXPECT_DOUBLE_EQ(a.steps[1].loadFactor, 0.5);
+  EXPECT_DOUBLE_EQ(a.steps[1].time, 1.5);
+  for (int k = 1; k <= 3; ++k)
+    for (const char *field : {"displacement", "stress"})
+      EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", k, field),
+                                   readStep(dir.path() / "proportional", k, field)),
+                1e-9)
+          << "step " << k << " " << field;
+}
+
+namespace {
+
+/// A body loaded, held and unloaded: `model` and `mesh` lines, the loaded boundary, the load.
+struct HoldCase {
+  const char *name;
+  const char *setup; ///< mesh, model, materials, supports, solver
+  const char *load;  ///< the load entry
+  const char *zero;  ///< the same entry at zero
+};
+
+const HoldCase kHoldCases[] = {
+    {"displacement_2d", kCantilever, "{boundary: right, traction: [0, -2]}",
+     "{boundary: right, traction: [0, 0]}"},
+    {"displacement_2d_follower", kCantilever, "{boundary: top, pressure: 0.5}",
+     "{boundary: top, pressure: 0}"},
+    {"mixed_2d", R"(
+mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: quad8}}
+model: {formulation: mixed, analysis: plane_stress, thickness: 1.0, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0}, {node_set: left_center, uy: 0}]
+solver: {type: direct}
+)",
+     "{boundary: right, traction: [0, -2]}", "{boundary: right, traction: [0, 0]}"},
+    {"displacement_3d", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [8, 1, 1], element: hex8}}
+model: {formulation: displacement, geometric_nonlinearity: true}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+solver: {type: direct}
+)",
+     "{boundary: zmax, pressure: 20}", "{boundary: zmax, pressure: 0}"},
+    {"mixed_3d", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
+model: {formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+solver: {type: direct}
+)",
+     "{boundary: zmax, traction: [0, 0, -20]}", "{boundary: zmax, traction: [0, 0, 0]}"},
+};
+
+} // namespace
+
+// Loaded, held, unloaded: the hold keeps the loaded state, the unloading returns displacements
+// and stresses to zero (below 1e-9 of their loaded values), for both models in 2D and 3D and for
+// a follower pressure.
+TEST(Stages, ABodyLoadedHeldAndUnloadedReturnsToZero) {
+  test::ScratchDir dir("stages");
+  for (const HoldCase &c : kHoldCases) {
+    const std::string yaml = std::string(c.setup) + "stages:\n  - {name: load, increments: 3, " +
+                             "loads: [" + c.load + "]}\n  - {name: hold}\n" +
+                             "  - {name: unload, increments: 3, loads: [" + c.zero + "]}\n";
+    const fs::path out = dir.path() / c.name;
+    const RunResult r = run(yaml, out);
+    ASSERT_TRUE(r.converged) << c.name;
+    ASSERT_EQ(stepsOf(out).size(), 7u) << c.name;
+    for (const char *field : {"displacement", "stress"}) {
+      const auto loaded = readStep(out, 3, field);
+      ASSERT_GT(maxAbs(loaded), 0.0) << c.name;
+      // Held: the same state, to the equilibrium tolerance (a hold step iterates once more).
+      EXPECT_LE(relativeDifference(readStep(out, 4, field), loaded), 1e-5) << c.name << " hold";
+      EXPECT_LE(maxAbs(readStep(out, 7, field)), 1e-9 * maxAbs(loaded))
+          << c.name << " unloaded " << field;
+      // On the way down, at a third and two thirds of the load: the states of the way up
+      // (an elastic body's state depends on its load, not on the path).
+      EXPECT_LE(relativeDifference(readStep(out, 6, field), readStep(out, 1, field)), 1e-5)
+          << c.name << " unloading at 1/3";
+      EXPECT_LE(relativeDifference(readStep(out, 5, field), readStep(out, 2, field)), 1e-5)
+          << c.name << " unloading at 2/3";
+    }
+  }
+}
+
+// A prop added under load pushes the tip to its value; released under the same load, the
+// cantilever returns to the state the load alone gives (its support force ramps to zero).
+TEST(Stages, ASupportReleasedUnderLoadLeavesTheStateOfTheLoadAlone) {
+  test::ScratchDir dir("stages");
+  const std::string yaml = std::string(kCantilever) + R"(
+stages:
+  - {name: load, increments: 3, loads: [{boundary: right, traction: [0, -2]}]}
+  - {name: prop, increments: 2, boundary_conditions: [{node_set: right_center, uy: -0.05}]}
+  - {name: release, increments: 3,
+     boundary_conditions: [{node_set: right_center, release: [uy]}]}
+)";
+  const RunResult r = run(yaml, dir.path());
+  ASSERT_TRUE(r.converged);
+  ASSERT_EQ(r.steps.size(), 8u);
+  const Problem p = parseProblem(yaml, "stages.yaml", ".");
+  const std::size_t tip = 3 * static_cast<std::size_t>(p.mesh.nodesOf("right_center").at(0));
+  const auto loaded = readStep(dir.path(), 3, "displacement");
+  const auto propped = readStep(dir.path(), 5, "displacement");
+  // (results.h5 holds 3 displacement components per node)
+  EXPECT_LT(loaded[tip + 1], -0.2); // the unpropped tip deflects far more than the prop
+  EXPECT_NEAR(propped[tip + 1], -0.05, 1e-12);
+  // Half way through the prop stage the tip is half way between.
+  EXPECT_NEAR(readStep(dir.path(), 4, "displacement")[tip + 1], 0.5 * (loaded[tip + 1] - 0.05),
+              1e-12);
+  for (const char *field : {"displacement", "stress"})
+    EXPECT_LE(relativeDifference(readStep(dir.path(), 8, field), readStep(dir.path(), 3, field)),
+              1e-7)
+        << field;
+}
+
+// A linear body (no geometric nonlinearity) runs its stages through the iterating driver: each
+// step equals the linear solution of the loads it has reached.
+TEST(Stages, ALinearBodyGoesThroughItsStages) {
+  test::ScratchDir dir("stages");
+  const std::string setup = R"(
+mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: quad8}}
+model: {formulation: displacement, analysis: plane_stress, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0}, {node_set: left_center, uy: 0}]
+solver: {type: direct}
+)";
+  const RunResult staged = run(setup + R"(
+stages:
+  - {name: bend, loads: [{boundary: right, traction: [0, -1]}]}
+  - {name: pull, increments: 2, loads: [{boundary: right, traction: [3, 0]}]}
+)",
+                               dir.path() / "staged");
+  const RunResult linear =
+      run(setup + "loads: [{boundary: right, traction: [1.5, -0.5]}]\n", dir.path() / "linear");
+  ASSERT_TRUE(staged.converged && linear.converged);
+  // Half way through 'pull': traction (1.5, -0.5).
+  EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", 2, "displacement"),
+                               readStep(dir.path() / "linear", 1, "displacement")),
+            1e-9);
+}
+
+// Rigid contact: an obstacle driven down presses the quarter cylinder, driven back it lets go:
+// the contact forces vanish (the top node, touching at the start, may stay closed without force)
+// and the body returns to zero, with and without friction.
+TEST(Stages, ARigidObstaclePressedAndLiftedLetsGo) {
+  test::ScratchDir dir("stages");
+  for (const char *mu : {"0", "0.3"}) {
+    const std::string yaml = std::string(R"(
+mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
+model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
+boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: )") +
+                             mu + R"(}]
+stages:
+  - {name: press, increments: 4, contact: [{boundary: arc, drive: {displacement: [0, -0.016]}}]}
+  - {name: lift, increments: 4, contact: [{boundary: arc, drive: {displacement: [0, 0]}}]}
+solver: {type: direct}
+)";
+    const fs::path out = dir.path() / (std::string("mu") + mu);
+    const RunResult r = run(yaml, out);
+    ASSERT_TRUE(r.converged) << mu;
+    ASSERT_EQ(r.steps.size(), 8u);
+    EXPECT_GE(r.steps[3].contactClosed, 2) << mu;
+    EXPECT_DOUBLE_EQ(r.steps[3].obstacleMotion[1], -0.016);
+    EXPECT_DOUBLE_EQ(r.steps[5].obstacleMotion[1], -0.008); // half way up
+    EXPECT_LE(r.steps[7].contactClosed, 1) << mu;
+    EXPECT_LE(maxAbs(readStep(out, 8, "contact/normal_force")),
+              1e-9 * maxAbs(readStep(out, 4, "contact/normal_force")))
+        << mu;
+    const auto pressed = readStep(out, 4, "displacement");
+    EXPECT_LE(maxAbs(readStep(out, 8, "displacement")), 1e-9 * maxAbs(pressed)) << mu;
+  }
+}
+
+#if defined(MIXCON_APP)
+// The program: progress lines name the stage, steps are numbered continuously with their stage
+// and pseudo-time in summary.json, contact.csv and the XDMF time series ParaView animates.
+TEST(Stages, OutputNamesStagesAndNumbersStepsContinuously) {
+  test::ScratchDir dir("stages");
+  const fs::path file = dir.path() / "press.yaml";
+  std::ofstream(file) << R"(
+mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
+model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
+boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1]}]
+stages:
+  - {name: press, increments: 2, contact: [{boundary: arc, drive: {displacement: [0, -0.01]}}]}
+  - {name: hold}
+  - {name: lift, load_factors: [0.5, 1], contact: [{boundary: arc, drive: {displacement: [0, 0]}}]}
+solver: {type: direct}
+)";
+  std::string out;
+  ASSERT_EQ(test::runMixcon("run " + file.string() + " --output " + (dir.path() / "out").string(),
+                            out, dir.path()),
+            0)
+      << out;
+  EXPECT_NE(out.find("stage 2/3 'hold'  step 3/5  load factor 1"), std::string::npos) << out;
+  EXPECT_NE(out.find("stage 3/3 'lift'  step 5/5"), std::string::npos) << out;
+  std::stringstream summary;
+  summary << std::ifstream(dir.path() / "out" / "summary.json").rdbuf();
+  EXPECT_NE(summary.str().find("{\"step\": 4, \"stage\": 3, \"stage_name\": \"lift\", \"time\": "
+                               "2.5, \"load_factor\": 0.5"),
+            std::string::npos)
+      << summary.str();
+  std::stringstream xdmf;
+  xdmf << std::ifstream(dir.path() / "out" / "results.xdmf").rdbuf();
+  std::vector<double> times;
+  const std::string tag = "<Time Value=\"";
+  for (auto at = xdmf.str().find(tag); at != std::string::npos; at = xdmf.str().find(tag, at + 1))
+    times.push_back(std::stod(xdmf.str().substr(at + tag.size())));
+  EXPECT_EQ(times, (std::vector<double>{0.5, 1.0, 2.0, 2.5, 3.0}));
+  std::ifstream csv(dir.path() / "out" / "contact.csv");
+  std::string header, line, last;
+  std::getline(csv, header);
+  EXPECT_EQ(header.substr(header.size() - 11), ",stage,time") << header;
+  while (std::getline(csv, line))
+    last = line;
+  EXPECT_EQ(last.substr(last.size() - 4), ",3,3") << last;
+}
+#endif
