@@ -42,6 +42,24 @@ double relative(double num, double den) {
 }
 
 /// y(stride k + c) += alpha x(width k + c), c < width.
+void affine(const ConstVec &base, double lambda, const ConstVec &x, const Vec &out) {
+  Kokkos::parallel_for(
+      "mixcon::fieldops::affine", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) { out(i) = base(i) + lambda * x(i); });
+}
+
+double affineNorm(const ConstVec &base, double lambda, const ConstVec &x) {
+  double sum = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::fieldops::affineNorm", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, double &s) {
+        const double v = base(i) + lambda * x(i);
+        s += v * v;
+      },
+      sum);
+  return std::sqrt(sum);
+}
+
 void addDisplacementVector(const Vec &y, int stride, int width, double alpha, const ConstVec &x) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),

@@ -62,6 +62,12 @@ double relative(double num, double den);
 /// e.g. the load) into an interleaved one.
 void addDisplacementVector(const Vec &y, int stride, int width, double alpha, const ConstVec &x);
 
+/// out = base + lambda x, elementwise (a stage's applied values).
+void affine(const ConstVec &base, double lambda, const ConstVec &x, const Vec &out);
+
+/// ||base + lambda x||_2.
+double affineNorm(const ConstVec &base, double lambda, const ConstVec &x);
+
 /// dst(width k + c) = scale src(stride k + offset + c), k < dst.extent(0) / width (gathers a
 /// field out of an interleaved vector, e.g. the stresses out of the mixed model's kMixed unknowns
 /// per node).

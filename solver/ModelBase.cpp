@@ -233,17 +233,7 @@ void ModelBase::subtractLoad(const Kokkos::View<double *, Memory> &g, int stride
 double ModelBase::appliedLoadNorm(double lambda) const {
   if (!staged())
     return std::abs(lambda) * fieldops::strideNorm(load_, 1, 0, 1, {}, 0);
-  const auto f = load_;
-  const auto b = loadBase_;
-  double sum = 0.0;
-  Kokkos::parallel_reduce(
-      "mixcon::model::appliedLoadNorm", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex i, double &s) {
-        const double v = b(i) + lambda * f(i);
-        s += v * v;
-      },
-      sum);
-  return std::sqrt(sum);
+  return fieldops::affineNorm(loadBase_, lambda, load_);
 }
 
 LocalIndex ModelBase::numConstrained() const {

@@ -59,10 +59,7 @@ std::pair<Kokkos::View<const double *, NonlinearModel::Memory>, double>
 NonlinearModel::followerPressureAt(double lambda) const {
   if (follower_.base.extent(0) == 0)
     return {follower_.pressure, lambda};
-  const auto p = follower_.pressure, b = follower_.base, out = follower_.applied;
-  Kokkos::parallel_for(
-      "mixcon::nonlinear::followerPressureAt", Kokkos::RangePolicy<Exec>(0, p.extent(0)),
-      KOKKOS_LAMBDA(LocalIndex k) { out(k) = b(k) + lambda * p(k); });
+  affine(follower_.base, lambda, follower_.pressure, follower_.applied);
   return {follower_.applied, 1.0};
 }
 
