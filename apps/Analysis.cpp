@@ -440,6 +440,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   const int nstages = static_cast<int>(plan.size());
   const int firstStep = restart ? restart->lastStep() : 0;
   int stage = 0; // the stage the model is in
+  const auto announce = [&](int s) {
+    if (log)
+      *log << "mixcon: stage " << s + 1 << "/" << nstages << " '" << plan[s].name << "' ("
+           << plan[s].loadFactors.size() << " steps)\n";
+  };
   // Moves the model into stage `next` (0-based); `restoring`: a restart then restores the loading.
   const auto beginStage = [&](int next, bool restoring) {
     std::vector<double> reaction;
@@ -459,13 +464,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     stepper.setOptions(plan[next].nonlinear);
     stepper.resume(0.0);
     stage = next;
-    if (log && !restoring)
-      *log << "mixcon: stage " << next + 1 << "/" << nstages << " '" << plan[next].name << "' ("
-           << plan[next].loadFactors.size() << " steps)\n";
+    if (!restoring)
+      announce(next);
   };
-  if (log && nstages > 1 && !restart)
-    *log << "mixcon: stage 1/" << nstages << " '" << plan[0].name << "' ("
-         << plan[0].loadFactors.size() << " steps)\n";
+  if (nstages > 1 && !restart)
+    announce(0);
   if (restart) {
     const std::string from = restart->directory + "/results.h5";
     try {
@@ -475,6 +478,12 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
           throw std::runtime_error("the saved state is of stage " + std::to_string(saved + 1) +
                                    ", its step of stage " +
                                    std::to_string(steps[firstStep - 1].stage + 1));
+        if (restart->state.has("stepper/history") &&
+            restart->state.get("stepper/history", 2) != historyFingerprint(plan, saved))
+          throw std::runtime_error(
+              "its load history up to the restart point (stage " + std::to_string(saved + 1) +
+              ") is not the one of " + p.file +
+              ": the supports, loads and drives of the stages run so far must be the same");
         if (saved > 0)
           beginStage(saved, true);
       }
@@ -587,6 +596,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       state.putScalar("stepper/load_factor", stepper.loadFactor());
       state.putScalar("stepper/stage", stage + 1);
       state.put("stepper/history_scales", model.historyScales());
+      state.put("stepper/history", historyFingerprint(plan, stage));
       model.saveLoading(state);
     }
     recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, nstages, start,

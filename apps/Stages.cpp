@@ -3,6 +3,8 @@
 #include <contact/RigidContact.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <sstream>
 
 namespace mixcon {
 
@@ -75,6 +77,39 @@ std::vector<StagePlan> planStages(const Problem &p) {
     plan.push_back(stage);
   }
   return plan;
+}
+
+std::vector<double> historyFingerprint(const std::vector<StagePlan> &plan, int stage) {
+  std::ostringstream t;
+  t.precision(17);
+  for (int s = 0; s <= stage && s < static_cast<int>(plan.size()); ++s) {
+    const StagePlan &p = plan[static_cast<std::size_t>(s)];
+    t << "stage " << p.name << "\n";
+    for (const auto &d : p.dirichlet) {
+      t << "bc " << d.target;
+      for (const auto *v : {&d.ux, &d.uy, &d.uz}) {
+        t << " ";
+        if (*v)
+          t << **v;
+        else
+          t << "-";
+      }
+      t << " " << d.release[0] << d.release[1] << d.release[2] << "\n";
+    }
+    for (const auto &l : p.loads)
+      t << "load " << static_cast<int>(l.kind) << " " << l.target << " " << l.vector[0] << " "
+        << l.vector[1] << " " << l.vector[2] << " " << l.pressure << " " << l.follower << "\n";
+    for (std::size_t c = 0; c < p.drive.size(); ++c)
+      t << "drive " << c << " " << p.drive[c][0] << " " << p.drive[c][1] << " " << p.force[c][0]
+        << " " << p.force[c][1] << "\n";
+  }
+  // FNV-1a, 64 bits: the same on every build.
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char ch : t.str()) {
+    h ^= ch;
+    h *= 1099511628211ull;
+  }
+  return {static_cast<double>(h >> 32), static_cast<double>(h & 0xffffffffull)};
 }
 
 void applyConditions(const Mesh &mesh, const std::vector<DirichletSpec> &dirichlet,

@@ -45,6 +45,11 @@ void applyConditions(const Mesh &mesh, const std::vector<DirichletSpec> &dirichl
                      const std::vector<LoadSpec> &loads, ModelBase &model,
                      NonlinearModel *nonlinear, double scale = 1.0, double followerBase = 0.0);
 
+/// A fingerprint (64 bits as two 32-bit halves) of what the stages 0 ... `stage` apply: their
+/// names, supports, loads and drives. A restart checks that the problem's history up to its
+/// restart point is the saved run's.
+std::vector<double> historyFingerprint(const std::vector<StagePlan> &plan, int stage);
+
 /// Moves `model` from the end of stage `stage` - 1 into stage `stage` (0-based, >= 1): the loads,
 /// prescribed values and follower pressures reached become the base, the stage's changes the
 /// reference; released supports carry `reaction` (the reactions at the end of the previous

@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from study_util import run_variant  # noqa: E402
+from study_util import finish_figure, run_variant  # noqa: E402
 
 MU = 0.3
 
@@ -120,13 +120,9 @@ def plot(rows, path):
         previous = part[-1]
     ax.axhline(1.0, color="0.5", lw=0.8, ls="--")
     ax.axhline(-1.0, color="0.5", lw=0.8, ls="--")
-    ax.set_xlabel("sideways displacement of the block's top  u_x  [1e-3]")
-    ax.set_ylabel("tangential reaction  Q / (mu P)")
-    ax.set_title("Friction hysteresis of a load history (stages), mu = 0.3")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    finish_figure(fig, ax, path, "sideways displacement of the block's top  u_x  [1e-3]",
+                  "tangential reaction  Q / (mu P)",
+                  "Friction hysteresis of a load history (stages), mu = 0.3")
 
 
 def main():

@@ -23,3 +23,14 @@ def run_variant(mixcon, source, name, out, substitutions=()):
     if log.returncode != 0:
         sys.exit(f"mixcon failed on {name}:\n{log.stdout}\n{log.stderr}")
     return result
+
+
+def finish_figure(fig, ax, path, xlabel, ylabel, title, legend_size=8):
+    """Labels, legend and grid of a study's plot, then saves it as a PNG at `path`."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=legend_size)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)

@@ -211,10 +211,13 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body) {
                                  g.required("height").number(), div[0], div[1], et,
                                  g.has("grading") ? g["grading"].number() : 1.0);
       } else if (type == "half_disk") {
-        allow({"type", "element", "radius", "divisions"});
+        allow({"type", "element", "radius", "divisions", "grading"});
         const auto div = g.required("divisions").intPair();
         checkGeneratedSize(g["divisions"], 2.0 * div[0] * div[0] + 4.0 * div[0] * div[1]);
-        mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et);
+        const auto grading =
+            g.has("grading") ? g["grading"].pair() : std::array<double, 2>{1.0, 1.0};
+        mesh = halfDiskMesh(g.required("radius").number(), div[0], div[1], et, grading[0],
+                            grading[1]);
       } else if (type == "pinned_plate") {
         allow({"type", "element", "hole_radius", "half_width", "end_distance", "length",
                "divisions", "grading"});

@@ -12,6 +12,8 @@ namespace mixcon::detail {
 
 namespace {
 
+constexpr const char *kComponents[3] = {"ux", "uy", "uz"};
+
 /// The iteration keys of `steps` a stage may set for itself.
 constexpr const char *kIterationKeys[] = {"iteration", "tolerance", "residual_tolerance",
                                           "max_iterations", "max_cuts"};
@@ -65,9 +67,10 @@ DriveSpec stageDrive(const YamlItem &c, const Problem &p) {
   d.line = c.line();
   const YamlItem b = c.required("boundary");
   d.boundary = b.string();
-  const auto obstacle = std::find_if(p.contact.begin(), p.contact.end(), [&](const ContactSpec &o) {
+  const auto rigidOn = [&](const ContactSpec &o) {
     return o.type != "node_to_segment" && o.boundary == d.boundary;
-  });
+  };
+  const auto obstacle = std::find_if(p.contact.begin(), p.contact.end(), rigidOn);
   if (obstacle == p.contact.end()) {
     std::string names;
     for (const auto &o : p.contact)
@@ -78,6 +81,9 @@ DriveSpec stageDrive(const YamlItem &c, const Problem &p) {
                           : "obstacles on: " + names) +
            ")");
   }
+  if (std::count_if(p.contact.begin(), p.contact.end(), rigidOn) > 1)
+    b.fail("several rigid obstacles act on '" + d.boundary +
+           "'; a stage cannot tell which one it drives");
   readDrive(c.required("drive"), d.displacement, d.force, d.forceDriven);
   for (int i = 0; i < 2; ++i)
     if (d.forceDriven[i] != obstacle->forceDriven[i])
@@ -134,7 +140,7 @@ void readStages(const YamlItem &top, Problem &p) {
     stage.line = s.line();
     stage.name = s.has("name") ? s["name"].string() : "stage " + std::to_string(k + 1);
     if (!names.insert(stage.name).second)
-      s["name"].fail("stage name '" + stage.name + "' given twice");
+      (s.has("name") ? s["name"] : s).fail("stage name '" + stage.name + "' given twice");
     stage.loadFactors = stageLoadFactors(s);
     stage.nonlinear = stageIterations(s, p);
     if (s.has("boundary_conditions")) {
@@ -143,21 +149,44 @@ void readStages(const YamlItem &top, Problem &p) {
       for (std::size_t i = 0; i < bcs.node.size(); ++i) {
         const YamlItem b = bcs.at(i);
         DirichletSpec d = readDirichlet(b, p.mesh, true);
-        const char *componentNames[3] = {"ux", "uy", "uz"};
-        for (int c = 0; c < dim; ++c) {
-          if (!d.release[c])
-            continue;
+        if (b.has("release")) {
           if (k == 0)
             b["release"].fail("the first stage has nothing to release yet (its supports are "
                               "the top-level boundary_conditions and its own)");
+          // release: [ux, ...] names held components; release: true frees what is held there.
+          const bool named = !b["release"].node.IsScalar();
+          bool any = false;
           for (LocalIndex n : p.mesh.nodesOf(d.target))
-            if (!held[static_cast<std::size_t>(n) * dim + c])
-              b["release"].fail(std::string("releases ") + componentNames[c] + " of node " +
-                                std::to_string(p.mesh.nodeId(n)) + " on '" + d.target +
-                                "', which no earlier entry holds");
+            for (int c = 0; c < dim; ++c) {
+              const bool h = held[static_cast<std::size_t>(n) * dim + c] != 0;
+              any = any || (d.release[c] && h);
+              if (named && d.release[c] && !h)
+                b["release"].fail(std::string("releases ") + kComponents[c] + " of node " +
+                                  std::to_string(p.mesh.nodeId(n)) + " on '" + d.target +
+                                  "', which no earlier entry holds");
+            }
+          if (!any)
+            b["release"].fail("nothing on '" + d.target + "' is held: nothing to release");
         }
         stage.dirichlet.push_back(d);
       }
+      // A component is released or prescribed by a stage, not both (the outcome would depend on
+      // the order of the entries).
+      for (std::size_t i = 0; i < stage.dirichlet.size(); ++i)
+        for (std::size_t j = 0; j < stage.dirichlet.size(); ++j) {
+          const DirichletSpec &r = stage.dirichlet[i], &v = stage.dirichlet[j];
+          const std::optional<double> *values[3] = {&v.ux, &v.uy, &v.uz};
+          for (int c = 0; c < dim; ++c) {
+            if (!r.release[c] || !*values[c])
+              continue;
+            const auto rn = p.mesh.nodesOf(r.target), vn = p.mesh.nodesOf(v.target);
+            for (LocalIndex n : rn)
+              if (std::binary_search(vn.begin(), vn.end(), n))
+                bcs.at(j).fail(std::string("prescribes ") + kComponents[c] + " of node " +
+                               std::to_string(p.mesh.nodeId(n)) + ", which the entry at line " +
+                               std::to_string(r.line) + " releases in the same stage");
+          }
+        }
       // Within a stage, the same rule as at the top: one value per node component. A stage's
       // entry sets the end value of a support the top level (or an earlier stage) holds.
       checkDirichletConflicts(p.mesh, stage.dirichlet, p.file, p.mesh.warnings);
@@ -193,8 +222,14 @@ void readStages(const YamlItem &top, Problem &p) {
     if (s.has("contact")) {
       const YamlItem c = s["contact"];
       c.requireSequence();
-      for (std::size_t i = 0; i < c.node.size(); ++i)
-        stage.drives.push_back(stageDrive(c.at(i), p));
+      for (std::size_t i = 0; i < c.node.size(); ++i) {
+        const DriveSpec d = stageDrive(c.at(i), p);
+        for (const auto &e : stage.drives)
+          if (e.boundary == d.boundary)
+            c.at(i).fail("the obstacle on '" + d.boundary + "' is already driven at line " +
+                         std::to_string(e.line) + " of this stage");
+        stage.drives.push_back(d);
+      }
     }
     p.stages.push_back(stage);
   }

@@ -657,13 +657,25 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGra
   return mesh;
 }
 
-Mesh halfDiskMesh(double r, int n, int m, ElementType type) {
+Mesh halfDiskMesh(double r, int n, int m, ElementType type, double angularGrading,
+                  double radialGrading) {
   requirePositive("radius", r, "half_disk");
   requirePositive("divisions[0]", n, "half_disk");
   requirePositive("divisions[1]", m, "half_disk");
+  requirePositive("grading[0]", angularGrading, "half_disk");
+  requirePositive("grading[1]", radialGrading, "half_disk");
   const double c = 0.5 * r; // core: [-c, c] x [0, c]
+  // Grading: g clusters the core's x and the top block's arc parameter toward the middle (the
+  // arc point (0, r)), symmetrically; h clusters the curved blocks' radial parameter toward the
+  // arc. Shared edges use the same functions, so the blocks stay conforming.
+  const double p = angularGrading, q = radialGrading;
+  const auto g = [p](double u) {
+    const double s = 2.0 * u - 1.0;
+    return 0.5 + 0.5 * (s < 0.0 ? -std::pow(-s, p) : std::pow(s, p));
+  };
+  const auto h = [q](double s) { return 1.0 - std::pow(1.0 - s, q); };
   Patch core{[=](double u, double v) {
-               return std::array<double, 2>{(2 * u - 1) * c, v * c};
+               return std::array<double, 2>{(2 * g(u) - 1) * c, v * c};
              },
              2 * n,
              n,
@@ -671,7 +683,7 @@ Mesh halfDiskMesh(double r, int n, int m, ElementType type) {
   // Right block: u from the core edge x = c to the arc, v counter-clockwise from 0 to 45 deg.
   Patch right{[=](double u, double v) {
                 const double t = v * M_PI / 4;
-                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, u);
+                return lerp({c, v * c}, {r * std::cos(t), r * std::sin(t)}, h(u));
               },
               m,
               n,
@@ -679,8 +691,8 @@ Mesh halfDiskMesh(double r, int n, int m, ElementType type) {
   // Top block: u along the core's top edge (x from -c to c) and the arc from 135 down to 45
   // deg, v from the core to the arc (counter-clockwise (u, v)).
   Patch top{[=](double u, double v) {
-              const double t = 3 * M_PI / 4 - u * M_PI / 2;
-              return lerp({(2 * u - 1) * c, c}, {r * std::cos(t), r * std::sin(t)}, v);
+              const double t = 3 * M_PI / 4 - g(u) * M_PI / 2;
+              return lerp({(2 * g(u) - 1) * c, c}, {r * std::cos(t), r * std::sin(t)}, h(v));
             },
             2 * n,
             m,
@@ -688,7 +700,7 @@ Mesh halfDiskMesh(double r, int n, int m, ElementType type) {
   // Left block: u from the core edge x = -c to the arc, v counter-clockwise from 135 to 180 deg.
   Patch left{[=](double u, double v) {
                const double t = 3 * M_PI / 4 + v * M_PI / 4;
-               return lerp({-c, (1 - v) * c}, {r * std::cos(t), r * std::sin(t)}, u);
+               return lerp({-c, (1 - v) * c}, {r * std::cos(t), r * std::sin(t)}, h(u));
              },
              m,
              n,

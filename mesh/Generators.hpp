@@ -119,8 +119,11 @@ Mesh quarterDiskMesh(double r, int n, int m, ElementType type, double angularGra
 /// [0, r/2] of 2n x n elements and three curved blocks (0-45, 45-135, 135-180 degrees) m
 /// elements deep, so 4 n arc segments spaced every 45 / n degrees (a pin in a half model).
 /// Region "body"; boundaries "arc", "bottom" (y = 0); node sets "center", "arc_right" (r, 0),
-/// "arc_left" (-r, 0).
-Mesh halfDiskMesh(double r, int n, int m, ElementType type);
+/// "arc_left" (-r, 0). Grading as quarterDiskMesh's: `angularGrading` > 1 clusters the core's x
+/// and the top block's arc segments symmetrically toward the top (0, r) (a contact there),
+/// `radialGrading` > 1 the curved blocks' layers toward the arc.
+Mesh halfDiskMesh(double r, int n, int m, ElementType type, double angularGrading = 1.0,
+                  double radialGrading = 1.0);
 
 /// Half of a pin-loaded plate (y >= 0, symmetric about y = 0): a strip -e <= x <= l,
 /// 0 <= y <= b with a hole of radius r at the origin. An O-grid of three sectors of 60 degrees

@@ -41,7 +41,6 @@ double relative(double num, double den) {
   return num == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
 }
 
-/// y(stride k + c) += alpha x(width k + c), c < width.
 void affine(const ConstVec &base, double lambda, const ConstVec &x, const Vec &out) {
   Kokkos::parallel_for(
       "mixcon::fieldops::affine", Kokkos::RangePolicy<Exec>(0, out.extent(0)),
@@ -60,6 +59,7 @@ double affineNorm(const ConstVec &base, double lambda, const ConstVec &x) {
   return std::sqrt(sum);
 }
 
+/// y(stride k + c) += alpha x(width k + c), c < width.
 void addDisplacementVector(const Vec &y, int stride, int width, double alpha, const ConstVec &x) {
   Kokkos::parallel_for(
       "mixcon::nonlinear::addDisplacementVector", Kokkos::RangePolicy<Exec>(0, x.extent(0)),

@@ -173,6 +173,8 @@ void ModelBase::loadsToBase() {
 
 void ModelBase::release(LocalIndex node, int comp, double reaction) {
   const LocalIndex i = dofs_.dof(node, comp);
+  if (!constrainedHost_[i])
+    return; // already free (overlapping releases): its support force is carried once
   constrainedHost_[i] = 0;
   prescribedHost_[i] = 0.0;
   stagedBase_.resize(constrainedHost_.size(), 0.0);
@@ -215,11 +217,7 @@ void ModelBase::restoreLoading(const Checkpoint &state) {
   constrainedHost_ = state.getIntegers<int>("loading/constrained", n);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
   std::fill(stagedBase_.begin(), stagedBase_.end(), 0.0);
-  auto hc = hostMirror(isConstrained_);
-  for (std::size_t i = 0; i < n; ++i)
-    hc(i) = constrainedHost_[i];
-  copyToDevice(isConstrained_, hc);
-  uploadPrescribed();
+  uploadConstraints();
   constraintsChanged();
 }
 
@@ -248,6 +246,10 @@ void ModelBase::commitStaged() {
     h(i) += stagedNodalForce_[i];
   copyToDevice(load_, h);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
+  uploadConstraints();
+}
+
+void ModelBase::uploadConstraints() {
   auto hc = hostMirror(isConstrained_);
   for (std::size_t i = 0; i < constrainedHost_.size(); ++i)
     hc(i) = constrainedHost_[i];

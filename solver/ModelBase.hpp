@@ -60,32 +60,6 @@ public:
   void prescribe(LocalIndex node, int comp, double value);
   LocalIndex numConstrained() const;
 
-  // ---- Load histories (stages): a stage moves every load and prescribed value from where the
-  // previous stage ended (its base) to the values it names, linearly in its load factor lambda
-  // in [0, 1]: applied = base + lambda * reference. A run without stages has no base.
-  /// Begins a new stage after setup(): the prescribed values start from the current
-  /// displacements of the constrained components (a support added now holds its node where it
-  /// is), the reference loads are cleared. Then: the add* calls give the loads the stage starts
-  /// from, loadsToBase() makes them the base, the add* calls that follow give the stage's change
-  /// of the loads (end minus start), prescribe() the end values, release() frees components;
-  /// commitStage() copies it all to the device.
-  void beginStage();
-  /// Moves the loads given since beginStage() into the base (they are the stage's start).
-  void loadsToBase();
-  /// Frees component `comp` of `node` for the new stage. The support force it carried,
-  /// `reaction` (the component of reactionHost() at the end of the previous stage), joins the
-  /// base and is ramped to zero over the stage, so that the stage starts in equilibrium.
-  void release(LocalIndex node, int comp, double reaction);
-  /// Copies the new stage's loads, constraints and prescribed values to the device.
-  virtual void commitStage();
-  /// The loads, constraints and prescribed values of the current stage (base and reference)
-  /// into `state` under "loading/..." names (nothing without stages), and back: restoring makes
-  /// a restarted run continue inside its stage as the uninterrupted one would (throws
-  /// std::runtime_error when `state` does not fit).
-  void saveLoading(Checkpoint &state) const;
-  void restoreLoading(const Checkpoint &state);
-  /// True once a stage has begun: the applied loads have a base.
-  bool staged() const { return loadBase_.extent(0) > 0; }
   /// Throws InputError naming the mode when the prescribed components leave a body (a part of the
   /// mesh connected through elements) free to move as a rigid body: a translation or a rotation
   /// (three modes in 2D, six in 3D), whose stiffness is zero, so that the system is singular. The
@@ -129,6 +103,34 @@ public:
                                       const std::vector<LocalIndex> &nodes);
 
 protected:
+  // ---- Load histories (stages; public in NonlinearModel, whose driver runs them; the linear
+  // models solve lambda times their loads): a stage moves every load and prescribed value from
+  // where the previous stage ended (its base) to the values it names, linearly in its load factor
+  // lambda in [0, 1]: applied = base + lambda * reference. A run without stages has no base.
+  /// Begins a new stage after setup(): the prescribed values start from the current
+  /// displacements of the constrained components (a support added now holds its node where it
+  /// is), the reference loads are cleared. Then: the add* calls give the loads the stage starts
+  /// from, loadsToBase() makes them the base, the add* calls that follow give the stage's change
+  /// of the loads (end minus start), prescribe() the end values, release() frees components;
+  /// commitStage() copies it all to the device.
+  void beginStage();
+  /// Moves the loads given since beginStage() into the base (they are the stage's start).
+  void loadsToBase();
+  /// Frees component `comp` of `node` for the new stage. The support force it carried,
+  /// `reaction` (the component of reactionHost() at the end of the previous stage), joins the
+  /// base and is ramped to zero over the stage, so that the stage starts in equilibrium.
+  void release(LocalIndex node, int comp, double reaction);
+  /// Copies the new stage's loads, constraints and prescribed values to the device.
+  virtual void commitStage();
+  /// The loads, constraints and prescribed values of the current stage (base and reference)
+  /// into `state` under "loading/..." names (nothing without stages), and back: restoring makes
+  /// a restarted run continue inside its stage as the uninterrupted one would (throws
+  /// std::runtime_error when `state` does not fit).
+  void saveLoading(Checkpoint &state) const;
+  void restoreLoading(const Checkpoint &state);
+  /// True once a stage has begun: the applied loads have a base.
+  bool staged() const { return loadBase_.extent(0) > 0; }
+
   /// Copies the staged nodal forces (then clears them) and constraints to the device.
   void commitStaged();
   /// Host copy of internalForce - the applied load at `loadFactor` (the reactions).
@@ -181,6 +183,8 @@ private:
   std::vector<double> stagedBase_;       ///< stages: released support forces, added to the base
   /// Copies the prescribed reference values (end values, minus the base in a stage) to the device.
   void uploadPrescribed();
+  /// Copies the constraint flags, then the prescribed values, to the device.
+  void uploadConstraints();
 };
 
 /// A new vector lambda * v (device).

@@ -32,6 +32,13 @@ public:
                            double base = 0.0);
   /// Removes every follower pressure (a new stage gives them again with their base).
   void clearFollowerPressures();
+  /// Load histories (solver/ModelBase.hpp): what the stage driver (apps/Stages.cpp) calls.
+  using ModelBase::beginStage;
+  using ModelBase::loadsToBase;
+  using ModelBase::release;
+  using ModelBase::restoreLoading;
+  using ModelBase::saveLoading;
+  using ModelBase::staged;
   /// ModelBase::commitStage, and the follower pressures and contact work copied anew.
   void commitStage() override;
 

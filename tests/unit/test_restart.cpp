@@ -253,6 +253,8 @@ TEST(Restart, RefusesWhatItCannotContinue) {
   } refusals[] = {
       {changed("divisions: [8, 2]", "divisions: [9, 2]"), run.string(), "is not the mesh of"},
       {changed("increments: 6", "increments: 5"), run.string(), "must be the same"},
+      {changed("traction: [0, -10.0]", "traction: [0, -12.0]"), run.string(),
+       "its load history up to the restart point (stage 1) is not the one of"},
       {changed("formulation: displacement", "formulation: mixed"), run.string(),
        "the saved state is of the displacement model"},
       {file.string(), (tmp.path() / "none").string(), "no results to restart from"},

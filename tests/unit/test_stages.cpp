@@ -103,7 +103,7 @@ TEST(Stages, RefusesWhatItCannotRunWithFileAndLine) {
       {base + "stages: [{boundary_conditions: [{boundary: left, release: [ux]}]}]\n",
        "the first stage has nothing to release yet"},
       {base + "stages: [{" + load +
-           "}, {boundary_conditions: [{node_set: right_center, release: true}]}]\n",
+           "}, {boundary_conditions: [{node_set: right_center, release: [ux]}]}]\n",
        "releases ux of node"},
       {base + "stages: [{" + load +
            "}, {contact: [{boundary: right, drive: {displacement: [0, "
@@ -118,6 +118,15 @@ TEST(Stages, RefusesWhatItCannotRunWithFileAndLine) {
            load + "}]\n",
        "verification: verification checks one proportional load"},
       {base + "stages: [{name: a, " + load + "}, {name: a}]\n", "stage name 'a' given twice"},
+      {base + "stages: [{name: stage 2, " + load + "}, {}]\n",
+       "stages[1]: stage name 'stage 2' given twice"},
+      {base + "stages: [{" + load +
+           "}, {boundary_conditions: [{node_set: right_center, uy: 0}]}, {boundary_conditions: "
+           "[{node_set: right_center, release: [uy]}, {boundary: right, uy: 0.1}]}]\n",
+       "prescribes uy of node"},
+      {base + "stages: [{" + load +
+           "}, {boundary_conditions: [{boundary: right, release: true}]}]\n",
+       "nothing on 'right' is held: nothing to release"},
       {base + "stages: [{increment: 2, " + load + "}]\n", "unknown key 'increment'"},
       {R"(
 mesh: {generator: {type: rectangle, size: [10, 1], divisions: [4, 1], element: quad4}}
@@ -279,6 +288,31 @@ stages:
         << field;
 }
 
+// Overlapping releases (a boundary and a node set on it) free each component once: its support
+// force is ramped down once, so that the release stage follows the same path as with one entry.
+TEST(Stages, OverlappingReleasesCarryTheSupportForceOnce) {
+  test::ScratchDir dir("stages");
+  const std::string head = std::string(kCantilever) + R"(
+stages:
+  - {name: load, increments: 2, loads: [{boundary: right, traction: [0, -2]}]}
+  - {name: prop, boundary_conditions: [{boundary: right, uy: -0.05}]}
+)";
+  const RunResult one = run(head + R"(  - {name: release, increments: 2,
+     boundary_conditions: [{boundary: right, release: [uy]}]}
+)",
+                            dir.path() / "one");
+  const RunResult two = run(head + R"(  - {name: release, increments: 2,
+     boundary_conditions: [{boundary: right, release: [uy]}, {node_set: right_center, release: true}]}
+)",
+                            dir.path() / "two");
+  ASSERT_TRUE(one.converged && two.converged);
+  for (int k : {4, 5})
+    EXPECT_LE(relativeDifference(readStep(dir.path() / "two", k, "displacement"),
+                                 readStep(dir.path() / "one", k, "displacement")),
+              1e-12)
+        << "step " << k;
+}
+
 // A linear body (no geometric nonlinearity) runs its stages through the iterating driver: each
 // step equals the linear solution of the loads it has reached.
 TEST(Stages, ALinearBodyGoesThroughItsStages) {
@@ -307,36 +341,84 @@ stages:
 
 // Rigid contact: an obstacle driven down presses the quarter cylinder, driven back it lets go:
 // the contact forces vanish (the top node, touching at the start, may stay closed without force)
-// and the body returns to zero, with and without friction.
+// and the body returns to zero; the displacement model with and without friction, the mixed
+// model (geometrically nonlinear, its statuses from its nodal stresses) with friction.
 TEST(Stages, ARigidObstaclePressedAndLiftedLetsGo) {
   test::ScratchDir dir("stages");
-  for (const char *mu : {"0", "0.3"}) {
+  const struct {
+    const char *name, *model, *mu;
+  } cases[] = {
+      {"displacement", "{formulation: displacement, analysis: plane_strain}", "0"},
+      {"displacement_friction", "{formulation: displacement, analysis: plane_strain}", "0.3"},
+      {"mixed_friction",
+       "{formulation: mixed, analysis: plane_strain, geometric_nonlinearity: true}", "0.3"},
+  };
+  for (const auto &c : cases) {
     const std::string yaml = std::string(R"(
 mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
-model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
+model: )") + c.model + R"(
 materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
 boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
-contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: )") +
-                             mu + R"(}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: )" +
+                             c.mu + R"(}]
 stages:
   - {name: press, increments: 4, contact: [{boundary: arc, drive: {displacement: [0, -0.016]}}]}
   - {name: lift, increments: 4, contact: [{boundary: arc, drive: {displacement: [0, 0]}}]}
 solver: {type: direct}
 )";
-    const fs::path out = dir.path() / (std::string("mu") + mu);
+    const fs::path out = dir.path() / c.name;
     const RunResult r = run(yaml, out);
-    ASSERT_TRUE(r.converged) << mu;
+    ASSERT_TRUE(r.converged) << c.name;
     ASSERT_EQ(r.steps.size(), 8u);
-    EXPECT_GE(r.steps[3].contactClosed, 2) << mu;
+    EXPECT_GE(r.steps[3].contactClosed, 1) << c.name;
     EXPECT_DOUBLE_EQ(r.steps[3].obstacleMotion[1], -0.016);
     EXPECT_DOUBLE_EQ(r.steps[5].obstacleMotion[1], -0.008); // half way up
-    EXPECT_LE(r.steps[7].contactClosed, 1) << mu;
+    EXPECT_LE(r.steps[7].contactClosed, 1) << c.name;
     EXPECT_LE(maxAbs(readStep(out, 8, "contact/normal_force")),
               1e-9 * maxAbs(readStep(out, 4, "contact/normal_force")))
-        << mu;
-    const auto pressed = readStep(out, 4, "displacement");
-    EXPECT_LE(maxAbs(readStep(out, 8, "displacement")), 1e-9 * maxAbs(pressed)) << mu;
+        << c.name;
+    for (const char *field : {"displacement", "stress"})
+      EXPECT_LE(maxAbs(readStep(out, 8, field)), 1e-9 * maxAbs(readStep(out, 4, field)))
+          << c.name << " " << field;
   }
+}
+
+// A force-driven pin (the report's wood plate with the displacement model): stages that raise
+// the force on the pin from half to all of it equal the load factors 0.5 and 1 (the force on
+// the obstacle has a base too).
+TEST(Stages, AForceDrivenObstacleFollowsItsStages) {
+  test::ScratchDir dir("stages");
+  const std::string setup = R"(
+mesh: {generator: {type: pinned_plate, element: quad4, hole_radius: 0.5, half_width: 2.0,
+                   end_distance: 4.0, length: 8.0, divisions: [4, 6, 4, 9], grading: 1.25}}
+model: {formulation: displacement, analysis: plane_stress}
+materials: [{region: body, type: orthotropic, E1: 1.8e6, E2: 9.0e4, G12: 1.17e5, nu12: 0.45}]
+boundary_conditions: [{boundary: bottom, uy: 0}, {boundary: far, ux: 0}]
+solver: {type: direct}
+contact:
+  - {type: rigid_circle, boundary: hole, center: [0, 0], radius: 0.5, friction: 0.7,
+     drive: {force: [-200, null], displacement: [null, 0]}}
+)";
+  const RunResult staged = run(setup + R"(
+stages:
+  - {name: half, contact: [{boundary: hole, drive: {force: [-100, null], displacement: [null, 0]}}]}
+  - {name: all, contact: [{boundary: hole, drive: {force: [-200, null], displacement: [null, 0]}}]}
+)",
+                               dir.path() / "staged");
+  const RunResult proportional =
+      run(setup + "steps: {load_factors: [0.5, 1]}\n", dir.path() / "proportional");
+  ASSERT_TRUE(staged.converged && proportional.converged);
+  ASSERT_EQ(staged.steps.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k)
+    EXPECT_NEAR(staged.steps[k].obstacleMotion[0], proportional.steps[k].obstacleMotion[0],
+                1e-9 * std::abs(proportional.steps[1].obstacleMotion[0]))
+        << "step " << k + 1;
+  for (int k : {1, 2})
+    for (const char *field : {"displacement", "contact/normal_force"})
+      EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", k, field),
+                                   readStep(dir.path() / "proportional", k, field)),
+                1e-8)
+          << "step " << k << " " << field;
 }
 
 #if defined(MIXCON_APP)
