@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
-"""Cattaneo-Mindlin partial slip (K. L. Johnson, Contact Mechanics, 1985, sec. 7.1, cylinders):
+"""Cattaneo-Mindlin partial slip and its unloading (Mindlin-Deresiewicz; K. L. Johnson, Contact
+Mechanics, 1985, sec. 7.1-7.2, cylinders):
 runs mixcon on examples/cattaneo_mindlin/press_then_shear.yaml (an elastic cylinder pressed onto
 an elastic block of the same material by P, then sheared by Q < mu P: two stages) and on the same
 end loads applied proportionally (one stage), and compares with the closed form for elastically
 similar bodies (the normal and tangential problems uncouple):
     b = sqrt(8 P R (1 - nu^2) / (pi E)),  p(x) = p0 sqrt(1 - x^2/b^2),  p0 = 2 P / (pi b),
     c = b sqrt(1 - Q / (mu P))   (the stick zone |x| < c),
-    q(x) = mu p(x) - [|x| < c] mu p0 (c/b) sqrt(1 - x^2/c^2).
+    q(x) = mu p(x) - [|x| < c] mu p0 (c/b) sqrt(1 - x^2/c^2);
+taken back from Q* to Q, reverse slip in c' < |x| < b, c' = b sqrt(1 - (Q* - Q)/(2 mu P)), and
+    q(x) = q*(x) - 2 mu p0 [sqrt(1 - x^2/b^2) - [|x| < c'] (c'/b) sqrt(1 - x^2/c'^2)].
 P and Q are the reactions on the cylinder's driven diameter; b is measured as the half extent of
-the closed contactor nodes (plus half a node spacing), c as that of the stick nodes. The shear
+the closed contactor nodes (plus half a node spacing), c as half the number of stick nodes
+times the node spacing. The shear
 tractions are compared through their running integral (the tangential contact forces summed
 from the contact's edge: node-to-segment stick multipliers on non-matching meshes oscillate node
 to node, their sums are what the nodes carry), relative to mu P.
@@ -18,6 +22,8 @@ to node, their sums are what the nodes carry), relative to mu P.
   - the running integral of the shear traction within 4 % of mu P (--mesh fine: 3.5 %), and the
     slip nodes' tractions on the cone, |q| = mu p (1e-6);
   - the measured b within 3 % of Hertz's (with the computed P);
+  - every unloading step: c' and the running integral as above (the residual tractions of the
+    unloading solution);
 and for the proportional run (16 increments to the P and Q of the shear step nearest
 Q / mu P = 0.6; its sideways displacement found by one secant step), no slip anywhere at the end
 while pressed first the same loads have a slip zone: the history matters.
@@ -57,7 +63,10 @@ SEQUENCE = """  - name: press
     boundary_conditions: [{boundary: cylinder.bottom, uy: 0.02}]
   - name: shear
     increments: 6
-    boundary_conditions: [{boundary: cylinder.bottom, ux: 0.012}]"""
+    boundary_conditions: [{boundary: cylinder.bottom, ux: 0.012}]
+  - name: unshear
+    increments: 8
+    boundary_conditions: [{boundary: cylinder.bottom, ux: -0.004}]"""
 
 
 def proportional(ux):
@@ -98,26 +107,45 @@ def steps(result):
     return out
 
 
-def analyse(s):
+def analyse(s, loaded=None):
     """Measured b, c, centre; closed-form c; the largest error of the shear traction's running
-    integral over mu P; the slip nodes' largest | |q| - mu p | over mu p0."""
+    integral over mu P; the slip nodes' largest | |q| - mu p | over mu p0. With `loaded` (the
+    step where the shear turned back, Q*), the unloading's: c = c' = b (1 - (Q* - Q)/2 mu P)^1/2
+    and q = q* - 2 mu p0 [(1 - x^2/b^2)^1/2 - (c'/b)(1 - x^2/c'^2)^1/2] (Mindlin-Deresiewicz)."""
     closed, stick = s["status"] > 0, s["status"] == 1
     h, x = s["h"], s["x"]
     b = 0.5 * (x[closed].max() - x[closed].min()) + 0.5 * h
     x0 = 0.5 * (x[closed].max() + x[closed].min())
-    c = 0.5 * (x[stick].max() - x[stick].min()) + 0.5 * h if stick.any() else 0.0
+    # The stick zone's half-width from the stick nodes' share of the contact: each node stands
+    # for one spacing (an edge node at almost no pressure, or an interior one where the stick
+    # multipliers scatter, may flip alone; the count is robust to both).
+    c = 0.5 * h * int(stick.sum())
     P, Q = s["P"], s["Q"]
     ratio = Q / (MU * P)
     p0 = 2.0 * P / (math.pi * b)
-    c_cf = b * math.sqrt(max(0.0, 1.0 - ratio))
-    sign = np.sign(s["T"].sum()) or 1.0
+    # The shear tractions' running integral from the edge: Cattaneo-Mindlin's with stick zone
+    # cs, minus twice the one of the reverse slip with stick zone cu when unloading.
+    def shear_integral(end, cs):
+        f = MU * p0 * b * running_circle(end / b)
+        return f - MU * p0 * cs * (cs / b) * running_circle(end / cs) if cs > 0 else f
+
+    if loaded is None:
+        c_cf = b * math.sqrt(max(0.0, 1.0 - ratio))
+    else:
+        q_star = loaded["Q"]
+        c_star = b * math.sqrt(max(0.0, 1.0 - q_star / (MU * P)))
+        c_cf = b * math.sqrt(max(0.0, 1.0 - (q_star - Q) / (2.0 * MU * P)))
+    sign = 1.0 if loaded is not None else (np.sign(s["T"].sum()) or 1.0)
+    if loaded is not None:
+        sign = np.sign(loaded["T"].sum()) or 1.0  # the loading's direction
     cumulative = np.cumsum(sign * s["T"])
     err = 0.0
     for j in range(len(x)):
         end = x[j] - x0 + 0.5 * h  # the node's share ends half a spacing on
-        cf = MU * p0 * b * running_circle(end / b)
-        if c_cf > 0:
-            cf -= MU * p0 * c_cf * (c_cf / b) * running_circle(end / c_cf)
+        if loaded is None:
+            cf = shear_integral(end, c_cf)
+        else:
+            cf = shear_integral(end, c_star) - 2.0 * shear_integral(end, c_cf)
         err = max(err, abs(cumulative[j] - cf) / (MU * P))
     slip = s["status"] == 2
     cone = (np.abs(np.abs(s["q"][slip]) - MU * s["p"][slip]).max() / (MU * p0)
@@ -207,6 +235,19 @@ def main():
         check(f"step {s['step']}: slip nodes on the cone |q| = mu p", r["cone_error"] <= 1e-6,
               f"{r['cone_error']:.1e} of mu p0")
     check("at least two Q/muP in [0.25, 0.85]", checked >= 2, f"{checked} steps")
+    # Unloading (Mindlin-Deresiewicz): from Q* at the end of the shear back to about -Q*/2.
+    for s in [s for s in staged if s["stage"] == "unshear"]:
+        r = analyse(s, shear[-1])
+        drop = (shear[-1]["Q"] - s["Q"]) / (2 * MU * s["P"])
+        rows.append([s["step"], r["ratio"], r["b"], r["b_hertz"], r["c"], r["c_cf"],
+                     r["integral_error"], r["stick"], r["slip"]])
+        bound = max(0.03 * r["b"], s["h"])
+        check(f"step {s['step']}, unloading (Q*-Q)/2muP = {drop:.3f}: stick zone c'",
+              abs(r["c"] - r["c_cf"]) <= bound,
+              f"c'/b {r['c'] / r['b']:.3f} against {r['c_cf'] / r['b']:.3f} "
+              f"(bound {bound / r['b']:.3f} b)")
+        check(f"step {s['step']}: shear tractions (running integral)",
+              r["integral_error"] <= tolerance, f"{100 * r['integral_error']:.2f} % of mu P")
     pressed = analyse([s for s in staged if s["stage"] == "press"][-1])
     check("Hertz half-width b", abs(pressed["b"] / pressed["b_hertz"] - 1) <= 0.03,
           f"{pressed['b']:.4f} against {pressed['b_hertz']:.4f}")
