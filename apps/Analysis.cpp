@@ -428,8 +428,10 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     *log << modelLine(p, model, mixed);
   // Without contact nothing but the supports holds the bodies: a free rigid-body mode is an
   // input error, named before any solve (bodies in contact may rest on obstacles or each other).
-  if (p.contact.empty())
+  if (p.contact.empty()) {
     model.checkRigidBodyModes();
+    checkStageSupports(p, plan, model); // every later stage's, before any solve
+  }
   model.setup(p.solver, comm);
   if (log)
     *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "
@@ -453,14 +455,6 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       reaction = model.reactionHost(1.0);
     }
     enterStage(p, plan, next, model, contact.get(), restoring ? nullptr : &reaction);
-    if (p.contact.empty() && !restoring) {
-      try {
-        model.checkRigidBodyModes();
-      } catch (const InputError &e) {
-        throw InputError(p.file + ":" + std::to_string(plan[next].line) + ": stage " +
-                         std::to_string(next + 1) + " '" + plan[next].name + "': " + e.what());
-      }
-    }
     stepper.setOptions(plan[next].nonlinear);
     stepper.resume(0.0);
     stage = next;

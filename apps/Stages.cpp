@@ -79,6 +79,28 @@ std::vector<StagePlan> planStages(const Problem &p) {
   return plan;
 }
 
+void checkStageSupports(const Problem &p, const std::vector<StagePlan> &plan,
+                        const ModelBase &model) {
+  std::vector<int> held = model.constrainedFlags();
+  const int dim = p.mesh.dim();
+  for (std::size_t s = 1; s < plan.size(); ++s) {
+    for (const auto &bc : plan[s].dirichlet) {
+      const std::optional<double> *values[3] = {&bc.ux, &bc.uy, &bc.uz};
+      for (LocalIndex n : p.mesh.nodesOf(bc.target))
+        for (int c = 0; c < dim; ++c) {
+          int &flag = held[model.dofs().dof(n, c)];
+          flag = *values[c] ? 1 : bc.release[c] ? 0 : flag;
+        }
+    }
+    try {
+      model.checkRigidBodyModes(held);
+    } catch (const InputError &e) {
+      throw InputError(p.file + ":" + std::to_string(plan[s].line) + ": stage " +
+                       std::to_string(s + 1) + " '" + plan[s].name + "': " + e.what());
+    }
+  }
+}
+
 std::vector<double> historyFingerprint(const std::vector<StagePlan> &plan, int stage) {
   std::ostringstream t;
   t.precision(17);

@@ -45,6 +45,14 @@ void applyConditions(const Mesh &mesh, const std::vector<DirichletSpec> &dirichl
                      const std::vector<LoadSpec> &loads, ModelBase &model,
                      NonlinearModel *nonlinear, double scale = 1.0, double followerBase = 0.0);
 
+/// Refuses, before the first solve, a later stage whose supports leave a body free to move as a
+/// rigid body (a release that leaves a mechanism): the supports of `model` (the first stage's)
+/// changed stage by stage as the plan prescribes and releases them, each checked
+/// (ModelBase::checkRigidBodyModes). InputError "file:line: stage k 'name': ...". Bodies in
+/// contact may rest on obstacles: call it without contact only.
+void checkStageSupports(const Problem &p, const std::vector<StagePlan> &plan,
+                        const ModelBase &model);
+
 /// A fingerprint (64 bits as two 32-bit halves) of what the stages 0 ... `stage` apply: their
 /// names, supports, loads and drives. A restart checks that the problem's history up to its
 /// restart point is the saved run's.

@@ -64,7 +64,11 @@ public:
   /// mesh connected through elements) free to move as a rigid body: a translation or a rotation
   /// (three modes in 2D, six in 3D), whose stiffness is zero, so that the system is singular. The
   /// linear models call it in setup(); the contact models do not (a body may rest on obstacles).
-  void checkRigidBodyModes() const;
+  void checkRigidBodyModes() const { checkRigidBodyModes(constrainedHost_); }
+  /// The same for the components flagged in `constrained` (one flag per displacement unknown, as
+  /// constrainedFlags()): the supports of a later stage, checked before the first solve.
+  void checkRigidBodyModes(const std::vector<int> &constrained) const;
+  const std::vector<int> &constrainedFlags() const { return constrainedHost_; }
   /// Replaces the reference values of components prescribed before setup() (e.g. measured
   /// displacements that change from step to step) and copies them to the device.
   struct PrescribedValue {

@@ -13,7 +13,7 @@
 
 namespace mixcon {
 
-void ModelBase::checkRigidBodyModes() const {
+void ModelBase::checkRigidBodyModes(const std::vector<int> &constrained) const {
   // Bodies: the nodes connected through elements (a node in no element is refused by
   // validateMesh).
   const int dim = mesh_.dim();
@@ -55,7 +55,7 @@ void ModelBase::checkRigidBodyModes() const {
     for (int c = 0; c < dim; ++c)
       p[c] = (mesh_.coordinate(n, c) - b.sum[c] / b.count) / b.size();
     for (int c = 0; c < dim; ++c)
-      if (constrainedHost_[dofs_.dof(n, c)]) {
+      if (constrained.at(dofs_.dof(n, c))) {
         Eigen::VectorXd row = Eigen::VectorXd::Zero(numModes);
         row(c) = 1.0;
         if (dim == 2) {

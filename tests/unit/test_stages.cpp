@@ -156,6 +156,27 @@ stages: [{contact: [{boundary: arc, drive: {displacement: [0, -0.01]}}]}]
   }
 }
 
+// A later stage whose supports leave a mechanism is refused before the first solve, naming the
+// stage and its line: nothing is written, not even the first stage's steps.
+TEST(Stages, ALaterStageThatLeavesAMechanismIsRefusedBeforeAnySolve) {
+  test::ScratchDir dir("stages");
+  const std::string yaml = std::string(kCantilever) + R"(
+stages:
+  - {name: load, increments: 2, loads: [{boundary: right, traction: [0, -1]}]}
+  - {name: free, boundary_conditions: [{boundary: left, release: [ux]}]}
+)";
+  const Problem p = parseProblem(yaml, "stages.yaml", dir.path().string());
+  RunOptions o;
+  o.outputDirectory = (dir.path() / "out").string();
+  try {
+    runAnalysis(p, o, MPI_COMM_WORLD);
+    ADD_FAILURE() << "a released support that leaves a mechanism was accepted";
+  } catch (const InputError &e) {
+    EXPECT_EQ(std::string(e.what()).rfind("stages.yaml:10: stage 2 'free': ", 0), 0u) << e.what();
+  }
+  EXPECT_TRUE(stepsOf(dir.path() / "out").empty());
+}
+
 // Stages that move every load together are the load factors of one proportional stage: the same
 // steps, to round-off.
 TEST(Stages, StagesOfOneProportionalLoadEqualItsLoadFactors) {
