@@ -217,37 +217,33 @@ def main():
 
     rows = []
     shear = [s for s in staged if s["stage"] == "shear"]
-    checked = 0
-    for s in shear:
-        r = analyse(s)
+    def zone(s, r, what):
+        """The row of step s and the checks of its stick zone (`what`) and shear tractions."""
         rows.append([s["step"], r["ratio"], r["b"], r["b_hertz"], r["c"], r["c_cf"],
                      r["integral_error"], r["stick"], r["slip"]])
-        if not 0.25 <= r["ratio"] <= 0.85:
-            continue
-        checked += 1
         bound = max(0.03 * r["b"], s["h"])
-        check(f"step {s['step']}, Q/muP = {r['ratio']:.3f}: stick zone c",
-              abs(r["c"] - r["c_cf"]) <= bound,
-              f"c/b {r['c'] / r['b']:.3f} against {r['c_cf'] / r['b']:.3f} "
+        check(f"step {s['step']}, {what}", abs(r["c"] - r["c_cf"]) <= bound,
+              f"{r['c'] / r['b']:.3f} b against {r['c_cf'] / r['b']:.3f} b "
               f"(bound {bound / r['b']:.3f} b)")
         check(f"step {s['step']}: shear tractions (running integral)",
               r["integral_error"] <= tolerance, f"{100 * r['integral_error']:.2f} % of mu P")
+
+    checked = 0
+    for s in shear:
+        r = analyse(s)
+        if not 0.25 <= r["ratio"] <= 0.85:
+            rows.append([s["step"], r["ratio"], r["b"], r["b_hertz"], r["c"], r["c_cf"],
+                         r["integral_error"], r["stick"], r["slip"]])
+            continue
+        checked += 1
+        zone(s, r, f"Q/muP = {r['ratio']:.3f}: stick zone c")
         check(f"step {s['step']}: slip nodes on the cone |q| = mu p", r["cone_error"] <= 1e-6,
               f"{r['cone_error']:.1e} of mu p0")
     check("at least two Q/muP in [0.25, 0.85]", checked >= 2, f"{checked} steps")
     # Unloading (Mindlin-Deresiewicz): from Q* at the end of the shear back to about -Q*/2.
     for s in [s for s in staged if s["stage"] == "unshear"]:
-        r = analyse(s, shear[-1])
         drop = (shear[-1]["Q"] - s["Q"]) / (2 * MU * s["P"])
-        rows.append([s["step"], r["ratio"], r["b"], r["b_hertz"], r["c"], r["c_cf"],
-                     r["integral_error"], r["stick"], r["slip"]])
-        bound = max(0.03 * r["b"], s["h"])
-        check(f"step {s['step']}, unloading (Q*-Q)/2muP = {drop:.3f}: stick zone c'",
-              abs(r["c"] - r["c_cf"]) <= bound,
-              f"c'/b {r['c'] / r['b']:.3f} against {r['c_cf'] / r['b']:.3f} "
-              f"(bound {bound / r['b']:.3f} b)")
-        check(f"step {s['step']}: shear tractions (running integral)",
-              r["integral_error"] <= tolerance, f"{100 * r['integral_error']:.2f} % of mu P")
+        zone(s, analyse(s, shear[-1]), f"unloading (Q*-Q)/2muP = {drop:.3f}: stick zone c'")
     pressed = analyse([s for s in staged if s["stage"] == "press"][-1])
     check("Hertz half-width b", abs(pressed["b"] / pressed["b_hertz"] - 1) <= 0.03,
           f"{pressed['b']:.4f} against {pressed['b_hertz']:.4f}")
