@@ -162,11 +162,16 @@ void ModelBase::beginStage() {
   stagedBase_.assign(n, 0.0);
 }
 
+void ModelBase::addHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v) {
+  auto m = copyToHost(v);
+  for (std::size_t i = 0; i < h.size(); ++i)
+    m(i) += h[i];
+  copyToDevice(v, m);
+}
+
 void ModelBase::loadsToBase() {
-  auto h = copyToHost(load_);
-  for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
-    h(i) += stagedNodalForce_[i];
-  copyToDevice(loadBase_, h);
+  Kokkos::deep_copy(loadBase_, load_);
+  addHost(stagedNodalForce_, loadBase_);
   Kokkos::deep_copy(load_, 0.0);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
 }
@@ -185,10 +190,7 @@ void ModelBase::release(LocalIndex node, int comp, double reaction) {
 void ModelBase::commitStage() {
   commitStaged();
   if (!stagedBase_.empty()) {
-    auto h = copyToHost(loadBase_);
-    for (std::size_t i = 0; i < stagedBase_.size(); ++i)
-      h(i) += stagedBase_[i];
-    copyToDevice(loadBase_, h);
+    addHost(stagedBase_, loadBase_);
     std::fill(stagedBase_.begin(), stagedBase_.end(), 0.0);
   }
   constraintsChanged();
@@ -241,10 +243,7 @@ LocalIndex ModelBase::numConstrained() const {
 void ModelBase::commitStaged() {
   // Nodal forces join the reference load and are then cleared, so a second setup() does not add
   // them twice; constraints replace the device flags.
-  auto h = copyToHost(load_);
-  for (std::size_t i = 0; i < stagedNodalForce_.size(); ++i)
-    h(i) += stagedNodalForce_[i];
-  copyToDevice(load_, h);
+  addHost(stagedNodalForce_, load_);
   std::fill(stagedNodalForce_.begin(), stagedNodalForce_.end(), 0.0);
   uploadConstraints();
 }

@@ -189,6 +189,8 @@ private:
   void uploadPrescribed();
   /// Copies the constraint flags, then the prescribed values, to the device.
   void uploadConstraints();
+  /// v += h (a host vector staged beside a device one: nodal forces, released support forces).
+  static void addHost(const std::vector<double> &h, const Kokkos::View<double *, Memory> &v);
 };
 
 /// A new vector lambda * v (device).
