@@ -20,12 +20,9 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
                         : Formulation::Displacement;
   if (spatialDimension(meshElement) == 3) {
     // 3D runs so far: the displacement model, linear or geometrically nonlinear, and the mixed
-    // model on hexahedra with its stabilization, linear or geometrically nonlinear in the
-    // current form (issue 17).
+    // model (hexahedra and tetrahedra) with its stabilization, linear or geometrically nonlinear
+    // in the current form (issue 17).
     if (s.formulation == Formulation::Mixed) {
-      if (meshElement != ElementType::Hex8 && meshElement != ElementType::Hex20)
-        m["formulation"].fail("the 3D mixed model takes hex8 or hex20 meshes so far (equal-order "
-                              "tet4 and tet10 mixed elements are not checked yet)");
       if (m.has("mixed_form") && m["mixed_form"].choice({"current", "incremental"}) != "current")
         m["mixed_form"].fail("the geometrically nonlinear 3D mixed model has the current form "
                              "only so far (the incremental form's push-forward of the stress "

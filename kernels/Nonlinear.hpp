@@ -464,7 +464,9 @@ struct SolidMixedKernel {
   KOKKOS_INLINE_FUNCTION bool
   computeRows(LocalIndex e, int first, double (&ge)[kUnknowns * Rows],
               double (&ke)[kUnknowns * Rows][kUnknowns * Elem::kNumNodes]) const {
-    return mixedElementRows<Elem, Tangent, Rows>(mesh, 1.0, law, x, tau, e, first, ge, ke);
+    // The rule that integrates M exactly (core/ElementTraits.hpp MixedRule; tetrahedra).
+    return mixedElementRows<MixedRule<Elem>, Tangent, Rows>(mesh, 1.0, law, x, tau, e, first, ge,
+                                                            ke);
   }
 };
 

@@ -23,9 +23,8 @@ constexpr int kStressOffset = FieldLayout<3>::kStressOffset;
 
 namespace detail {
 void checkSolidMixedElement(const Mesh &mesh) {
-  if (mesh.elementType != ElementType::Hex8 && mesh.elementType != ElementType::Hex20)
-    throw InputError("the 3D mixed model takes hex8 or hex20 meshes so far (equal-order tet4 and "
-                     "tet10 mixed elements are not checked yet); this mesh is " +
+  if (spatialDimension(mesh.elementType) != 3)
+    throw InputError("the 3D mixed model takes hexahedra or tetrahedra; this mesh is " +
                      elementTypeName(mesh.elementType));
 }
 
@@ -83,7 +82,7 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   const Kokkos::View<double *, Memory> zero("mixcon::mixed3d::zero", kUnknowns * nn);
   const Kokkos::View<double *, Memory> tau("mixcon::mixed3d::prestress", kStresses * nn);
   Kokkos::View<double *, Memory> g("mixcon::mixed3d::residual", kUnknowns * nn);
-  const auto assemble = [&](auto elem) { // the hexahedra (the constructor refuses the rest)
+  const auto assemble = [&](auto elem) {
     using Elem = decltype(elem);
     const MixedIncrementLaw<Memory, 3> law{solid_.material, solid_.stiffness, compliance,
                                            stabilization_};
@@ -94,7 +93,7 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
         map, operator_, g);
   };
   const LocalIndex inverted =
-      mesh_.elementType == ElementType::Hex8 ? assemble(Hex8{}) : assemble(Hex20{});
+      dispatchSolidElement(mesh_.elementType, "the 3D mixed model", assemble);
   if (inverted >= 0)
     throw InputError("mixed model: element " + std::to_string(mesh_.elementId(inverted)) + " of " +
                      mesh_.source + " is inverted (non-positive Jacobian)");
@@ -118,10 +117,9 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
     iterative_ = std::make_unique<SolidMixedSolve>(graph, options, preconditionerTolerance_,
                                                    restart_, dofs_, comm, positions);
     iterative_->zeroStiffness();
-    if (mesh_.elementType == ElementType::Hex8)
-      assembleLinearStiffness<Hex8>(Exec(), solid_, map, iterative_->stiffness());
-    else
-      assembleLinearStiffness<Hex20>(Exec(), solid_, map, iterative_->stiffness());
+    dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
+      assembleLinearStiffness<decltype(elem)>(Exec(), solid_, map, iterative_->stiffness());
+    });
     iterative_->refresh(operator_, isConstrained_);
   } else {
     setupDirect();

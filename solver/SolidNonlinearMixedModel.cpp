@@ -109,7 +109,7 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
   LocalIndex inverted = -1;
   double fint = 0.0;
-  const auto assemble = [&](auto elem) { // the hexahedra (the constructor refuses the rest)
+  const auto assemble = [&](auto elem) {
     using Elem = decltype(elem);
     using Law = MixedCurrentLaw<Memory, 3>;
     const Law law{solid_.material, solid_.stiffness, compliance_, stabilization_};
@@ -128,10 +128,7 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
       addFollowerForce(g_, kUnknowns);
     }
   };
-  if (mesh_.elementType == ElementType::Hex8)
-    assemble(Hex8{});
-  else
-    assemble(Hex20{});
+  dispatchSolidElement(mesh_.elementType, "the 3D mixed model", assemble);
   return finishEvaluate(lambda, tangent, inverted, fint, g_, kUnknowns, flags_,
                         referenceCoordinates(), x_, start);
 }
@@ -167,10 +164,9 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
     ElementData<Memory, 3> d = solid_;
     d.mesh.coordinates = positions_;
     iterative_->zeroStiffness();
-    if (mesh_.elementType == ElementType::Hex8)
-      assembleLinearStiffness<Hex8>(Exec(), d, map_, iterative_->stiffness());
-    else
-      assembleLinearStiffness<Hex20>(Exec(), d, map_, iterative_->stiffness());
+    dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
+      assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, iterative_->stiffness());
+    });
     const double before = iterative_->setupSeconds();
     iterative_->refresh(tangent_, isConstrained_);
     solverSetupSeconds_ += iterative_->setupSeconds() - before;

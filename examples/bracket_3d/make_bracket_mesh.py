@@ -11,6 +11,10 @@ so the example needs no Gmsh; rerun this script to remake it:
     /usr/bin/python3 examples/bracket_3d/make_bracket_mesh.py
 """
 import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from gmsh_writer import write_msh  # noqa: E402
 
 H = 2.5                     # element size
 NX, NY, NZ = 24, 24, 8      # grid cells over the bounding box 60 x 60 x 20
@@ -56,31 +60,13 @@ def main():
     nodes = sorted(tags.items(), key=lambda item: item[1])
     blocks = [(3, 1, 5, hexes[1]), (3, 2, 5, hexes[2]), (2, 1, 3, base), (2, 2, 3, tip),
               (0, 1, 15, [[center]])]
-    n_elements = sum(len(b[3]) for b in blocks)
-    out = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat",
-           "$PhysicalNames", "4", '0 4 "tip_center"', '2 2 "base"', '2 3 "tip"',
-           '3 1 "bracket"', "$EndPhysicalNames",
-           "$Entities", "1 0 2 2",
-           "1 60 55 10 1 4",
-           "1 0 0 0 10 0 20 1 2 0",
-           "2 60 50 0 60 60 20 1 3 0",
-           "1 0 0 0 10 50 20 1 1 0",
-           "2 0 50 0 60 60 20 1 1 0",
-           "$EndEntities",
-           "$Nodes", f"1 {len(nodes)} 1 {len(nodes)}", f"3 1 0 {len(nodes)}"]
-    out += [str(t) for _, t in nodes]
-    out += [f"{H * p[0]:g} {H * p[1]:g} {H * p[2]:g}" for p, _ in nodes]
-    out += ["$EndNodes", "$Elements", f"{len(blocks)} {n_elements} 1 {n_elements}"]
-    element = 0
-    for dim, entity, gmsh_type, conn in blocks:
-        out.append(f"{dim} {entity} {gmsh_type} {len(conn)}")
-        for c in conn:
-            element += 1
-            out.append(" ".join(str(x) for x in [element] + c))
-    out.append("$EndElements")
+    entities = ((1, 0, 2, 2), ["1 60 55 10 1 4", "1 0 0 0 10 0 20 1 2 0",
+                               "2 60 50 0 60 60 20 1 3 0", "1 0 0 0 10 50 20 1 1 0",
+                               "2 0 50 0 60 60 20 1 1 0"])
+    coordinates = [f"{H * p[0]:g} {H * p[1]:g} {H * p[2]:g}" for p, _ in nodes]
     path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "bracket.msh")
-    with open(path, "w") as f:
-        f.write("\n".join(out) + "\n")
+    write_msh(path, [(0, 4, "tip_center"), (2, 2, "base"), (2, 3, "tip"), (3, 1, "bracket")],
+              entities, coordinates, blocks)
     print(f"wrote {path}: {len(nodes)} nodes, {len(hexes[1]) + len(hexes[2])} hexahedra, "
           f"{len(base)} + {len(tip)} boundary quadrangles")
 

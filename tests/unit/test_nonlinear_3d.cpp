@@ -9,7 +9,7 @@
 //  - the follower pressure on the undeformed body equals the dead pressure of the linear face
 //    load kernel (assembleFaceLoads; both use detail::faceFrame), and its resultant is the closed
 //    form p A n on the flat face (A = 1 x 1.2).
-// The geometrically nonlinear mixed model (current form, Hex8 and Hex20): its Jacobian against
+// The geometrically nonlinear mixed model (current form, all four solids): its Jacobian against
 // finite differences of its residual (a = 0 and 0.1, with the follower face pressure), and a
 // stress-free rigid rotation with no residual.
 // The constant-stress (homogeneous finite deformation) patch tests of both models, against the
@@ -228,7 +228,8 @@ TEST_P(SolidNonlinearMixed, RigidRotationWithoutStressHasNoResidual) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solids, SolidNonlinearMixed,
-                         ::testing::Values(ElementType::Hex8, ElementType::Hex20),
+                         ::testing::Values(ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                           ElementType::Tet10),
                          [](const auto &info) { return elementTypeName(info.param); });
 
 INSTANTIATE_TEST_SUITE_P(Solids, SolidNonlinear,

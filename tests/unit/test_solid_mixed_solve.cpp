@@ -67,7 +67,8 @@ const std::vector<SolidMatrix> kIsotropic{IsotropicMaterial{1e3, 0.3}.stiffness(
 } // namespace
 
 TEST(SolidMixedSolve, PatchTestWithTheAmgSolve) {
-  for (ElementType type : {ElementType::Hex8, ElementType::Hex20}) {
+  for (ElementType type :
+       {ElementType::Hex8, ElementType::Hex20, ElementType::Tet4, ElementType::Tet10}) {
     const Mesh mesh = distortedBox(3, type);
     const SolidMatrix c = rotatedOrthotropicSolid();
     SolidMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), {c}, 0.05);

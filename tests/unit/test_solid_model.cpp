@@ -309,8 +309,6 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
        "current form only so far"},
       {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg, method: schur}",
        "solid.yaml:13:29: solver.method: method applies to the 2D mixed model's solvers"},
-      {"divisions: [4, 1, 2]}", "divisions: [4, 1, 2], element: tet4}\nmodel: {formulation: mixed}",
-       "solid.yaml:3:22: model.formulation: the 3D mixed model takes hex8 or hex20 meshes so far"},
       {"solver:",
        "model: {geometric_nonlinearity: true}\nsteps: {increments: 2, tangent: report}\nsolver:",
        "solid.yaml:13:33: steps.tangent: tangent: report (the report's K^L + K^sigma) is 2D only "
