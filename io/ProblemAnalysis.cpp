@@ -62,9 +62,6 @@ void readSteps(const YamlItem &top, Problem &p) {
                           "iterates with its exact Jacobian)");
       p.tangent = s["tangent"].choice({"exact", "report"}) == "report" ? TangentKind::Report
                                                                        : TangentKind::Exact;
-      if (p.tangent == TangentKind::Report && p.mesh.dim() == 3)
-        s["tangent"].fail("tangent: report (the report's K^L + K^sigma) is 2D only so far; 3D "
-                          "meshes iterate with the exact tangent (issue 17)");
       if (const auto why = rules::reportTangentLaw(p.tangent, p.model.elasticLaw))
         s["tangent"].fail(*why);
     }

@@ -103,6 +103,61 @@ void assembleGeometricStiffness(const ExecSpace &exec, const ElementData<MemoryS
       });
 }
 
+/// K^sigma of solid element e on the configuration of `mesh` (the current one), from the Cauchy
+/// stress tau(e, q, k) (Voigt<3>: xx, yy, zz, yz, xz, xy) at its quadrature points:
+/// kg[3a + i][3b + i] = int g_a . tau g_b dv, g the physical shape-function gradients (the solid
+/// form of geometricStiffness, Eq. (25) in 3D).
+template <class Elem, class MemorySpace, class TauView>
+KOKKOS_INLINE_FUNCTION void
+solidGeometricStiffness(const MeshView<MemorySpace, 3> &mesh, const TauView &tau, LocalIndex e,
+                        double (&kg)[3 * Elem::kNumNodes][3 * Elem::kNumNodes]) {
+  static_assert(Elem::kDim == 3, "the solid form of geometricStiffness");
+  constexpr int n = Elem::kNumNodes;
+  double xe[n][3];
+  detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+  for (int i = 0; i < 3 * n; ++i)
+    for (int j = 0; j < 3 * n; ++j)
+      kg[i][j] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][3], g[n][3], t[3][3];
+    const double w = detail::referencePoint<Elem>(q, sh, dn);
+    const double f = w * detail::pointGeometry<Elem>(xe, dn, g);
+    for (int k = 0; k < Voigt<3>::kSize; ++k)
+      t[Voigt<3>::row(k)][Voigt<3>::col(k)] = t[Voigt<3>::col(k)][Voigt<3>::row(k)] = tau(e, q, k);
+    for (int a = 0; a < n; ++a) {
+      double ta[3];
+      for (int i = 0; i < 3; ++i)
+        ta[i] = f * (t[i][0] * g[a][0] + t[i][1] * g[a][1] + t[i][2] * g[a][2]);
+      for (int b = a; b < n; ++b) { // upper triangle; symmetric
+        const double v = ta[0] * g[b][0] + ta[1] * g[b][1] + ta[2] * g[b][2];
+        for (int i = 0; i < 3; ++i)
+          kg[3 * a + i][3 * b + i] += v;
+      }
+    }
+  }
+  for (int a = 1; a < n; ++a)
+    for (int b = 0; b < a; ++b)
+      for (int i = 0; i < 3; ++i)
+        kg[3 * a + i][3 * b + i] = kg[3 * b + i][3 * a + i];
+}
+
+/// Adds K^sigma of all solid elements into `a` (3 dofs per node) through the scatter map of a's
+/// graph (solidGeometricStiffness).
+template <class Elem, class ExecSpace, class MemorySpace, class TauView, class Map>
+void assembleSolidGeometricStiffness(const ExecSpace &exec, const MeshView<MemorySpace, 3> &mesh,
+                                     const TauView &tau, const Map &map,
+                                     const CsrMatrix<MemorySpace> &a) {
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleSolidGeometricStiffness",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex e) {
+        constexpr int nd = 3 * Elem::kNumNodes;
+        double k[nd][nd];
+        solidGeometricStiffness<Elem>(mesh, tau, e, k);
+        scatterElementStiffness<Elem>(a, map, mesh, e, 1.0, k);
+      });
+}
+
 /// Adds F^sigma = t int [B^L]^T {tau} dA to f (2 per node), element by element.
 template <class Elem, class ExecSpace, class MemorySpace, class Field>
 void assembleStressForce(const ExecSpace &exec, const ElementData<MemorySpace> &d,

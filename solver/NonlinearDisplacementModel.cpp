@@ -21,9 +21,6 @@ void NonlinearDisplacementModel::setup(const LinearSolverOptions &options, MPI_C
   if (const auto why = rules::reportTangentLaw(tangentKind_, law_))
     throw InputError("nonlinear displacement model: " + *why);
   const auto start = std::chrono::steady_clock::now();
-  if (dim() == 3 && tangentKind_ == TangentKind::Report) // refused by the problem reader first
-    throw InputError("nonlinear displacement model: tangent: report (K^L + K^sigma) is 2D only "
-                     "so far (issue 17); use tangent: exact");
   if (dim() == 3 && contact_)
     throw InputError("nonlinear displacement model: contact is 2D only so far (issue 17)");
   graph_ = buildNodeGraph(mesh_);
@@ -92,9 +89,9 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
     }
     fint = strideNorm(g_, 1, 0, 1, {}, 0);
     subtractLoad(g_, kDim, lambda);
+    if (report && !small_)
+      assembleReportTangent<Elem>();
     if constexpr (kDim == 2) {
-      if (report && !small_) // setup() refuses it in 3D
-        assembleReportTangent<Elem>();
       if (follower_.edges.extent(0) > 0) {
         const auto [pressure, factor] = followerPressureAt(lambda);
         assembleFollowerPressure<kDim, Elem>(Exec(), d.mesh, ConstVec(u_), follower_.edges,
@@ -116,22 +113,31 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
 template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
   // K^L + K^sigma of Eq. (24)-(25) on the current configuration x = X + u, with tau the Cauchy
   // stress of the Almansi law at the quadrature points.
-  ElementData<Memory> current = data_;
-  current.mesh.coordinates = Kokkos::View<double *[kDisp], Memory>(
-      "mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
-  movedCoordinates(data_.mesh.coordinates, u_, kDisp, current.mesh.coordinates);
+  constexpr int kDim = Elem::kDim;
   const LocalIndex ne = mesh_.numElements();
-  Kokkos::View<double **[kStress], Memory> tau("mixcon::nonlinear::qpCauchy", ne, Elem::kNumQp);
-  static_assert(Elem::kDim == 2, "the report's tangent K^L + K^sigma is 2D only so far");
-  Kokkos::View<double * * [kDisp * kDisp], Memory> grad("mixcon::nonlinear::qpGradient", ne,
-                                                        Elem::kNumQp);
-  Kokkos::View<double **[kDisp], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
-  almansiGaussPointStress<Elem>(Exec(), data_, ConstVec(u_), tau, grad, xq);
-  assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
-  assembleGeometricStiffness<Elem>(
-      Exec(), current,
-      GaussPointStressField<Memory>{Kokkos::View<const double **[kStress], Memory>(tau)}, map_,
-      tangent_);
+  Kokkos::View<double * * [Voigt<kDim>::kSize], Memory> tau("mixcon::nonlinear::qpCauchy", ne,
+                                                            Elem::kNumQp);
+  Kokkos::View<double * * [kDim * kDim], Memory> grad("mixcon::nonlinear::qpGradient", ne,
+                                                      Elem::kNumQp);
+  Kokkos::View<double **[kDim], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+  almansiGaussPointStress<Elem>(Exec(), elementData<kDim>(), ConstVec(u_), tau, grad, xq);
+  if constexpr (kDim == 2) {
+    ElementData<Memory> current = data_;
+    current.mesh.coordinates = Kokkos::View<double *[kDisp], Memory>(
+        "mixcon::nonlinear::currentCoordinates", mesh_.numNodes());
+    movedCoordinates(data_.mesh.coordinates, u_, kDisp, current.mesh.coordinates);
+    assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
+    assembleGeometricStiffness<Elem>(
+        Exec(), current,
+        GaussPointStressField<Memory>{Kokkos::View<const double **[kStress], Memory>(tau)}, map_,
+        tangent_);
+  } else {
+    ElementData<Memory, 3> current = solid_; // positions_: x = X + u (evaluate)
+    current.mesh.coordinates = positions_;
+    assembleLinearStiffness<Elem>(Exec(), current, map_, tangent_);
+    assembleSolidGeometricStiffness<Elem>(
+        Exec(), current.mesh, Kokkos::View<const double **[6], Memory>(tau), map_, tangent_);
+  }
 }
 
 LinearSolveStats NonlinearDisplacementModel::correct(double lambda, double &increment) {

@@ -20,6 +20,42 @@ constexpr int kUnknowns = FieldLayout<3>::kMixedUnknowns;    // 9
 constexpr int kStressOffset = FieldLayout<3>::kStressOffset; // 3
 } // namespace
 
+void invertStressBlocks(const CsrMatrix<DeviceSpace> &m,
+                        const Kokkos::View<SolidMatrix *, DeviceSpace> &inverse) {
+  auto ro = m.rowOffsets;
+  auto co = m.columns;
+  auto va = m.values;
+  Kokkos::parallel_for(
+      "mixcon::mixed3d::invertStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        SolidMatrix b{};
+        for (int i = 0; i < kStresses; ++i)
+          for (Offset k = ro(kStresses * p + i); k < ro(kStresses * p + i + 1); ++k)
+            if (co(k) / kStresses == p)
+              b.m[i][co(k) % kStresses] = va(k);
+        SolidMatrix inv{};
+        if (!invertConstitutive(b, inv)) // not expected (M is SPD): Jacobi for that node
+          for (int i = 0; i < kStresses; ++i)
+            inv.m[i][i] = b.m[i][i] != 0.0 ? 1.0 / b.m[i][i] : 0.0;
+        inverse(p) = inv;
+      });
+}
+
+void applyStressBlocks(const Kokkos::View<const SolidMatrix *, DeviceSpace> &inverse,
+                       const Kokkos::View<const double *, DeviceSpace> &a,
+                       const Kokkos::View<double *, DeviceSpace> &y) {
+  Kokkos::parallel_for(
+      "mixcon::mixed3d::applyStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex p) {
+        for (int i = 0; i < kStresses; ++i) {
+          double v = 0.0;
+          for (int j = 0; j < kStresses; ++j)
+            v += inverse(p).m[i][j] * a(kStresses * p + j);
+          y(kStresses * p + i) = v;
+        }
+      });
+}
+
 SolidMixedSolve::SolidMixedSolve(const NodeGraph &graph, const LinearSolverOptions &options,
                                  double preconditionerTolerance, int restart, const DofMap &dofs,
                                  MPI_Comm comm,
@@ -63,26 +99,7 @@ void SolidMixedSolve::refresh(const CsrMatrix<Memory> &jacobian,
   fieldDiagonal(stressBlock_, 1, 0, 1, stressDiagonal_, 1.0);
   // The inverses of M's 6 x 6 nodal diagonal blocks (the six stress components coupled through
   // the compliance at a node), the CG's preconditioner.
-  {
-    auto ro = stressBlock_.rowOffsets;
-    auto co = stressBlock_.columns;
-    auto va = stressBlock_.values;
-    auto inverse = stressBlockInverse_;
-    Kokkos::parallel_for(
-        "mixcon::mixed3d::invertStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
-        KOKKOS_LAMBDA(LocalIndex p) {
-          SolidMatrix b{};
-          for (int i = 0; i < kStresses; ++i)
-            for (Offset k = ro(kStresses * p + i); k < ro(kStresses * p + i + 1); ++k)
-              if (co(k) / kStresses == p)
-                b.m[i][co(k) % kStresses] = va(k);
-          SolidMatrix inv{};
-          if (!invertConstitutive(b, inv)) // not expected (M is SPD): Jacobi for that node
-            for (int i = 0; i < kStresses; ++i)
-              inv.m[i][i] = b.m[i][i] != 0.0 ? 1.0 / b.m[i][i] : 0.0;
-          inverse(p) = inv;
-        });
-  }
+  invertStressBlocks(stressBlock_, stressBlockInverse_);
   Vec da("mixcon::mixed3d::diagK", diag3_.extent(0));
   fieldDiagonal(stiffness_, 1, 0, 1, da, 1.0);
   stressRowScale_ = blockTriangularScale(ConstVec(da), ConstVec(stressDiagonal_));
@@ -102,17 +119,7 @@ LinearSolveStats SolidMixedSolve::solve(const CsrMatrix<Memory> &jacobian,
     multiply(Exec(), stressBlock_, a, y);
   };
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
-    auto inverse = stressBlockInverse_;
-    Kokkos::parallel_for(
-        "mixcon::mixed3d::applyStressBlocks", Kokkos::RangePolicy<Exec>(0, inverse.extent(0)),
-        KOKKOS_LAMBDA(LocalIndex p) {
-          for (int i = 0; i < kStresses; ++i) {
-            double v = 0.0;
-            for (int j = 0; j < kStresses; ++j)
-              v += inverse(p).m[i][j] * a(kStresses * p + j);
-            y(kStresses * p + i) = v;
-          }
-        });
+    applyStressBlocks(stressBlockInverse_, a, y);
   };
   SaddlePointSystem system;
   system.displacements = kDim;

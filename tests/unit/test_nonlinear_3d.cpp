@@ -9,6 +9,9 @@
 //  - the follower pressure on the undeformed body equals the dead pressure of the linear face
 //    load kernel (assembleFaceLoads; both use detail::faceFrame), and its resultant is the closed
 //    form p A n on the flat face (A = 1 x 1.2).
+// tangent: report (the report's K^L + K^sigma of the current configuration) against a plain host
+// K^L + K^sigma on all four solids, and its Newton path on a Hex20 cantilever against the exact
+// tangent's.
 // The geometrically nonlinear mixed model (current form, all four solids): its Jacobian against
 // finite differences of its residual (a = 0 and 0.1, with the follower face pressure), and a
 // stress-free rigid rotation with no residual.
@@ -166,6 +169,136 @@ TEST_P(SolidNonlinear, FollowerPressureOnTheUndeformedBodyIsTheDeadPressure) {
   EXPECT_NEAR(resultant[0], 0.0, 1e-12);
   EXPECT_NEAR(resultant[1], 7.0 * 1.0 * 1.2, 1e-12);
   EXPECT_NEAR(resultant[2], 0.0, 1e-12);
+}
+
+/// The report's tangent K^L + K^sigma (Eq. (24)-(25)) of the whole mesh, written out plainly on
+/// the host (Eigen): on the current configuration x = X + u, K = sum over elements and
+/// quadrature points of w det J (B^T C B + (g_a . tau g_b) I), B the 6 x 3n small-strain matrix
+/// (Voigt xx, yy, zz, yz, xz, xy, engineering shears), g the current shape-function gradients,
+/// tau = C e the Cauchy stress of the Almansi strain e = (h + h^T - h^T h) / 2, h = du/dx.
+Eigen::MatrixXd hostReportTangent(const Solid &s, const Eigen::VectorXd &u) {
+  const Mesh &mesh = s.mesh;
+  const LocalIndex nn = mesh.numNodes();
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * nn, 3 * nn);
+  Eigen::Matrix<double, 6, 6> c;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      c(i, j) = s.stiffness[0].m[i][j];
+  const int row[6] = {0, 1, 2, 1, 0, 0}, col[6] = {0, 1, 2, 2, 2, 1};
+  dispatchElement(mesh.elementType, [&](auto elem) {
+    using Elem = decltype(elem);
+    if constexpr (Elem::kDim == 3) {
+      constexpr int n = Elem::kNumNodes;
+      for (LocalIndex e = 0; e < mesh.numElements(); ++e) {
+        Eigen::Matrix<double, n, 3> x, ue;
+        for (int a = 0; a < n; ++a) {
+          const LocalIndex p = mesh.connectivity[n * e + a];
+          ue.row(a) = u.segment<3>(3 * p).transpose();
+          x.row(a) = Eigen::RowVector3d(mesh.x(p), mesh.y(p), mesh.z(p)) + ue.row(a);
+        }
+        for (int q = 0; q < Elem::kNumQp; ++q) {
+          double xi[3], w, sh[n], dn[n][3];
+          Elem::quadraturePoint(q, xi, w);
+          Elem::shape(xi, sh, dn);
+          Eigen::Matrix<double, n, 3> d;
+          for (int a = 0; a < n; ++a)
+            d.row(a) = Eigen::RowVector3d(dn[a][0], dn[a][1], dn[a][2]);
+          const Eigen::Matrix3d j = x.transpose() * d; // dx/dxi
+          const Eigen::Matrix<double, n, 3> g = d * j.inverse();
+          const Eigen::Matrix3d h = ue.transpose() * g;
+          const Eigen::Matrix3d strain = 0.5 * (h + h.transpose() - h.transpose() * h);
+          Eigen::Matrix<double, 6, 1> ev;
+          for (int m = 0; m < 6; ++m)
+            ev(m) = (m < 3 ? 1.0 : 2.0) * strain(row[m], col[m]);
+          const Eigen::Matrix<double, 6, 1> tv = c * ev;
+          Eigen::Matrix3d tau;
+          for (int m = 0; m < 6; ++m)
+            tau(row[m], col[m]) = tau(col[m], row[m]) = tv(m);
+          Eigen::Matrix<double, 6, 3 *n> b = Eigen::Matrix<double, 6, 3 * n>::Zero();
+          for (int a = 0; a < n; ++a)
+            for (int m = 0; m < 6; ++m) {
+              b(m, 3 * a + row[m]) += g(a, col[m]);
+              if (m >= 3)
+                b(m, 3 * a + col[m]) += g(a, row[m]);
+            }
+          const double f = w * j.determinant();
+          const Eigen::Matrix<double, 3 * n, 3 *n> ke = f * b.transpose() * c * b;
+          const Eigen::Matrix<double, n, n> kg = f * g * tau * g.transpose();
+          for (int a = 0; a < n; ++a)
+            for (int bn = 0; bn < n; ++bn) {
+              const LocalIndex p = mesh.connectivity[n * e + a], r = mesh.connectivity[n * e + bn];
+              k.block<3, 3>(3 * p, 3 * r) +=
+                  ke.template block<3, 3>(3 * a, 3 * bn) + kg(a, bn) * Eigen::Matrix3d::Identity();
+            }
+        }
+      }
+    }
+  });
+  return k;
+}
+
+// tangent: report in 3D: the assembled tangent at a finite strain with a 0.3 rad rotation is the
+// plain host K^L + K^sigma above to 1e-10, symmetric, and not the exact tangent (which has the
+// non-symmetric terms of the Almansi law's dependence on the configuration).
+TEST_P(SolidNonlinear, ReportTangentIsLinearPlusGeometricStiffnessOfTheCurrentConfiguration) {
+  const Solid s = makeSolid(GetParam());
+  const Eigen::VectorXd u = rotatedBy(s.mesh, obliqueRotation(0.3), 0.03);
+  Eigen::MatrixXd k[2];
+  for (int m = 0; m < 2; ++m) {
+    auto model = std::make_unique<NonlinearDisplacementModel>(s.mesh, s.material, s.stiffness);
+    model->setTangent(m == 0 ? TangentKind::Report : TangentKind::Exact);
+    model = loadedModel(std::move(model), s, false);
+    model->setDisplacement(toStd(u));
+    ASSERT_TRUE(std::isfinite(model->evaluate(1.0, true)));
+    k[m] = toDense(model->tangent());
+  }
+  const Eigen::MatrixXd reference = hostReportTangent(s, u);
+  EXPECT_LT(relativeError(k[0], reference), 1e-10);
+  EXPECT_LT(relativeError(k[0], Eigen::MatrixXd(k[0].transpose())), 1e-13) << "symmetric";
+  EXPECT_GT(relativeError(k[1], k[0]), 1e-4) << "the exact tangent differs";
+}
+
+// The 3D form of ReportCantilever.ExactTangentConvergesFasterThanTheReportsToTheSameState
+// (tests/validation/test_nonlinear_cantilever.cpp): a 10 x 1 x 1 Hex20 cantilever (clamped at
+// x = 0, a downward traction on its top face of qL^3/EI = 5 at load factor 1), two increments
+// iterated to a residual of 1e-10: the report's symmetric K^L + K^sigma reaches the state of the
+// exact tangent (the deflection of the tip node (10, 0.5, 1) to 1e-7) with linear convergence, i.e.
+// more iterations.
+TEST(SolidReportTangent, ReachesTheExactTangentsStateWithMoreIterations) {
+  const Mesh mesh = boxMesh(10.0, 1.0, 1.0, 10, 1, 1, ElementType::Hex20);
+  const std::vector<SolidMatrix> c{IsotropicMaterial{1e4, 0.3}.stiffness()};
+  const double q = 5.0 * 1e4 / 12.0 / 1000.0; // qL^3/EI = 5 with EI = E / 12, L = 10
+  LocalIndex tip = 0;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    if (std::abs(mesh.x(n) - 10.0) + std::abs(mesh.y(n) - 0.5) + std::abs(mesh.z(n) - 1.0) < 1e-9)
+      tip = n;
+  double deflection[2];
+  int iterations[2] = {0, 0};
+  for (int m = 0; m < 2; ++m) {
+    NonlinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), c);
+    model.setTangent(m == 0 ? TangentKind::Exact : TangentKind::Report);
+    for (LocalIndex n : mesh.nodesOf("xmin"))
+      for (int i = 0; i < 3; ++i)
+        model.prescribe(n, i, 0.0);
+    model.addSideLoad(mesh.boundaries.at("zmax"), {0.0, 0.0, -q}, 0.0);
+    LinearSolverOptions o;
+    o.type = LinearSolverType::Direct;
+    model.setup(o, MPI_COMM_WORLD);
+    NonlinearOptions opts;
+    opts.residualTolerance = 1e-10;
+    opts.maxIterations = 60;
+    LoadStepper stepper(model, opts);
+    for (double lambda : {0.5, 1.0}) {
+      const IncrementOutcome out = stepper.advance(lambda);
+      ASSERT_TRUE(out.converged) << out.message;
+      iterations[m] += out.iterations;
+    }
+    deflection[m] = model.displacementHost()[3 * tip + 2];
+  }
+  EXPECT_LT(deflection[0], -1.0) << "a large deflection";
+  EXPECT_NEAR(deflection[1], deflection[0], 1e-7 * std::abs(deflection[0]));
+  EXPECT_LT(iterations[0] + 4, iterations[1])
+      << "exact " << iterations[0] << ", report " << iterations[1];
 }
 
 /// The geometrically nonlinear mixed model (current form) on the distorted box of `type`, with

@@ -9,10 +9,14 @@
 //    deflection of about a fifth of its length in three load steps: the same states as with the
 //    direct solver, step by step;
 //  - both models fall back to the direct LU, reported, where the iterative solve fails, and keep
-//    it for the later solves.
+//    it for the later solves;
+//  - the CG on M's preconditioner (invertStressBlocks, applyStressBlocks) against Eigen's inverses
+//    of the nodal 6 x 6 blocks, with the Jacobi fall back of a singular block.
 #include <mesh/Generators.hpp>
 #include <solver/Nonlinear.hpp>
 #include <solver/SolidMixedModel.hpp>
+#include <support/KernelFixture.hpp>
+#include <support/ModelDifferences.hpp>
 #include <support/SolidMesh.hpp>
 
 #include <gtest/gtest.h>
@@ -23,7 +27,10 @@
 #include <memory>
 
 using namespace mixcon;
+using mixcon::test::denseToCsr;
 using mixcon::test::distortedBox;
+using mixcon::test::hostVector;
+using mixcon::test::randomVector;
 using mixcon::test::rotatedOrthotropicSolid;
 
 namespace {
@@ -65,6 +72,47 @@ template <class Model> void loadCantilever(const Mesh &mesh, Model &model, doubl
 const std::vector<SolidMatrix> kIsotropic{IsotropicMaterial{1e3, 0.3}.stiffness()};
 
 } // namespace
+
+// The nodal 6 x 6 block inverses of a 4-node stress matrix (6 per node) with coupled off-diagonal
+// blocks (which the preconditioner ignores): the SPD blocks' inverses are Eigen's to 1e-12, the
+// singular block of node 2 (rank 5, its diagonal non-zero) falls back to the inverse of its
+// diagonal, and applyStressBlocks multiplies block by block.
+TEST(SolidMixedSolve, StressBlockInversesAreTheNodalBlocksInverses) {
+  constexpr int kNodes = 4;
+  const Eigen::MatrixXd r = Eigen::MatrixXd::Random(6 * kNodes, 6 * kNodes);
+  Eigen::MatrixXd m = r * r.transpose() + 6.0 * Eigen::MatrixXd::Identity(6 * kNodes, 6 * kNodes);
+  // Node 2's block made singular: its last row and column repeat the fifth.
+  m.row(12 + 5) = m.row(12 + 4);
+  m.col(12 + 5) = m.col(12 + 4);
+  const Eigen::MatrixXd block2 = m.block<6, 6>(12, 12);
+  ASSERT_LT(std::abs(block2.determinant()), 1e-9 * block2.norm());
+  const CsrMatrix<DeviceSpace> csr = denseToCsr(m);
+  Kokkos::View<SolidMatrix *, DeviceSpace> inverse("inverse", kNodes);
+  invertStressBlocks(csr, inverse);
+  const Eigen::VectorXd a = randomVector(6 * kNodes, 3);
+  Kokkos::View<double *, DeviceSpace> ad("a", 6 * kNodes), yd("y", 6 * kNodes);
+  auto ah = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ad);
+  for (int i = 0; i < 6 * kNodes; ++i)
+    ah(i) = a(i);
+  Kokkos::deep_copy(ad, ah);
+  applyStressBlocks(inverse, ad, yd);
+  const Eigen::VectorXd y = hostVector(yd);
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), inverse);
+  for (int p = 0; p < kNodes; ++p) {
+    const Eigen::Matrix<double, 6, 6> b = m.block<6, 6>(6 * p, 6 * p);
+    const Eigen::Matrix<double, 6, 6> expect =
+        p == 2 ? Eigen::Matrix<double, 6, 6>(b.diagonal().cwiseInverse().asDiagonal())
+               : Eigen::Matrix<double, 6, 6>(b.inverse());
+    Eigen::Matrix<double, 6, 6> got;
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j)
+        got(i, j) = h(p).m[i][j];
+    EXPECT_LT((got - expect).norm(), 1e-12 * expect.norm()) << "node " << p;
+    EXPECT_LT((y.segment<6>(6 * p) - expect * a.segment<6>(6 * p)).norm(),
+              1e-12 * (expect * a.segment<6>(6 * p)).norm())
+        << "node " << p;
+  }
+}
 
 TEST(SolidMixedSolve, PatchTestWithTheAmgSolve) {
   for (ElementType type :

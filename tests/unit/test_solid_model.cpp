@@ -309,10 +309,6 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
        "current form only so far"},
       {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg, method: schur}",
        "solid.yaml:13:29: solver.method: method applies to the 2D mixed model's solvers"},
-      {"solver:",
-       "model: {geometric_nonlinearity: true}\nsteps: {increments: 2, tangent: report}\nsolver:",
-       "solid.yaml:13:33: steps.tangent: tangent: report (the report's K^L + K^sigma) is 2D only "
-       "so far"},
       {"materials:", "model: {analysis: plane_strain}\nmaterials:",
        "analysis applies to 2D meshes"},
       {"materials:", "model: {thickness: 2}\nmaterials:", "thickness applies to 2D meshes"},
