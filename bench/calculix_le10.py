@@ -32,7 +32,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "examples", "nafems_le10"))
-from make_le10_mesh import HEX20_EDGES, build  # noqa: E402
+from make_le10_mesh import HEX20_EDGES, build, face_area  # noqa: E402
 
 E, NU, PRESSURE, REFERENCE = 210000.0, 0.3, 1.0, -5.38
 AREA = 0.25 * math.pi * (3.25 * 2.75 - 2.0 * 1.0)
@@ -50,33 +50,6 @@ def sub(p, q):
 
 def norm(v):
     return math.sqrt(sum(a * a for a in v))
-
-
-def face_area(xyz, faces):
-    """Area of the discretised quadrangles (bilinear or 8-node serendipity), 3x3 Gauss."""
-    g, w = (-math.sqrt(0.6), 0.0, math.sqrt(0.6)), (5 / 9, 8 / 9, 5 / 9)
-    ref = [(-1, -1), (1, -1), (1, 1), (-1, 1), (0, -1), (1, 0), (0, 1), (-1, 0)]
-    total = 0.0
-    for quad in faces:
-        x = [xyz[n] for n in quad]
-        for a, wa in zip(g, w):
-            for b, wb in zip(g, w):
-                dN = [None] * len(quad)
-                for i, (ri, si) in enumerate(ref[:len(quad)]):
-                    if len(quad) == 4:
-                        dN[i] = 0.25 * ri * (1 + si * b), 0.25 * si * (1 + ri * a)
-                    elif i < 4:
-                        dN[i] = (0.25 * ri * (1 + si * b) * (2 * ri * a + si * b),
-                                 0.25 * si * (1 + ri * a) * (ri * a + 2 * si * b))
-                    elif ri == 0:
-                        dN[i] = -a * (1 + si * b), 0.5 * si * (1 - a * a)
-                    else:
-                        dN[i] = 0.5 * ri * (1 - b * b), -b * (1 + ri * a)
-                u, v = ([sum(dN[i][c] * x[i][k] for i in range(len(quad))) for k in range(3)]
-                        for c in (0, 1))
-                total += wa * wb * norm([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                                         u[0] * v[1] - u[1] * v[0]])
-    return total
 
 
 def deck(path, element, divisions, grading, solver):
@@ -119,8 +92,9 @@ def deck(path, element, divisions, grading, solver):
         lines.append(f"*NSET, NSET={name}")
         lines.extend(", ".join(map(str, ids[k:k + 12])) for k in range(0, len(ids), 12))
 
-    nset("Y0", faces["y0"]), nset("X0", faces["x0"]), nset("OUTER", faces["outer"])
-    nset("LINE", line), nset("ND", [[d]])
+    for name, groups in (("Y0", faces["y0"]), ("X0", faces["x0"]), ("OUTER", faces["outer"]),
+                         ("LINE", line), ("ND", [[d]])):
+        nset(name, groups)
     lines += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{E}, {NU}",
               "*SOLID SECTION, ELSET=PLATE, MATERIAL=STEEL",
               "*BOUNDARY", "Y0, 2, 2, 0.", "X0, 1, 1, 0.", "OUTER, 1, 2, 0.", "LINE, 3, 3, 0.",
@@ -167,11 +141,14 @@ def run(element, divisions, grading, solver, out, timeout):
         return dict(element=element, divisions=divisions, nodes=nodes, elements=elements,
                     skipped=f"ccx ran past {timeout} s")
     wall = time.perf_counter() - t0
-    open(os.path.join(out, name + ".log"), "w").write(log)
+    with open(os.path.join(out, name + ".log"), "w") as f:
+        f.write(log)
     if p.returncode != 0 or "*ERROR" in log:
         sys.exit(f"ccx failed on {name}:\n{log[-2000:]}")
-    peak_kib = int(open(os.path.join(out, name + ".time")).read().split()[-1])
-    dat = open(os.path.join(out, name + ".dat")).read()
+    with open(os.path.join(out, name + ".time")) as f:
+        peak_kib = int(f.read().split()[-1])
+    with open(os.path.join(out, name + ".dat")) as f:
+        dat = f.read()
     rz = float(dat.split("total force")[-1].splitlines()[2].split()[2])
     syy = frd_stress(os.path.join(out, name + ".frd"), d)[1]
     return dict(element=element, divisions=divisions, grading=grading, solver=solver,

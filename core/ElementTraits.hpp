@@ -498,10 +498,11 @@ struct Tet10 {
 
 /// The element of the 3D mixed models: the displacement element with a quadrature rule that
 /// integrates the compliance mass M = int Psi^T D Psi of its equal-order stresses exactly on
-/// straight-edged elements (degree twice the shape functions'). The hexahedra's tensor rules do
-/// (Hex8 2x2x2, Hex20 3x3x3); the tetrahedra's displacement rules do not (Tet4: one point,
-/// Tet10: degree 2), and with them M is singular: the patch test's displacements came out exact
-/// but its nodal stresses wrong (3.3x the exact value on Tet4, 3.5 % off on Tet10).
+/// straight-edged elements (degree twice the shape functions'). The hexahedra's tensor rules do on
+/// parallelepipeds (Hex8 2x2x2, Hex20 3x3x3; on distorted ones det J adds degrees, as for any
+/// isoparametric mass) and keep M regular; the tetrahedra's displacement rules do not (Tet4: one
+/// point, Tet10: degree 2), and with them M is singular: the patch test's displacements came out
+/// exact but its nodal stresses wrong (3.3x the exact value on Tet4, 3.5 % off on Tet10).
 template <class Elem> struct MixedRuleOf { using type = Elem; };
 /// Tet4 with Tet10's 4-point rule of degree 2.
 struct Tet4Mixed : Tet4 {

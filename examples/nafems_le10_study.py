@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """NAFEMS LE10 (thick plate under pressure): sigma_yy at D against the NAFEMS reference, both
-3D models, Hex8 and Hex20, on refined meshes.
+3D models, Hex8, Hex20, Tet4 and Tet10, on refined meshes.
 
 The problem is examples/nafems_le10/le10.yaml (its comment and make_le10_mesh.py give the
 geometry, the supports and the load). Reference: sigma_yy(D) = -5.38 MPa at D = (2, 0, 0.3),
@@ -8,8 +8,9 @@ NAFEMS R0015 "The Standard NAFEMS Benchmarks" (1990), test LE10 (a converged val
 benchmark's authors; there is no closed form). Each run writes its mesh (make_le10_mesh.write_mesh),
 runs `mixcon run` on the problem file with that mesh (and, for the mixed model,
 `model: {formulation: mixed}`), and reads from results.h5:
- - sigma_yy at the node D: the displacement model's nodal stress (extrapolated from the Gauss
-   points of the one element at D) or the mixed model's nodal stress unknown;
+ - sigma_yy at the node D: the displacement model's nodal stress (hexahedra: extrapolated from
+   the Gauss points of the one element at D; tetrahedra: evaluated at the node in each element
+   sharing D and averaged) or the mixed model's nodal stress unknown;
  - the relative deflection u_z(D) - u_z(A), A = (0, 1, 0.3) the inner ellipse's other end (no
    reference value: it shows the models converge to one solution; u_z(D) alone grows without
    bound under refinement, like log(1/h), because a line support is singular in 3D);
@@ -17,7 +18,7 @@ runs `mixcon run` on the problem file with that mesh (and, for the mixed model,
    pressure times the area of the mesh's upper face (equilibrium of the solved system);
  - the unknowns, the solver's iterations and the wall time.
 
---check (CI: ctest example.nafems_le10_study, about 15 s) runs the Hex20 meshes 8 x 4 x 2 and
+--check (CI: ctest example.nafems_le10_study, about 10 s on an idle machine) runs the Hex20 meshes 8 x 4 x 2 and
 16 x 8 x 4 with both models, the Tet10 mesh 16 x 8 x 4 with the displacement model and the Tet4
 mesh 16 x 8 x 4 with both, and asserts:
  - sigma_yy(D) on 16 x 8 x 4 within 1 % of -5.38 MPa (Hex20, displacement model), 1.5 %
@@ -45,7 +46,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "nafems_le10"))
 sys.path.insert(0, HERE)
-from make_le10_mesh import write_mesh  # noqa: E402
+from make_le10_mesh import face_area, write_mesh  # noqa: E402
 from study_util import finish_figure, run_variant  # noqa: E402
 
 REFERENCE = -5.38  # MPa, NAFEMS R0015 (1990), LE10
@@ -66,63 +67,6 @@ CHECK_RUNS = ",".join([f"hex20:{d}:{m}" for m in ("displacement", "mixed")
 # --check's bounds on |sigma_yy(D) / -5.38 - 1| (measured: docs/validation-3d.md).
 CHECK_BOUNDS = {("hex20", "16x8x4", "displacement"): 0.01, ("hex20", "16x8x4", "mixed"): 0.015,
                 ("tet10", "16x8x4", "displacement"): 0.03, ("tet4", "16x8x4", "mixed"): 0.03}
-
-
-def face_area(nodes, faces):
-    """Area of the boundary faces: 4- and 8-node quadrangles (serendipity map) and 3- and 6-node
-    triangles, integrated with 4 x 4 Gauss points (triangles: collapsed onto the square)."""
-    g, w = np.polynomial.legendre.leggauss(4)
-    area = 0.0
-    for f in faces:
-        x = nodes[f]
-        for a, wa in zip(g, w):
-            for b, wb in zip(g, w):
-                if len(f) in (3, 6):  # r = u (1 - v), s = v on the unit triangle
-                    u, v = 0.5 * (1 + a), 0.5 * (1 + b)
-                    dn, scale = triangle_derivatives(len(f), u * (1 - v), v), 0.25 * (1 - v)
-                else:
-                    dn, scale = quad_derivatives(len(f), a, b), 1.0
-                j = dn @ x  # 2 x 3: the tangents
-                area += wa * wb * scale * np.linalg.norm(np.cross(j[0], j[1]))
-    return area
-
-
-def triangle_derivatives(n, r, s):
-    """d N / d(r, s) of the 3-node or 6-node triangle (corners (0,0), (1,0), (0,1), then the
-    mid-edge nodes of edges 0-1, 1-2, 2-0)."""
-    lam = [1 - r - s, r, s]
-    dlam = np.array([[-1.0, 1.0, 0.0], [-1.0, 0.0, 1.0]])  # d lambda_i / d(r, s)
-    if n == 3:
-        return dlam
-    d = np.zeros((2, 6))
-    for i in range(3):
-        d[:, i] = (4 * lam[i] - 1) * dlam[:, i]
-        k = (i + 1) % 3
-        d[:, 3 + i] = 4 * (lam[i] * dlam[:, k] + lam[k] * dlam[:, i])
-    return d
-
-
-def quad_derivatives(n, a, b):
-    """d N / d(a, b) of the 4-node or 8-node quadrangle (corners (-1,-1), (1,-1), (1,1), (-1,1),
-    then the mid-edge nodes of edges 0-1, 1-2, 2-3, 3-0)."""
-    c = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
-    d = np.zeros((2, n))
-    for i, (p, q) in enumerate(c):
-        if n == 4:
-            d[0, i] = 0.25 * p * (1 + q * b)
-            d[1, i] = 0.25 * q * (1 + p * a)
-        else:
-            d[0, i] = 0.25 * p * (1 + q * b) * (2 * p * a + q * b)
-            d[1, i] = 0.25 * q * (1 + p * a) * (p * a + 2 * q * b)
-    if n == 8:
-        for i, (p, q) in enumerate([(0, -1), (1, 0), (0, 1), (-1, 0)]):
-            if p == 0:  # N = (1 - a^2)(1 + q b) / 2
-                d[0, 4 + i] = -a * (1 + q * b)
-                d[1, 4 + i] = 0.5 * q * (1 - a * a)
-            else:       # N = (1 + p a)(1 - b^2) / 2
-                d[0, 4 + i] = 0.5 * p * (1 - b * b)
-                d[1, 4 + i] = -b * (1 + p * a)
-    return d
 
 
 def read_faces(msh, name):
@@ -253,7 +197,7 @@ def main():
     ap.add_argument("--mixcon", default="build/apps/mixcon")
     ap.add_argument("--out", default="out/nafems_le10")
     ap.add_argument("--runs", default=None, help="element:NTxNRxNZ:model,... (default: all; "
-                                                 "--check: the two Hex20 meshes)")
+                                                 "--check: CHECK_RUNS)")
     ap.add_argument("--check", action="store_true", help="exit 1 when a check fails")
     a = ap.parse_args()
     runs = a.runs or (CHECK_RUNS if a.check else DEFAULT_RUNS)

@@ -1,6 +1,7 @@
 // The linear mixed (Hellinger-Reissner) model on solids (issue 17, first step of the 3D mixed
 // model): displacements and the six Voigt stresses as nodal unknowns of equal order (9 per node:
-// u, v, w, then xx, yy, zz, yz, xz, xy), Hex8/Hex8 and Hex20/Hex20. Its operator is the Jacobian
+// u, v, w, then xx, yy, zz, yz, xz, xy): Hex8/Hex8, Hex20/Hex20, Tet4/Tet4 and Tet10/Tet10 (the
+// tetrahedra with the rules of core/ElementTraits.hpp MixedRule). Its operator is the Jacobian
 // of the mixed residual at the undeformed, unstressed state, assembled by the generic element
 // driver (kernels/Nonlinear.hpp SolidMixedKernel): [a K^L, (1 - a) K12; (1 - a) K12^T,
 // -(1 - a) M] with the consistent stabilization a (0: the report's model), and solved with the
@@ -19,7 +20,7 @@ namespace mixcon {
 class SolidMixedSolve;
 
 namespace detail {
-/// Refuses (InputError) a mesh the 3D mixed models do not take: Hex8 and Hex20 only so far.
+/// Refuses (InputError) a mesh the 3D mixed models do not take: a 2D one.
 void checkSolidMixedElement(const Mesh &mesh);
 /// The compliance D = C^-1 of each material (InputError naming a material whose stiffness is
 /// not positive definite).
@@ -31,7 +32,7 @@ Kokkos::View<SolidMatrix *, DeviceSpace> deviceMatrices(const std::vector<SolidM
 
 class SolidMixedModel final : public ModelBase {
 public:
-  /// A 3D mesh of Hex8 or Hex20 (throws InputError for other element types) and the 6 x 6 [C] of
+  /// A 3D mesh (Hex8, Hex20, Tet4, Tet10; InputError for a 2D one) and the 6 x 6 [C] of
   /// each material; a in [0, 1) is the stabilization.
   SolidMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
                   const std::vector<SolidMatrix> &stiffness, double stabilization);

@@ -19,7 +19,8 @@ namespace mixcon {
 
 /// The inverses of the nodal 6 x 6 diagonal blocks of m (6 unknowns per node, node-interleaved:
 /// rows and columns 6 p .. 6 p + 5): inverse(p) = (block p)^-1, or the inverse of its diagonal
-/// where the block has no inverse (a zero diagonal entry gives 0). The CG on M's preconditioner.
+/// where invertConstitutive refuses the block (not positive definite; a zero diagonal entry gives
+/// 0). The CG on M's preconditioner.
 void invertStressBlocks(const CsrMatrix<DeviceSpace> &m,
                         const Kokkos::View<SolidMatrix *, DeviceSpace> &inverse);
 /// y = diag(inverse(0), inverse(1), ...) a (6 per node).

@@ -1,11 +1,11 @@
 // The geometrically nonlinear mixed (Hellinger-Reissner) model on solids (issue 17): the 2D
-// model's current-configuration form (NonlinearMixedModel, MixedForm::Current) on Hex8/Hex8 and
-// Hex20/Hex20, 9 unknowns per node (u, v, w, then the Voigt Cauchy stresses xx, yy, zz, yz, xz,
-// xy). Unknowns the total displacement and the nodal Cauchy stress; residual and exact Jacobian
-// from the generic element driver (kernels/Nonlinear.hpp SolidMixedKernel with
-// MixedCurrentLaw<Memory, 3>): G_u = int B(x)^T [(1 - a) tau + a C e(u)] da - f_ext,
-// G_S = (1 - a) int psi (e(u) - D tau) da, e the Almansi strain, with the stabilization a (0:
-// the report's model). Path independent, so no stress update between increments; load stepping,
+// model's current-configuration form (NonlinearMixedModel, MixedForm::Current) on Hex8/Hex8,
+// Hex20/Hex20, Tet4/Tet4 and Tet10/Tet10, 9 unknowns per node (u, v, w, then the Voigt Cauchy
+// stresses xx, yy, zz, yz, xz, xy). Unknowns the total displacement and the nodal Cauchy stress;
+// residual and exact Jacobian from the generic element driver (kernels/Nonlinear.hpp
+// SolidMixedKernel with MixedCurrentLaw<Memory, 3>): G_u = int B(x)^T [(1 - a) tau + a C e(u)] da -
+// f_ext, G_S = (1 - a) int psi (e(u) - D tau) da, e the Almansi strain, with the stabilization a
+// (0: the report's model). Path independent, so no stress update between increments; load stepping,
 // cutting, restart and follower face pressures as the displacement model. Solved with the direct
 // solver (sparse LU) or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). Data flow:
 // kernels -> solver (this) -> io.
@@ -22,8 +22,8 @@ namespace mixcon {
 
 class SolidNonlinearMixedModel final : public NonlinearModel {
 public:
-  /// A 3D mesh of Hex8 or Hex20 (InputError otherwise), the 6 x 6 [C] of each material and the
-  /// stabilization a in [0, 1).
+  /// A 3D mesh (Hex8, Hex20, Tet4, Tet10; InputError for a 2D one), the 6 x 6 [C] of each material
+  /// and the stabilization a in [0, 1).
   SolidNonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
                            const std::vector<SolidMatrix> &stiffness, double stabilization);
   ~SolidNonlinearMixedModel() override;

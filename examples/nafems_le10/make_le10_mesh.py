@@ -40,12 +40,12 @@ CORNERS = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1,
 # corner nearest corner 0 (so that fp[0]-fp[2] is the Kuhn split's diagonal of the face).
 FACES = {"upper": (4, 5, 6, 7), "y0": (0, 1, 5, 4), "x0": (3, 7, 6, 2), "outer": (1, 2, 6, 5)}
 # Tetrahedra: the Kuhn split of every cell into 6 tetrahedra along its diagonal 0-6 (corner
-# numbers), each positively oriented; it is conforming across cells. Gmsh's 10-node
-# tetrahedron numbers its mid-edge nodes by the edges 0-1, 1-2, 2-0, 3-0, 3-2, 3-1.
+# numbers), each positively oriented (build checks the volumes); it is conforming across cells.
 KUHN_TETS = [(0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6)]
+# Gmsh's 10-node tetrahedron numbers its mid-edge nodes by the edges 0-1, 1-2, 2-0, 3-0, 3-2, 3-1.
+TET10_EDGES = [(0, 1), (1, 2), (2, 0), (3, 0), (3, 2), (3, 1)]
 # Gmsh element types (volume, boundary face, line) of each element.
 GMSH_TYPES = {"hex8": (5, 3, 1), "hex20": (17, 16, 8), "tet4": (4, 2, 1), "tet10": (11, 9, 8)}
-TET10_EDGES = [(0, 1), (1, 2), (2, 0), (3, 0), (3, 2), (3, 1)]
 THICKNESS = 0.6
 
 
@@ -54,16 +54,16 @@ def position(t, s, z):
     return ((2.0 + 1.25 * s) * c, (1.0 + 1.75 * s) * n, z)
 
 
-def volume_sign(p):
-    """Sign of the volume of the lattice tetrahedron p (the map to x, y, z keeps it)."""
-    a, b, c = ([p[m][i] - p[0][i] for i in range(3)] for m in (1, 2, 3))
+def volume_sign(x):
+    """Sign of the volume of the tetrahedron of corners x[0..3] (coordinates)."""
+    a, b, c = ([x[m][i] - x[0][i] for i in range(3)] for m in (1, 2, 3))
     return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
             a[2] * (b[0] * c[1] - b[1] * c[0]))
 
 
 def build(element, divisions, grading=1.0):
-    """Nodes {lattice point: (tag, xyz)}, hexahedra, boundary faces by group, the mid-plane line
-    and the node D. Lattice points are (J, I, K) in half steps: corners at even indices."""
+    """Nodes {lattice point: (tag, xyz)}, the volume elements (hexahedra or tetrahedra: the second
+    value, named `hexes` below), boundary faces by group, the mid-plane line and the node D. Lattice points are (J, I, K) in half steps: corners at even indices."""
     nt, nr, nz = divisions
     if nz % 2:
         raise SystemExit("make_le10_mesh: nz must be even (the mid-plane z = 0 is a node layer)")
@@ -102,9 +102,9 @@ def build(element, divisions, grading=1.0):
                 if tetrahedra:
                     for tet in KUHN_TETS:
                         tp = [pts[c] for c in tet]
-                        if volume_sign(tp) < 0:
-                            raise SystemExit("make_le10_mesh: a negatively oriented tetrahedron")
                         conn = [tag(p) for p in tp]
+                        if volume_sign([tags[p][1] for p in tp]) <= 0:  # in x, y, z
+                            raise SystemExit("make_le10_mesh: a tetrahedron of non-positive volume")
                         if quadratic:
                             conn += [tag(mid(tp[a], tp[b])) for a, b in TET10_EDGES]
                         hexes.append(conn)
@@ -136,13 +136,70 @@ def build(element, divisions, grading=1.0):
     return tags, hexes, faces, line, d
 
 
+# 4-point Gauss-Legendre rule on [-1, 1].
+GAUSS4 = [(-0.8611363115940526, 0.3478548451374538), (-0.3399810435848563, 0.6521451548625461),
+          (0.3399810435848563, 0.6521451548625461), (0.8611363115940526, 0.3478548451374538)]
+
+
+def quad_derivatives(n, a, b):
+    """d N / d(a, b) of the 4-node or 8-node quadrangle at (a, b) (corners (-1,-1), (1,-1),
+    (1,1), (-1,1), then the mid-edge nodes of edges 0-1, 1-2, 2-3, 3-0), one pair per node."""
+    d = []
+    for p, q in [(-1, -1), (1, -1), (1, 1), (-1, 1)]:
+        if n == 4:
+            d.append((0.25 * p * (1 + q * b), 0.25 * q * (1 + p * a)))
+        else:
+            d.append((0.25 * p * (1 + q * b) * (2 * p * a + q * b),
+                      0.25 * q * (1 + p * a) * (p * a + 2 * q * b)))
+    if n == 8:
+        for p, q in [(0, -1), (1, 0), (0, 1), (-1, 0)]:
+            d.append((-a * (1 + q * b), 0.5 * q * (1 - a * a)) if p == 0 else
+                     (0.5 * p * (1 - b * b), -b * (1 + p * a)))
+    return d
+
+
+def triangle_derivatives(n, r, s):
+    """d N / d(r, s) of the 3-node or 6-node triangle at (r, s) (corners (0,0), (1,0), (0,1),
+    then the mid-edge nodes of edges 0-1, 1-2, 2-0), one pair per node."""
+    lam, dlam = [1 - r - s, r, s], [(-1.0, -1.0), (1.0, 0.0), (0.0, 1.0)]
+    if n == 3:
+        return dlam
+    d = [tuple((4 * lam[i] - 1) * dlam[i][c] for c in range(2)) for i in range(3)]
+    for i in range(3):
+        k = (i + 1) % 3
+        d.append(tuple(4 * (lam[i] * dlam[k][c] + lam[k] * dlam[i][c]) for c in range(2)))
+    return d
+
+
+def face_area(xyz, faces):
+    """Area of boundary faces (node lists; xyz[node] its coordinates): 4- and 8-node quadrangles
+    (serendipity map) and 3- and 6-node triangles, 4 x 4 Gauss points (triangles collapsed onto
+    the square: r = u (1 - v), s = v)."""
+    area = 0.0
+    for f in faces:
+        x = [xyz[node] for node in f]
+        for a, wa in GAUSS4:
+            for b, wb in GAUSS4:
+                if len(f) in (3, 6):
+                    u, v = 0.5 * (1 + a), 0.5 * (1 + b)
+                    dn, scale = triangle_derivatives(len(f), u * (1 - v), v), 0.25 * (1 - v)
+                else:
+                    dn, scale = quad_derivatives(len(f), a, b), 1.0
+                t = [[sum(dn[m][c] * x[m][k] for m in range(len(f))) for k in range(3)]
+                     for c in (0, 1)]
+                cross = (t[0][1] * t[1][2] - t[0][2] * t[1][1], t[0][2] * t[1][0] - t[0][0] * t[1][2],
+                         t[0][0] * t[1][1] - t[0][1] * t[1][0])
+                area += wa * wb * scale * math.sqrt(sum(c * c for c in cross))
+    return area
+
+
 def write_mesh(path, element="hex20", divisions=(8, 4, 2), grading=1.0):
     """Writes the mesh; returns (nodes, elements)."""
     tags, hexes, faces, line, d = build(element, divisions, grading)
     volume, face, edge = GMSH_TYPES[element]
     names = ["upper", "y0", "x0", "outer"]
     nodes = sorted(tags.values())
-    box = "-3.25 -2.75 -0.3 3.25 2.75 0.3"
+    box = "0 0 -0.3 3.25 2.75 0.3"  # the quarter's bounding box
     entities = ((1, 1, 4, 1), ["1 2 0 0.3 1 1", f"1 {box} 1 1 0"] +
                 [f"{n + 1} {box} 1 {n + 1} 0" for n in range(4)] + [f"1 {box} 1 1 0"])
     blocks = [(3, 1, volume, hexes)]
