@@ -69,29 +69,13 @@ CHECK_BOUNDS = {("hex20", "16x8x4", "displacement"): 0.01, ("hex20", "16x8x4", "
                 ("tet10", "16x8x4", "displacement"): 0.03, ("tet4", "16x8x4", "mixed"): 0.03}
 
 
-def read_faces(msh, name):
-    """The boundary faces of physical surface `name` of a make_le10_mesh file, as 0-based
-    node indices (the file numbers its nodes 1..N in order)."""
-    lines = open(msh).read().split("\n")
-    surface = [ln.split()[1] for ln in lines if ln.startswith("2 ") and f'"{name}"' in ln][0]
-    i = lines.index("$Elements") + 2
-    faces = []
-    while lines[i] != "$EndElements":
-        dim, entity, _, count = (int(t) for t in lines[i].split())
-        block = lines[i + 1:i + 1 + count]
-        if dim == 2 and entity == int(surface):
-            faces = [[int(t) - 1 for t in ln.split()[1:]] for ln in block]
-        i += 1 + count
-    return faces
-
-
 def run(mixcon, out, spec):
     element, divisions, model = spec.split(":")
     div = [int(v) for v in divisions.split("x")]
     name = f"{element}_{divisions}_{model}"
     os.makedirs(out, exist_ok=True)
     msh = os.path.join(out, name + ".msh")
-    write_mesh(msh, element, div)
+    _, _, faces = write_mesh(msh, element, div)
     subs = [("mesh: {file: le10.msh}", "mesh: {file: %s}" % msh)]
     if model == "mixed":
         subs.append(("materials:", "model: {formulation: mixed}\nmaterials:"))
@@ -109,7 +93,8 @@ def run(mixcon, out, spec):
     summary = json.load(open(os.path.join(result, "summary.json")))
     mid = np.where((np.abs(nodes[:, 2]) < 1e-12) &
                    (np.abs((nodes[:, 0] / 3.25) ** 2 + (nodes[:, 1] / 2.75) ** 2 - 1) < 1e-9))[0]
-    load = PRESSURE * face_area(nodes, read_faces(msh, "upper"))
+    # results.h5 keeps the file's node order: tag t is row t - 1.
+    load = PRESSURE * face_area(nodes, [[t - 1 for t in f] for f in faces["upper"]])
     steps = summary.get("steps", [{}])
     return {
         "element": element, "divisions": divisions, "model": model,

@@ -119,15 +119,17 @@ solidGeometricStiffness(const MeshView<MemorySpace, 3> &mesh, const TauView &tau
     for (int j = 0; j < 3 * n; ++j)
       kg[i][j] = 0.0;
   for (int q = 0; q < Elem::kNumQp; ++q) {
-    double sh[n], dn[n][3], g[n][3], t[3][3];
+    double sh[n], dn[n][3], g[n][3];
     const double w = detail::referencePoint<Elem>(q, sh, dn);
     const double f = w * detail::pointGeometry<Elem>(xe, dn, g);
+    Vector<Voigt<3>::kSize> tv;
     for (int k = 0; k < Voigt<3>::kSize; ++k)
-      t[Voigt<3>::row(k)][Voigt<3>::col(k)] = t[Voigt<3>::col(k)][Voigt<3>::row(k)] = tau(e, q, k);
+      tv.v[k] = tau(e, q, k);
+    const Mat<3, 3> t = voigtToStress<3>(tv);
     for (int a = 0; a < n; ++a) {
       double ta[3];
       for (int i = 0; i < 3; ++i)
-        ta[i] = f * (t[i][0] * g[a][0] + t[i][1] * g[a][1] + t[i][2] * g[a][2]);
+        ta[i] = f * (t.m[i][0] * g[a][0] + t.m[i][1] * g[a][1] + t.m[i][2] * g[a][2]);
       for (int b = a; b < n; ++b) { // upper triangle; symmetric
         const double v = ta[0] * g[b][0] + ta[1] * g[b][1] + ta[2] * g[b][2];
         for (int i = 0; i < 3; ++i)

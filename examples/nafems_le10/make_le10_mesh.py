@@ -194,7 +194,8 @@ def face_area(xyz, faces):
 
 
 def write_mesh(path, element="hex20", divisions=(8, 4, 2), grading=1.0):
-    """Writes the mesh; returns (nodes, elements)."""
+    """Writes the mesh; returns (nodes, elements, faces): the counts and the boundary faces by
+    group (node tags, numbered 1..N in the file's order)."""
     tags, hexes, faces, line, d = build(element, divisions, grading)
     volume, face, edge = GMSH_TYPES[element]
     names = ["upper", "y0", "x0", "outer"]
@@ -208,7 +209,7 @@ def write_mesh(path, element="hex20", divisions=(8, 4, 2), grading=1.0):
     write_msh(path, [(0, 1, "D"), (1, 1, "outer_mid")] +
               [(2, n + 1, name) for n, name in enumerate(names)] + [(3, 1, "plate")],
               entities, ["%.17g %.17g %.17g" % xyz for _, xyz in nodes], blocks)
-    return len(nodes), len(hexes)
+    return len(nodes), len(hexes), faces
 
 
 def main():
@@ -220,7 +221,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                   "le10.msh"))
     a = ap.parse_args()
-    nodes, elements = write_mesh(a.out, a.element, a.divisions, a.grading)
+    nodes, elements, _ = write_mesh(a.out, a.element, a.divisions, a.grading)
     print(f"wrote {a.out}: {nodes} nodes, {elements} {a.element} elements")
 
 
