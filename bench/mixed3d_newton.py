@@ -5,10 +5,10 @@ beyond a million unknowns: time, GMRES iterations and peak memory.
 The problem: the unit cube of N^3 Hex8 or Hex20 elements (`generator: box`), isotropic E = 1000,
 nu = 0.3, mixed model (9 unknowns per node) in the current form with a = 0.05, the face x = 0
 clamped, a shear traction (0, 0, -20) on the face x = 1 (2 % strain: four Newton iterations),
-one increment, `solver: {type: amg, <--solver-keys>}` (flexible GMRES(100) on the assembled
-Jacobian with the block-triangular preconditioner, solver/SolidMixedSolve.hpp; the keys default
-to one aggressive AMG level and PMaxElmts 4, measured 2.6x faster on the cube; "" for the
-model's defaults). Each run is `mixcon run FILE -v` alone under `/usr/bin/time -v` (peak memory: "Maximum
+one increment, `solver: {type: amg, <--solver-keys>}` (flexible GMRES(100) on the Jacobian with
+the block-triangular preconditioner, solver/SolidMixedSolve.hpp; the keys default to one
+aggressive AMG level and PMaxElmts 4, measured 2.6x faster on the cube; "" for the model's
+defaults; add `jacobian: matrix_free` to apply the Jacobian without assembling it). Each run is `mixcon run FILE -v` alone under `/usr/bin/time -v` (peak memory: "Maximum
 resident set size"); the table has the element, N, unknowns, Newton iterations, GMRES iterations
 per Newton iteration, summary.json's setup (assembly, K^L, the AMG setups, the blocks C and M)
 and solve seconds, the wall time per Newton iteration, the whole run's wall time and its peak

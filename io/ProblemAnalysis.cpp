@@ -132,7 +132,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "reuse_hierarchy", "direct_fallback"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
     if (solidMixed) { // the 3D mixed model: the direct solver or the block-triangular AMG solve
-      for (const char *key : {"method", "krylov", "preconditioner", "inner_tolerance", "jacobian"})
+      for (const char *key : {"method", "krylov", "preconditioner", "inner_tolerance"})
         if (s.has(key))
           s[key].fail(std::string(key) +
                       " applies to the 2D mixed model's solvers; the 3D mixed model solves with "
@@ -140,14 +140,14 @@ void readSolver(const YamlItem &top, Problem &p) {
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
                    "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
-                   "coarsest_size", "reuse_hierarchy", "print_level"});
+                   "coarsest_size", "reuse_hierarchy", "print_level", "jacobian"});
     }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
         s[key].fail(std::string(key) + " applies to the mixed model's solver: amg only");
-    if (s.has("jacobian") && !nonlinearMixed)
-      s["jacobian"].fail("jacobian applies to the geometrically nonlinear mixed model's solver: "
-                         "amg only");
+    if (s.has("jacobian") && !nonlinearMixed && !solidMixed)
+      s["jacobian"].fail("jacobian applies to the geometrically nonlinear mixed model's and the "
+                         "3D mixed model's solver: amg only");
     if (s.has("method")) {
       const bool schur = s["method"].choice({"block_triangular", "schur"}) == "schur";
       p.model.mixedNewton.method =
@@ -195,7 +195,7 @@ void readSolver(const YamlItem &top, Problem &p) {
           j.fail("jacobian: matrix_free is not available with contact (its corrections need the "
                  "assembled Jacobian)");
         for (const LoadSpec &l : p.loads)
-          if (l.kind == LoadKind::Pressure && l.follower)
+          if (l.kind == LoadKind::Pressure && l.follower && p.model.geometricNonlinearity)
             j.fail("jacobian: matrix_free is not available with follower pressures (their load "
                    "stiffness is assembled); use follower: false or jacobian: assembled");
       }

@@ -75,7 +75,9 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   checkRigidBodyModes();
   const LocalIndex nn = mesh_.numNodes();
   const NodeGraph graph = buildNodeGraph(mesh_);
-  operator_ = expandGraph<Memory>(graph, kUnknowns);
+  // jacobian: matrix_free (solver: amg): the operator is applied without its matrix.
+  const bool matrixFree = options.type == LinearSolverType::Amg && matrixFreeRequested_;
+  operator_ = matrixFree ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph, kUnknowns);
   const auto map = elementScatterMap<Memory>(mesh_, graph);
   const auto compliance = detail::deviceMatrices(compliance_, "mixcon::mixed3d::compliance");
   x_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::unknowns", kUnknowns * nn);
@@ -115,12 +117,19 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
     Kokkos::View<double **, Memory> positions("mixcon::mixed3d::positions", nn, dim());
     Kokkos::deep_copy(positions, referenceCoordinates());
     iterative_ = std::make_unique<SolidMixedSolve>(graph, options, preconditionerTolerance_,
-                                                   restart_, dofs_, comm, positions);
+                                                   restart_, dofs_, comm, positions, !matrixFree);
     iterative_->zeroStiffness();
     dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
       assembleLinearStiffness<decltype(elem)>(Exec(), solid_, map, iterative_->stiffness());
     });
-    iterative_->refresh(operator_, isConstrained_);
+    if (matrixFree) { // the incremental law at x = 0 without prestress: the linear operator
+      matrixFree_ =
+          std::make_unique<SolidMixedMatrixFree>(mesh_, solid_, compliance, stabilization_, false);
+      matrixFree_->update(ConstVec(zero));
+      iterative_->refresh(matrixFree_->operators(), isConstrained_);
+    } else {
+      iterative_->refresh(operator_, isConstrained_);
+    }
   } else {
     setupDirect();
   }
@@ -150,12 +159,12 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
   LinearSolveStats s;
   std::string note;
   if (iterative_ && !solver_) {
-    s = iterative_->solve(operator_, flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
+    s = iterative_->solve(flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
                           scaledCopy(target_, loadFactor), x_);
     int ranks = 1;
     MPI_Comm_size(comm_, &ranks);
     const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
-    if (!s.converged && ranks == 1 &&
+    if (!s.converged && !matrixFree_ && ranks == 1 &&
         unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
       appendNote(note, "the block-triangular solve did not converge (relative residual " +
                            std::to_string(s.relativeResidual) +
@@ -183,7 +192,13 @@ std::vector<double> SolidMixedModel::nodalStressHost() const {
 
 std::vector<double> SolidMixedModel::reactionHost(double loadFactor) const {
   Kokkos::View<double *, Memory> f("mixcon::mixed3d::internalForce", dim() * mesh_.numNodes());
-  multiplyFieldRows(operator_, kUnknowns, 0, dim(), x_, f);
+  if (matrixFree_) {
+    Kokkos::View<double *, Memory> y("mixcon::mixed3d::operatorTimesSolution", x_.extent(0));
+    matrixFree_->applyJacobian(x_, y);
+    gather(ConstVec(y), kUnknowns, 0, dim(), f);
+  } else {
+    multiplyFieldRows(operator_, kUnknowns, 0, dim(), x_, f);
+  }
   return reactionFrom(f, loadFactor);
 }
 

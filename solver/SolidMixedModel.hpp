@@ -18,6 +18,7 @@
 namespace mixcon {
 
 class SolidMixedSolve;
+class SolidMixedMatrixFree;
 
 namespace detail {
 /// Refuses (InputError) a mesh the 3D mixed models do not take: a 2D one.
@@ -42,12 +43,16 @@ public:
   /// with solver: amg, sets up the block-triangular solve (solver/SolidMixedSolve.hpp). Call
   /// after all loads and constraints are given.
   void setup(const LinearSolverOptions &options, MPI_Comm comm);
-  /// solver: amg: the relative tolerance of the CG on the stress block inside the preconditioner
-  /// and the GMRES restart; call before setup().
-  void setIterativeSolver(double preconditionerTolerance, int restart) {
+  /// solver: amg: the relative tolerance of the CG on the stress block inside the preconditioner,
+  /// the GMRES restart, and whether the operator is applied without its matrix
+  /// (SolidMixedMatrixFree; no fall back to the LU then); call before setup().
+  void setIterativeSolver(double preconditionerTolerance, int restart, bool matrixFree = false) {
     preconditionerTolerance_ = preconditionerTolerance;
     restart_ = restart;
+    matrixFreeRequested_ = matrixFree;
   }
+  /// Whether the operator is applied without its matrix (set by setup()).
+  bool matrixFree() const { return matrixFree_ != nullptr; }
   /// Solves for load factor lambda: loads lambda F, u = lambda g on constrained unknowns (solver:
   /// amg falls back to the direct LU, reported in the note, where it does not converge and the
   /// system has at most min(directFallbackUnknowns, kSolidMixedDirectFallback) unknowns).
@@ -75,8 +80,10 @@ private:
   /// For lambda = 1: F on the displacement rows, the prescribed values g, and the constrained
   /// right-hand side of the direct solve.
   Kokkos::View<double *, Memory> rhs_, target_, constrainedRhs_;
-  std::unique_ptr<LinearSolver> solver_;       ///< solver: direct, or the fall back of amg
-  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
+  std::unique_ptr<LinearSolver> solver_;             ///< solver: direct, or the fall back of amg
+  std::unique_ptr<SolidMixedSolve> iterative_;       ///< solver: amg
+  std::unique_ptr<SolidMixedMatrixFree> matrixFree_; ///< jacobian: matrix_free
+  bool matrixFreeRequested_ = false;
   LinearSolverOptions options_;
   MPI_Comm comm_ = MPI_COMM_SELF;
   double preconditionerTolerance_ = 1e-2;

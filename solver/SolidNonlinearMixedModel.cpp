@@ -48,10 +48,18 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   graph_ = buildNodeGraph(mesh_);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
-  tangent_ = expandGraph<Memory>(graph_, kUnknowns);
   work_ = CsrMatrix<Memory>{};
   commitStaged();
   follower_ = followerLoads();
+  // jacobian: matrix_free serves the block-triangular GMRES without follower pressures (their
+  // load stiffness is assembled).
+  const bool matrixFree = options.type != LinearSolverType::Direct &&
+                          mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0;
+  tangent_ = matrixFree ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kUnknowns);
+  matrixFree_.reset();
+  if (matrixFree)
+    matrixFree_ =
+        std::make_unique<SolidMixedMatrixFree>(mesh_, solid_, compliance_, stabilization_, true);
   const LocalIndex n = kUnknowns * mesh_.numNodes();
   flags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear3d::constrained", n);
   constraintsChanged();
@@ -73,9 +81,9 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
     positions_ =
         Kokkos::View<double **, Memory>("mixcon::nonlinear3d::positions", mesh_.numNodes(), dim());
     Kokkos::deep_copy(positions_, referenceCoordinates());
-    iterative_ =
-        std::make_unique<SolidMixedSolve>(graph_, options, mixedOptions_.preconditionerTolerance,
-                                          mixedOptions_.restart, dofs_, comm, positions_);
+    iterative_ = std::make_unique<SolidMixedSolve>(
+        graph_, options, mixedOptions_.preconditionerTolerance, mixedOptions_.restart, dofs_, comm,
+        positions_, matrixFree_ == nullptr);
   }
   assemblySeconds_ = seconds(start);
 }
@@ -103,10 +111,10 @@ void SolidNonlinearMixedModel::updateDisplacement() { gather(x_, kUnknowns, 0, d
 double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
   Kokkos::deep_copy(g_, 0.0);
-  if (tangent)
+  if (tangent && !matrixFree_)
     Kokkos::deep_copy(tangent_.values, 0.0);
   const CsrMatrix<Memory> none;
-  const CsrMatrix<Memory> &a = tangent ? tangent_ : none;
+  const CsrMatrix<Memory> &a = tangent && !matrixFree_ ? tangent_ : none; // else at the solve
   LocalIndex inverted = -1;
   double fint = 0.0;
   const auto assemble = [&](auto elem) {
@@ -168,18 +176,25 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
       assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, iterative_->stiffness());
     });
     const double before = iterative_->setupSeconds();
-    iterative_->refresh(tangent_, isConstrained_);
+    if (matrixFree_) { // J at this state: M's point matrices and nodal blocks
+      const auto start = std::chrono::steady_clock::now();
+      matrixFree_->update(ConstVec(x_));
+      solverSetupSeconds_ += seconds(start);
+      iterative_->refresh(matrixFree_->operators(), isConstrained_);
+    } else {
+      iterative_->refresh(tangent_, isConstrained_);
+    }
     solverSetupSeconds_ += iterative_->setupSeconds() - before;
   }
   Vec f(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::nonlinear3d::negativeResidual"),
         g_.extent(0));
   axpby(-1.0, g_, 0.0, f);
   LinearSolveStats s =
-      iterative_->solve(tangent_, flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_);
+      iterative_->solve(flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_);
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
-  if (!s.converged && ranks == 1 &&
+  if (!s.converged && !matrixFree_ && ranks == 1 &&
       unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
     LinearSolverOptions o = linearOptions_;
     o.type = LinearSolverType::Direct;

@@ -29,12 +29,14 @@ public:
   ~SolidNonlinearMixedModel() override;
 
   /// solver: direct — sparse LU of the Jacobian (not symmetric); amg — flexible GMRES on the
-  /// assembled Jacobian with the block-triangular preconditioner of SolidMixedSolve (one
-  /// BoomerAMG V-cycle on K^L of the current configuration), falling back to the LU (reported)
-  /// where it does not converge and the fall back is allowed.
+  /// Jacobian with the block-triangular preconditioner of SolidMixedSolve (one BoomerAMG V-cycle
+  /// on K^L of the current configuration), falling back to the LU (reported) where it does not
+  /// converge and the fall back is allowed. The Jacobian is assembled, or with
+  /// MixedNewtonSolverOptions::matrixFreeJacobian and no follower pressures applied without
+  /// its matrix (SolidMixedMatrixFree; no fall back then).
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
-  /// GMRES restart and the CG tolerance on M of solver: amg (method and matrixFreeJacobian are
-  /// not used); call before setup().
+  /// GMRES restart, the CG tolerance on M and matrixFreeJacobian of solver: amg (method is not
+  /// used); call before setup().
   void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
   /// CG iterations on the stress block in the last correction (solver: amg).
   long innerIterations() const;
@@ -57,7 +59,10 @@ public:
   }
   int unknownsPerNode() const override { return kUnknowns; }
 
-  /// Test access: the unknowns (9 per node) and the last Jacobian and residual.
+  /// Whether the Jacobian is applied without its matrix (set by setup()).
+  bool matrixFree() const { return matrixFree_ != nullptr; }
+  /// Test access: the unknowns (9 per node) and the last Jacobian (empty when matrix-free) and
+  /// residual.
   void setUnknowns(const std::vector<double> &x);
   const CsrMatrix<Memory> &tangent() const { return tangent_; }
   Kokkos::View<const double *, Memory> residual() const { return g_; }
@@ -80,7 +85,8 @@ private:
   Kokkos::View<double *, Memory> x_, committed_, g_, dx_, rhs_, target_, diag_;
   std::unique_ptr<LinearSolver> solver_; ///< solver: direct, or the fall back of solver: amg
   MixedNewtonSolverOptions mixedOptions_;
-  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
+  std::unique_ptr<SolidMixedSolve> iterative_;       ///< solver: amg
+  std::unique_ptr<SolidMixedMatrixFree> matrixFree_; ///< jacobian: matrix_free
   MPI_Comm comm_ = MPI_COMM_SELF;
 };
 

@@ -380,3 +380,30 @@ TEST(SolidLoads, Hex20FaceLoadsSumToTractionTimesAreaWithSerendipityWeights) {
   const LocalIndex cornerNode = mesh.nodesOf("corner_100").at(0);
   EXPECT_NEAR(f[3 * cornerNode + 1], -t[1] * 0.5 * 0.5 / 12.0, 1e-13);
 }
+
+// `solver: {jacobian: matrix_free}` applies the 3D mixed models' Jacobian without its matrix
+// (linear and geometrically nonlinear, solver: amg); refused with the direct solver and with
+// follower pressures (their load stiffness is assembled), and on the displacement model.
+TEST(SolidProblem, MatrixFreeJacobianOfThe3DMixedModels) {
+  const std::string amg =
+      replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg, jacobian: matrix_free}");
+  for (const char *model : {"model: {formulation: mixed}\n",
+                            "model: {formulation: mixed, geometric_nonlinearity: true}\n"}) {
+    std::string y = replaceText(amg, "materials:", std::string(model) + "materials:");
+    if (std::string(model).find("geometric") != std::string::npos)
+      y = replaceText(y, "pressure: 2}", "pressure: 2, follower: false}");
+    EXPECT_TRUE(parseProblem(y, "solid.yaml", "").model.mixedNewton.matrixFreeJacobian) << model;
+    EXPECT_FALSE(parseProblem(replaceText(y, "matrix_free", "assembled"), "solid.yaml", "")
+                     .model.mixedNewton.matrixFreeJacobian)
+        << model;
+    EXPECT_NE(refusal(replaceText(y, "type: amg", "type: direct")).find("needs type: amg"),
+              std::string::npos)
+        << model;
+  }
+  const std::string nonlinear = replaceText(
+      amg, "materials:", "model: {formulation: mixed, geometric_nonlinearity: true}\nmaterials:");
+  EXPECT_NE(refusal(replaceText(nonlinear, "pressure: 2}", "pressure: 2, follower: true}"))
+                .find("follower"),
+            std::string::npos);
+  EXPECT_NE(refusal(amg).find("jacobian applies to"), std::string::npos);
+}
