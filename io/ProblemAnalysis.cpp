@@ -129,7 +129,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "print_level", "krylov", "preconditioner", "inner_tolerance",
                  "interpolation_max_elements", "nodal_coarsening", "method",
                  "stress_block_tolerance", "jacobian", "rigid_body_modes", "coarsest_size",
-                 "reuse_hierarchy", "direct_fallback"});
+                 "smoother", "reuse_hierarchy", "direct_fallback"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
     if (solidMixed) { // the 3D mixed model: the direct solver or the block-triangular AMG solve
       for (const char *key : {"method", "krylov", "preconditioner", "inner_tolerance"})
@@ -140,7 +140,7 @@ void readSolver(const YamlItem &top, Problem &p) {
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
                    "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
-                   "coarsest_size", "reuse_hierarchy", "print_level", "jacobian"});
+                   "coarsest_size", "smoother", "reuse_hierarchy", "print_level", "jacobian"});
     }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
@@ -255,6 +255,12 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.rigidBodyModes = s["rigid_body_modes"].boolean();
     if (s.has("coarsest_size"))
       p.solver.coarsestSize = count("coarsest_size", 1);
+    if (s.has("smoother")) {
+      const std::string v = s["smoother"].choice({"l1_gauss_seidel", "l1_jacobi", "chebyshev"});
+      p.solver.smoother = v == "l1_jacobi"   ? AmgSmoother::L1Jacobi
+                          : v == "chebyshev" ? AmgSmoother::Chebyshev
+                                             : AmgSmoother::L1GaussSeidel;
+    }
     if (s.has("reuse_hierarchy"))
       p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())

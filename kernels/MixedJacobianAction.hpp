@@ -126,7 +126,7 @@ template <class MemorySpace> struct MixedElementColors {
   LocalIndex colorOffsets[kMaxColors + 1] = {};
 };
 
-/// The element colors of a (2D) host mesh for `scatter` (Colored: the greedy coloring of
+/// The element colors of a host mesh for `scatter` (Colored: the greedy coloring of
 /// kernels/MixedMatrixFree.hpp; falls back to Atomic when more colors would be needed).
 template <class MemorySpace>
 MixedElementColors<MemorySpace> mixedElementColors(const Mesh &mesh, MixedScatter scatter) {
@@ -145,25 +145,24 @@ MixedElementColors<MemorySpace> mixedElementColors(const Mesh &mesh, MixedScatte
 }
 
 namespace detail {
-template <bool Atomic, class Elem, class MemorySpace>
+/// y(Width k + c) += ye[a][c] for node k = node a of element e: atomic adds, or plain adds (the
+/// element's color owns its nodes).
+template <bool Atomic, int Width, class Elem, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
-scatterMixedAction(const MeshView<MemorySpace, Elem::kDim> &mesh, LocalIndex e,
-                   const double (&ye)[Elem::kNumNodes][LayoutOf<Elem>::kMixedUnknowns],
-                   const Kokkos::View<double *, MemorySpace> &y) {
-  constexpr int nu = LayoutOf<Elem>::kMixedUnknowns;
+scatterNodeValues(const Kokkos::View<LocalIndex **, Kokkos::LayoutRight, MemorySpace> &connectivity,
+                  LocalIndex e, const double (&ye)[Elem::kNumNodes][Width],
+                  const Kokkos::View<double *, MemorySpace> &y) {
   for (int a = 0; a < Elem::kNumNodes; ++a) {
-    const LocalIndex k = mesh.connectivity(e, a);
-    for (int c = 0; c < nu; ++c) {
+    const LocalIndex k = connectivity(e, a);
+    for (int c = 0; c < Width; ++c) {
       if constexpr (Atomic)
-        Kokkos::atomic_add(&y(nu * k + c), ye[a][c]);
+        Kokkos::atomic_add(&y(Width * k + c), ye[a][c]);
       else
-        y(nu * k + c) += ye[a][c];
+        y(Width * k + c) += ye[a][c];
     }
   }
 }
-} // namespace detail
 
-namespace detail {
 /// Runs f.template element<Atomic>(e) for every element: one launch with Atomic = true, or one
 /// launch per color of `colors` with Atomic = false (the elements of a color share no node).
 template <class ExecSpace, class MemorySpace, class Functor>
@@ -194,7 +193,7 @@ template <class Elem, class Law, class MemorySpace> struct MixedJacobianAction {
   template <bool Atomic> KOKKOS_INLINE_FUNCTION void element(LocalIndex e) const {
     double ye[Elem::kNumNodes][LayoutOf<Elem>::kMixedUnknowns];
     mixedJacobianActionElement<Elem>(mesh, thickness, law, x, tau, dx, e, ye);
-    scatterMixedAction<Atomic, Elem>(mesh, e, ye, y);
+    scatterNodeValues<Atomic, LayoutOf<Elem>::kMixedUnknowns, Elem>(mesh.connectivity, e, ye, y);
   }
 };
 } // namespace detail
@@ -400,15 +399,7 @@ template <class Elem, bool Current, class MemorySpace> struct MixedCouplingParti
         for (int c = 0; c < nv; ++c)
           ye[a][c] += sh[a] * dr[c];
     }
-    for (int a = 0; a < n; ++a) {
-      const LocalIndex k = mesh.connectivity(e, a);
-      for (int c = 0; c < nv; ++c) {
-        if constexpr (Atomic)
-          Kokkos::atomic_add(&w(nv * k + c), ye[a][c]);
-        else
-          w(nv * k + c) += ye[a][c];
-      }
-    }
+    scatterNodeValues<Atomic, nv, Elem>(mesh.connectivity, e, ye, w);
   }
 };
 } // namespace detail
@@ -461,15 +452,7 @@ template <class Elem, class MemorySpace> struct MixedStressMassAction {
         for (int c = 0; c < nv; ++c)
           ye[a][c] += sh[a] * t[c];
     }
-    for (int a = 0; a < n; ++a) {
-      const LocalIndex k = connectivity(e, a);
-      for (int c = 0; c < nv; ++c) {
-        if constexpr (Atomic)
-          Kokkos::atomic_add(&y(nv * k + c), ye[a][c]);
-        else
-          y(nv * k + c) += ye[a][c];
-      }
-    }
+    scatterNodeValues<Atomic, nv, Elem>(connectivity, e, ye, y);
   }
 };
 } // namespace detail

@@ -474,7 +474,9 @@ private:
     HYPRE_BoomerAMGSetInterpType(amg_, 6);   // extended+i
     HYPRE_BoomerAMGSetPMaxElmts(amg_, options_.interpolationMaxElements);
     HYPRE_BoomerAMGSetStrongThreshold(amg_, options_.strongThreshold);
-    HYPRE_BoomerAMGSetRelaxType(amg_, 8); // l1-scaled symmetric Gauss-Seidel
+    HYPRE_BoomerAMGSetRelaxType(amg_, options_.smoother == AmgSmoother::L1Jacobi    ? 18
+                                      : options_.smoother == AmgSmoother::Chebyshev ? 16
+                                                                                    : 8);
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
     if (options_.nodalCoarsening)

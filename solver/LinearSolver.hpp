@@ -19,6 +19,11 @@ using DeviceSpace = Kokkos::DefaultExecutionSpace::memory_space;
 
 enum class LinearSolverType { Amg, Direct };
 
+/// BoomerAMG's smoother on every level but the coarsest (hypre's relax types 8, 18, 16): the
+/// l1-scaled symmetric hybrid Gauss-Seidel (DESIGN-NOTES section 3), l1-Jacobi, or Chebyshev of
+/// order 2 (the last two: only matrix-vector products, no sweep order).
+enum class AmgSmoother { L1GaussSeidel, L1Jacobi, Chebyshev };
+
 /// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, l1-GS) with the interpolation
 /// truncation measured for mixcon's operators.
 struct LinearSolverOptions {
@@ -30,7 +35,8 @@ struct LinearSolverOptions {
   int maxIterations = 1000; ///< at least 1; makeLinearSolver throws std::invalid_argument
 
   double strongThreshold = 0.5; ///< BoomerAMG strength threshold
-  int aggressiveLevels = 0;     ///< BoomerAMG levels of aggressive coarsening
+  AmgSmoother smoother = AmgSmoother::L1GaussSeidel;
+  int aggressiveLevels = 0; ///< BoomerAMG levels of aggressive coarsening
   /// Interpolation truncation (PMaxElmts); 0 keeps all entries. 0 measured best for both the
   /// displacement model and the mixed preconditioners (docs/mixed-model.md); 4 is hypre's usual.
   int interpolationMaxElements = 0;

@@ -76,8 +76,10 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   const LocalIndex nn = mesh_.numNodes();
   const NodeGraph graph = buildNodeGraph(mesh_);
   // jacobian: matrix_free (solver: amg): the operator is applied without its matrix.
-  const bool matrixFree = options.type == LinearSolverType::Amg && matrixFreeRequested_;
-  operator_ = matrixFree ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph, kUnknowns);
+  const bool withoutMatrix = options.type == LinearSolverType::Amg && matrixFreeRequested_;
+  operator_ = withoutMatrix ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph, kUnknowns);
+  iterative_.reset(); // holds the products of matrixFree_
+  matrixFree_.reset();
   const auto map = elementScatterMap<Memory>(mesh_, graph);
   const auto compliance = detail::deviceMatrices(compliance_, "mixcon::mixed3d::compliance");
   x_ = Kokkos::View<double *, Memory>("mixcon::mixed3d::unknowns", kUnknowns * nn);
@@ -116,16 +118,18 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
     // K^L of the reference configuration for the AMG.
     Kokkos::View<double **, Memory> positions("mixcon::mixed3d::positions", nn, dim());
     Kokkos::deep_copy(positions, referenceCoordinates());
-    iterative_ = std::make_unique<SolidMixedSolve>(graph, options, preconditionerTolerance_,
-                                                   restart_, dofs_, comm, positions, !matrixFree);
+    iterative_ = std::make_unique<SolidMixedSolve>(
+        graph, options, preconditionerTolerance_, restart_, dofs_, comm, positions, !withoutMatrix);
     iterative_->zeroStiffness();
     dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
       assembleLinearStiffness<decltype(elem)>(Exec(), solid_, map, iterative_->stiffness());
     });
-    if (matrixFree) { // the incremental law at x = 0 without prestress: the linear operator
+    if (withoutMatrix) { // the incremental law at x = 0 without prestress: the linear operator
       matrixFree_ =
           std::make_unique<SolidMixedMatrixFree>(mesh_, solid_, compliance, stabilization_, false);
+      const auto pointStart = std::chrono::steady_clock::now();
       matrixFree_->update(ConstVec(zero));
+      assemblySeconds_ += seconds(pointStart); // the point matrices are its assembly
       iterative_->refresh(matrixFree_->operators(), isConstrained_);
     } else {
       iterative_->refresh(operator_, isConstrained_);

@@ -80,9 +80,11 @@ private:
   /// For lambda = 1: F on the displacement rows, the prescribed values g, and the constrained
   /// right-hand side of the direct solve.
   Kokkos::View<double *, Memory> rhs_, target_, constrainedRhs_;
-  std::unique_ptr<LinearSolver> solver_;             ///< solver: direct, or the fall back of amg
-  std::unique_ptr<SolidMixedSolve> iterative_;       ///< solver: amg
-  std::unique_ptr<SolidMixedMatrixFree> matrixFree_; ///< jacobian: matrix_free
+  std::unique_ptr<LinearSolver> solver_; ///< solver: direct, or the fall back of amg
+  /// jacobian: matrix_free; declared before iterative_, which keeps its products, so that it is
+  /// destroyed after it.
+  std::unique_ptr<SolidMixedMatrixFree> matrixFree_;
+  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
   bool matrixFreeRequested_ = false;
   LinearSolverOptions options_;
   MPI_Comm comm_ = MPI_COMM_SELF;

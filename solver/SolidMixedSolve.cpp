@@ -165,12 +165,6 @@ SolidMixedOperators SolidMixedMatrixFree::operators() const {
   return o;
 }
 
-std::size_t SolidMixedMatrixFree::bytes() const {
-  return sizeof(double) *
-             (x_.extent(0) + tau_.extent(0) + pointCoupling_.size() + pointMass_.size()) +
-         sizeof(SolidMatrix) * blocks_.extent(0) + sizeof(LocalIndex) * colors_.elements.extent(0);
-}
-
 SolidMixedSolve::SolidMixedSolve(const NodeGraph &graph, const LinearSolverOptions &options,
                                  double preconditionerTolerance, int restart, const DofMap &dofs,
                                  MPI_Comm comm,
@@ -294,7 +288,7 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
 std::string SolidMixedSolve::name() const {
   return "flexible GMRES(" + std::to_string(restart_) + ") on the " +
          (assembled_ ? "assembled Jacobian"
-                     : "Jacobian applied matrix-free (M by partial assembly)") +
+                     : "Jacobian applied matrix-free (C and M by partial assembly)") +
          ", block-triangular preconditioner: one BoomerAMG V-cycle on K^L (" + amg_->name() +
          "), block-Jacobi CG on the stress block to " + std::to_string(preconditionerTolerance_);
 }

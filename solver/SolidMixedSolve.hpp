@@ -4,8 +4,8 @@
 // with S~^-1 one BoomerAMG V-cycle on K^L (3 functions per node, the rigid-body modes of the node
 // positions as interpolation vectors) and M~^-1 a loose CG on M preconditioned by its nodal 6 x 6
 // blocks. J is either assembled (its blocks C and M extracted) or never stored
-// (SolidMixedMatrixFree, `solver: {jacobian: matrix_free}`): J and C applied at the quadrature
-// points, M by partial assembly; only K^L, its AMG hierarchy and per-point and per-node data are
+// (SolidMixedMatrixFree, `solver: {jacobian: matrix_free}`): J applied at the quadrature points,
+// C and M by partial assembly; only K^L, its AMG hierarchy and per-point and per-node data are
 // kept. Shared by SolidMixedModel (K^L and J of the reference configuration, once) and
 // SolidNonlinearMixedModel (of the current configuration, at every tangent). Layer: solver.
 #pragma once
@@ -27,10 +27,10 @@ namespace mixcon {
 /// 0). The CG on M's preconditioner.
 void invertStressBlocks(const CsrMatrix<DeviceSpace> &m,
                         const Kokkos::View<SolidMatrix *, DeviceSpace> &inverse);
-/// y = diag(inverse(0), inverse(1), ...) a (6 per node).
 /// inverse(p) = blocks(p)^-1 (the inverse of its diagonal where invertConstitutive refuses it).
 void invertStressBlocks(const Kokkos::View<const SolidMatrix *, DeviceSpace> &blocks,
                         const Kokkos::View<SolidMatrix *, DeviceSpace> &inverse);
+/// y = diag(inverse(0), inverse(1), ...) a (6 per node).
 void applyStressBlocks(const Kokkos::View<const SolidMatrix *, DeviceSpace> &inverse,
                        const Kokkos::View<const double *, DeviceSpace> &a,
                        const Kokkos::View<double *, DeviceSpace> &y);
@@ -61,10 +61,14 @@ public:
   SolidMixedMatrixFree(const Mesh &mesh, const ElementData<Memory, 3> &solid,
                        const Kokkos::View<SolidMatrix *, Memory> &compliance, double stabilization,
                        bool currentForm);
-  /// Takes the state of the products (x: 9 unknowns per node, copied) and computes M's point
-  /// matrices and nodal blocks there.
+  /// The products capture this object: not copied or moved.
+  SolidMixedMatrixFree(const SolidMixedMatrixFree &) = delete;
+  SolidMixedMatrixFree &operator=(const SolidMixedMatrixFree &) = delete;
+  /// Takes the state of the products (x: 9 unknowns per node, copied) and computes C's and M's
+  /// point matrices and M's nodal blocks there.
   void update(const Kokkos::View<const double *, Memory> &x);
-  /// The products at the state of the last update() (valid while this object lives).
+  /// The products at the state of the last update() (valid while this object lives: its owner
+  /// destroys the SolidMixedSolve that keeps them first).
   SolidMixedOperators operators() const;
   void applyJacobian(const Kokkos::View<const double *, Memory> &v,
                      const Kokkos::View<double *, Memory> &y) const;
@@ -72,8 +76,6 @@ public:
                      const Kokkos::View<double *, Memory> &w) const;
   void applyStressBlock(const Kokkos::View<const double *, Memory> &z,
                         const Kokkos::View<double *, Memory> &y) const;
-  /// Device bytes held (state, point matrices, nodal blocks, colors).
-  std::size_t bytes() const;
 
 private:
   /// f(MixedRule<Elem>{}, law) for the mesh's element type and the model's point law.

@@ -53,11 +53,12 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   follower_ = followerLoads();
   // jacobian: matrix_free serves the block-triangular GMRES without follower pressures (their
   // load stiffness is assembled).
-  const bool matrixFree = options.type != LinearSolverType::Direct &&
-                          mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0;
-  tangent_ = matrixFree ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kUnknowns);
+  const bool withoutMatrix = options.type != LinearSolverType::Direct &&
+                             mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0;
+  tangent_ = withoutMatrix ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kUnknowns);
+  iterative_.reset(); // holds the products of matrixFree_
   matrixFree_.reset();
-  if (matrixFree)
+  if (withoutMatrix)
     matrixFree_ =
         std::make_unique<SolidMixedMatrixFree>(mesh_, solid_, compliance_, stabilization_, true);
   const LocalIndex n = kUnknowns * mesh_.numNodes();

@@ -85,8 +85,10 @@ private:
   Kokkos::View<double *, Memory> x_, committed_, g_, dx_, rhs_, target_, diag_;
   std::unique_ptr<LinearSolver> solver_; ///< solver: direct, or the fall back of solver: amg
   MixedNewtonSolverOptions mixedOptions_;
-  std::unique_ptr<SolidMixedSolve> iterative_;       ///< solver: amg
-  std::unique_ptr<SolidMixedMatrixFree> matrixFree_; ///< jacobian: matrix_free
+  /// jacobian: matrix_free; declared before iterative_, which keeps its products, so that it is
+  /// destroyed after it.
+  std::unique_ptr<SolidMixedMatrixFree> matrixFree_;
+  std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
   MPI_Comm comm_ = MPI_COMM_SELF;
 };
 

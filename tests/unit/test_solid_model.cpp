@@ -407,3 +407,19 @@ TEST(SolidProblem, MatrixFreeJacobianOfThe3DMixedModels) {
             std::string::npos);
   EXPECT_NE(refusal(amg).find("jacobian applies to"), std::string::npos);
 }
+
+// solver: {smoother: ...} selects BoomerAMG's smoother; an unknown one is refused with file:line.
+TEST(SolidProblem, AmgSmootherKey) {
+  const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
+  EXPECT_EQ(parseProblem(amg, "solid.yaml", "").solver.smoother, AmgSmoother::L1GaussSeidel);
+  EXPECT_EQ(parseProblem(replaceText(amg, "type: amg", "type: amg, smoother: chebyshev"),
+                         "solid.yaml", "")
+                .solver.smoother,
+            AmgSmoother::Chebyshev);
+  EXPECT_EQ(parseProblem(replaceText(amg, "type: amg", "type: amg, smoother: l1_jacobi"),
+                         "solid.yaml", "")
+                .solver.smoother,
+            AmgSmoother::L1Jacobi);
+  EXPECT_NE(refusal(replaceText(amg, "type: amg", "type: amg, smoother: sor")).find("solid.yaml:"),
+            std::string::npos);
+}
