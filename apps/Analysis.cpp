@@ -339,10 +339,11 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
                                                            p.model.thickness);
     d->setTangent(p.tangent);
     d->setElasticLaw(p.model.elasticLaw);
-    d->setSmallDisplacements(!p.model.geometricNonlinearity); // a linear body in contact
     owner = std::move(d);
   }
   NonlinearModel &model = *owner;
+  // A linear body in contact or with stages: the linear model's residual in the iterating driver.
+  model.setSmallDisplacements(!p.model.geometricNonlinearity);
   const std::vector<StagePlan> plan = planStages(p);
   const std::vector<ScheduledStep> steps = schedule(plan);
   applyConditions(p.mesh, plan[0].dirichlet, plan[0].loads, model,
@@ -546,6 +547,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         mixed ? (p.model.mixedForm == MixedForm::Incremental
                      ? "nodal Cauchy stress of the mixed model (2nd Piola-Kirchhoff increments "
                        "pushed forward at the nodes, Eq. (5b))"
+                 : !p.model.geometricNonlinearity
+                     ? "nodal stress unknowns of the mixed model (no smoothing)" // as linear runs
                      : "nodal Cauchy stress unknowns of the mixed model (current form)")
         : !p.model.geometricNonlinearity
             ? "Cauchy stress of the linear law (small displacements), " + recovered

@@ -215,6 +215,16 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
     detail::readHybrid(top, p, baseDirectory);
   detail::readSteps(top, p);
   detail::readStages(top, p);
+  if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity &&
+      (!p.contact.empty() || !p.stages.empty()) && top.has("model")) {
+    // The linear mixed model with contact or stages runs in the iterating driver with small
+    // displacements: the consistent M and equal-order stresses; its own operator keys do not
+    // apply there.
+    detail::refuseLinearMixedKeys(
+        top["model"], " applies to the linear mixed model without contact or stages; with them "
+                      "it runs in the iterating driver (consistent M, equal-order stresses, "
+                      "solver keys as the geometrically nonlinear mixed model's)");
+  }
   detail::readSolver(top, p);
 
   if (top.has("output")) {

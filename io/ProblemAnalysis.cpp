@@ -94,20 +94,26 @@ void readSteps(const YamlItem &top, Problem &p) {
     for (std::size_t k = 1; k <= n; ++k)
       p.loadFactors.push_back(static_cast<double>(k) / n);
     if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity)
-      top["hybrid"].fail("a hybrid run with formulation: mixed needs geometric_nonlinearity: true "
-                         "(the iterating driver has the mixed model's finite kinematics only)");
+      top["hybrid"].fail(
+          "a hybrid run with formulation: mixed needs geometric_nonlinearity: true "
+          "(the report's hybrid mode; the linear mixed model is not validated in it)");
   }
 }
 
 void readSolver(const YamlItem &top, Problem &p) {
   const bool nonlinearMixed =
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
-  // The 2D nonlinear mixed model solves with the direct solver by default. The 3D mixed model
-  // (linear and nonlinear) with its block-triangular AMG solve: the LU of its 9-per-node system
-  // grows too fast in 3D (the Hex8 Lame sphere of 54,873 unknowns: 185 s and 10.7 GiB against 4.2 s
-  // and 0.42 GiB, docs/performance.md), which also bounds its direct fall back.
+  // The mixed model in the iterating driver: geometrically nonlinear, or linear with contact or
+  // stages (small displacements); its solver keys are the nonlinear model's.
+  const bool drivenMixed = p.model.formulation == Formulation::Mixed &&
+                           (nonlinearMixed || !p.contact.empty() || !p.stages.empty());
+  // The 2D mixed model in the iterating driver solves with the direct solver by default when it
+  // is geometrically nonlinear or in contact (contact needs it: solver/Rules.hpp). The 3D mixed
+  // model (linear and nonlinear) with its block-triangular AMG solve: the LU of its 9-per-node
+  // system grows too fast in 3D (the Hex8 Lame sphere of 54,873 unknowns: 185 s and 10.7 GiB
+  // against 4.2 s and 0.42 GiB, docs/performance.md), which also bounds its direct fall back.
   const bool solidMixed = p.model.formulation == Formulation::Mixed && p.mesh.dim() == 3;
-  if (nonlinearMixed && !solidMixed)
+  if ((nonlinearMixed || (drivenMixed && !p.contact.empty())) && !solidMixed)
     p.solver.type = LinearSolverType::Direct;
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;
@@ -145,9 +151,10 @@ void readSolver(const YamlItem &top, Problem &p) {
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
         s[key].fail(std::string(key) + " applies to the mixed model's solver: amg only");
-    if (s.has("jacobian") && !nonlinearMixed && !solidMixed)
-      s["jacobian"].fail("jacobian applies to the geometrically nonlinear mixed model's and the "
-                         "3D mixed model's solver: amg only");
+    if (s.has("jacobian") && !drivenMixed && !solidMixed)
+      s["jacobian"].fail("jacobian applies to the geometrically nonlinear mixed model's (or the "
+                         "linear one's with stages or contact) and the 3D mixed model's solver: "
+                         "amg only");
     if (s.has("method")) {
       const bool schur = s["method"].choice({"block_triangular", "schur"}) == "schur";
       p.model.mixedNewton.method =
@@ -158,7 +165,7 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.model.mixedNewton.preconditionerTolerance = s["stress_block_tolerance"].positive();
       p.model.mixed.preconditionerTolerance = p.model.mixedNewton.preconditionerTolerance;
     }
-    if (mixed && !nonlinearMixed) {
+    if (mixed && !drivenMixed) {
       // The linear model's Schur keys select its Schur method when none is named (files written
       // before block_triangular became the default for consistent M keep their solve); with
       // method: block_triangular they are refused, as is the block-triangular key with schur.
@@ -203,8 +210,9 @@ void readSolver(const YamlItem &top, Problem &p) {
     for (const char *key : {"krylov", "preconditioner", "inner_tolerance"}) {
       if (s.has(key) && p.model.formulation != Formulation::Mixed)
         s[key].fail(std::string(key) + " applies to formulation: mixed only");
-      if (s.has(key) && nonlinearMixed)
-        s[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver only");
+      if (s.has(key) && drivenMixed)
+        s[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver only "
+                                       "(not with geometric_nonlinearity, contact or stages)");
     }
     if (s.has("krylov"))
       p.model.mixed.krylov =

@@ -56,9 +56,6 @@ void checkObstacleOutside(const YamlItem &c, const ContactSpec &s, const Mesh &m
 
 void readContact(const YamlItem &list, Problem &p) {
   list.requireSequence();
-  if (p.model.formulation != Formulation::Displacement && !p.model.geometricNonlinearity)
-    list.fail("contact with formulation: mixed needs geometric_nonlinearity: true (the "
-              "iterating driver has the mixed model's finite kinematics only)");
   for (std::size_t i = 0; i < list.node.size(); ++i) {
     const YamlItem c = list.at(i);
     ContactSpec s;

@@ -9,6 +9,12 @@
 
 namespace mixcon::detail {
 
+void refuseLinearMixedKeys(const YamlItem &m, const std::string &why) {
+  for (const char *key : {"compliance", "stress_element", "operators"})
+    if (m.has(key))
+      m[key].fail(key + why);
+}
+
 ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   m.allowOnly({"formulation", "analysis", "thickness", "geometric_nonlinearity", "compliance",
                "stabilization", "stress_element", "mixed_form", "stress_update", "elastic_law",
@@ -69,11 +75,9 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   if (m.has("geometric_nonlinearity")) {
     s.geometricNonlinearity = m["geometric_nonlinearity"].boolean();
     if (s.geometricNonlinearity && s.formulation == Formulation::Mixed)
-      for (const char *key : {"compliance", "stress_element", "operators"})
-        if (m.has(key))
-          m[key].fail(std::string(key) + " applies to the linear mixed model's Schur solver; the "
-                                         "geometrically nonlinear mixed model uses the "
-                                         "consistent M and equal-order interpolation");
+      refuseLinearMixedKeys(m, " applies to the linear mixed model's Schur solver; the "
+                               "geometrically nonlinear mixed model uses the consistent M and "
+                               "equal-order interpolation");
   }
   const bool nonlinearMixed = s.geometricNonlinearity && s.formulation == Formulation::Mixed;
   for (const char *key : {"mixed_form", "stress_update"})

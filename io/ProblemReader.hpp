@@ -176,6 +176,9 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body = false);
 /// model: the formulation and its options, with the mixed model's element checks against the
 /// mesh's element type (io/ProblemModel.cpp).
 ModelSpec readModel(const YamlItem &m, ElementType meshElement);
+/// Fails at the first of the linear mixed model's own operator keys (compliance, stress_element,
+/// operators) that `m` has, with the message key + why.
+void refuseLinearMixedKeys(const YamlItem &m, const std::string &why);
 
 /// materials: one per region, every region covered (io/ProblemModel.cpp).
 void readMaterials(const YamlItem &top, Problem &p);

@@ -113,10 +113,6 @@ void readStages(const YamlItem &top, Problem &p) {
       if (top["steps"].has(key))
         top["steps"][key].fail("with stages, each stage gives its own increments or "
                                "load_factors (steps keeps the iteration settings)");
-  if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity)
-    list.fail("stages with formulation: mixed need geometric_nonlinearity: true (the iterating "
-              "driver, which carries the state from stage to stage, has the mixed model's "
-              "finite kinematics only); the linear mixed model solves each step on its own");
 
   // Which components are held, stage by stage (a release must free a held component).
   const int dim = p.mesh.dim();

@@ -26,7 +26,7 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
                                   : static_cast<ElementData<Memory>>(current_);
   const auto base = d.mesh.coordinates;
   d.mesh.coordinates = positions_; // also the AMG's rigid-body modes
-  movedCoordinates(base, x_, kMixed, d.mesh.coordinates);
+  movedCoordinates(base, tangentState(x_), kMixed, d.mesh.coordinates);
   Kokkos::deep_copy(precMatrix_.values, 0.0);
   dispatchPlaneElement(mesh_.elementType, "the nonlinear mixed model", [&](auto elem) {
     assembleLinearStiffness<decltype(elem)>(Exec(), d, map_, precMatrix_);

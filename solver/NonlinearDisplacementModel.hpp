@@ -35,10 +35,6 @@ public:
   Kokkos::View<const double *, Memory> residual() const { return g_; }
   void setDisplacement(const std::vector<double> &u);
   void setTangent(TangentKind t) { tangentKind_ = t; }
-  /// Small-displacement kinematics (linear elasticity on the reference configuration, residual
-  /// K u - f): the nonlinear machinery then serves contact on a linear body. Call before setup().
-  void setSmallDisplacements(bool on) { small_ = on; }
-  bool linearResponse() const override { return small_ && follower_.edges.extent(0) == 0; }
   /// Elastic law (default Almansi; St. Venant-Kirchhoff needs the exact tangent).
   void setElasticLaw(ElasticLaw law) { law_ = law; }
   std::vector<double> residualVectorHost() const override { return toHost(g_); }

@@ -44,6 +44,9 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     throw InputError("nonlinear mixed model: " + *why);
   if (const auto why = rules::stabilizationRange(stabilization_))
     throw InputError("nonlinear mixed model: " + *why);
+  if (small_ && form_ != MixedForm::Current)
+    throw std::logic_error("nonlinear mixed model: small displacements are solved in the current "
+                           "form (the incremental form updates its configuration)");
   const auto start = std::chrono::steady_clock::now();
   graph_ = buildNodeGraph(mesh_);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
@@ -63,6 +66,7 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
     precDiag5_ = Vec("mixcon::nonlinear::precDiagonal5", kMixed * nn);
   }
   g_ = Vec("mixcon::nonlinear::residual", kMixed * nn);
+  originTaken_ = false;
   committed_ = Vec("mixcon::nonlinear::committed", kDisp * nn);
   dx_ = Vec("mixcon::nonlinear::correction", kMixed * nn);
   rhs_ = Vec("mixcon::nonlinear::rhs", kMixed * nn);
@@ -168,14 +172,18 @@ void NonlinearMixedModel::updateTotalDisplacement() {
 
 double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
+  // Small displacements: J0, the Jacobian at the origin (assembled, or its stress rows and state
+  // for the matrix-free products), is taken once; the residual is J0 x - f.
+  const bool withJacobian = small_ ? !originTaken_ : tangent;
+  const ConstVec state = tangentState(x_);
   Kokkos::deep_copy(g_, 0.0);
-  if (tangent && !matrixFree_)
+  if (withJacobian && !matrixFree_)
     Kokkos::deep_copy(tangent_.values, 0.0);
   const CsrMatrix<Memory> none;
-  const CsrMatrix<Memory> &a = tangent && !matrixFree_ ? tangent_ : none;
-  if (tangent && matrixFree_) {
+  const CsrMatrix<Memory> &a = withJacobian && !matrixFree_ ? tangent_ : none;
+  if (withJacobian && matrixFree_) {
     // J stays unassembled: its state, and the stress rows C and M the preconditioner needs.
-    Kokkos::deep_copy(jacobianState_, x_);
+    Kokkos::deep_copy(jacobianState_, state);
     Kokkos::deep_copy(couplingBlock_.values, 0.0);
     Kokkos::deep_copy(stressBlock_.values, 0.0);
     dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model",
@@ -186,7 +194,7 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
                                  Exec(), reference_.mesh, reference_.thickness,
                                  MixedCurrentLaw<Memory>{reference_.material, reference_.stiffness,
                                                          reference_.compliance, stabilization_},
-                                 ConstVec(x_), ConstVec(), map_, couplingBlock_, stressBlock_);
+                                 state, ConstVec(), map_, couplingBlock_, stressBlock_);
                            else
                              assembleMixedStressRows<Elem>(
                                  Exec(), current_.mesh, current_.thickness,
@@ -201,12 +209,16 @@ double NonlinearMixedModel::evaluate(double lambda, bool tangent) {
       mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
         using Elem = decltype(elem);
         const bool current = form_ == MixedForm::Current;
-        if (current)
-          inverted = assembleMixedCurrent<Elem>(Exec(), reference_, ConstVec(x_), stabilization_,
-                                                map_, a, g_);
-        else
+        if (current && (withJacobian || !small_))
+          inverted =
+              assembleMixedCurrent<Elem>(Exec(), reference_, state, stabilization_, map_, a, g_);
+        else if (!current)
           inverted = assembleMixedIncrement<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_),
                                                   stabilization_, map_, a, g_);
+        if (small_) { // g = J0 x
+          originTaken_ = true;
+          applyJacobian(ConstVec(x_), g_);
+        }
         fint = strideNorm(g_, kMixed, 0, kDisp, {}, 0);
         subtractLoad(g_, kMixed, lambda);
         if (follower_.edges.extent(0) > 0) {

@@ -19,6 +19,8 @@ namespace mixcon {
 /// configuration c1 with nodal Cauchy stress tau, unknowns the displacement increment u and the
 /// incremental 2nd Piola-Kirchhoff stress S (5 per node, interleaved u, v, Sxx, Syy, Sxy); at
 /// convergence tau <- F (tau + S) F^T / J at the nodes (see StressUpdate) and c1 <- c1 + u.
+/// With small displacements (setSmallDisplacements, current form only) the residual is J0 x - f,
+/// J0 the Jacobian at x = 0: the linear mixed model in contact and through stages.
 class NonlinearMixedModel final : public NonlinearModel {
 public:
   NonlinearMixedModel(const Mesh &mesh, const std::vector<int> &elementMaterial,
@@ -91,7 +93,8 @@ private:
   MPI_Comm comm_ = MPI_COMM_SELF;
   LinearSolveStats solveSchur();
   LinearSolveStats solveBlockTriangular();
-  /// y = J v, J the Jacobian at the last tangent evaluation (matrix-free: at jacobianState_).
+  /// y = J v (y overwritten), J the Jacobian at the last tangent evaluation (matrix-free: at
+  /// jacobianState_); with small displacements J0, taken at the first evaluation.
   void applyJacobian(const Kokkos::View<const double *, Memory> &v,
                      const Kokkos::View<double *, Memory> &y) const;
   bool matrixFree_ = false;

@@ -88,6 +88,15 @@ NonlinearModel::FollowerLoads NonlinearModel::followerLoads() const {
   return f;
 }
 
+Kokkos::View<const double *, Memory>
+NonlinearModel::tangentState(const Kokkos::View<double *, Memory> &x) {
+  if (!small_)
+    return x;
+  if (origin_.extent(0) != x.extent(0))
+    origin_ = Kokkos::View<double *, Memory>("mixcon::nonlinear::origin", x.extent(0));
+  return origin_;
+}
+
 double NonlinearModel::finishEvaluate(double lambda, bool tangent, LocalIndex inverted, double fint,
                                       const Kokkos::View<double *, Memory> &g, int stride,
                                       const Kokkos::View<const int *, Memory> &flags,

@@ -81,9 +81,14 @@ public:
   virtual std::vector<double> contactStressHost(const std::vector<LocalIndex> &) const {
     return {};
   }
+  /// Small-displacement kinematics: the residual is the linear model's, J0 x - f, with J0 the
+  /// operator on the reference configuration (the displacement model's K^L; the mixed models'
+  /// Jacobian at x = 0, their linear Hellinger-Reissner operator). The nonlinear machinery then
+  /// serves contact and load histories on a linear body. Call before setup().
+  void setSmallDisplacements(bool on) { small_ = on; }
   /// True when the residual is linear in the unknowns (small displacements, dead loads): an
   /// increment has then converged once the residual criterion holds, whatever |du|/|u|.
-  virtual bool linearResponse() const { return false; }
+  bool linearResponse() const { return small_ && follower_.edges.extent(0) == 0; }
 
   /// One increment from the committed state straight to lambda with default NonlinearOptions.
   LinearSolveStats solve(double loadFactor) override;
@@ -167,13 +172,21 @@ protected:
   CsrMatrix<Memory> contactWork_;            ///< the reduced system of multipoint constraints
   ConstraintElimination contactElimination_; ///< its symbolic phase, kept between corrections
   ElasticLaw law_ = ElasticLaw::Almansi;     ///< the displacement model's law (output stresses)
-  bool small_ = false; ///< small-displacement kinematics (displacement model; linear law)
+  bool small_ = false; ///< small-displacement kinematics (setSmallDisplacements)
+  /// Where a mixed model takes its Jacobian: its unknowns x, or with small displacements the
+  /// origin (zeros of x's length, allocated on first use), where the Jacobian is J0, the linear
+  /// operator, and the residual J0 x - f.
+  Kokkos::View<const double *, Memory> tangentState(const Kokkos::View<double *, Memory> &x);
+  /// Small displacements: J0 has been taken (assembled, or the matrix-free products' state set)
+  /// since the last setup(); it is taken once.
+  bool originTaken_ = false;
   /// The node positions of the last tangent handed to the AMG solver, whose rigid-body modes
   /// it interpolates (LinearSolver::setNearNullSpace); moved in place with every tangent
   /// (N x dim()).
   Kokkos::View<double **, Memory> positions_;
 
 private:
+  Kokkos::View<double *, Memory> origin_; ///< zeros (tangentState with small displacements)
   double history_[3] = {0.0, 0.0, 0.0}, last_[3] = {0.0, 0.0, 0.0};
   Kokkos::View<double *, Memory> followerForce_;
   double followerNorm_ = 0.0; ///< of the last addFollowerForce, until finishEvaluate

@@ -66,6 +66,7 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   constraintsChanged();
   committed_ = Vec("mixcon::nonlinear3d::committed", n);
   g_ = Vec("mixcon::nonlinear3d::residual", n);
+  originTaken_ = false;
   dx_ = Vec("mixcon::nonlinear3d::correction", n);
   rhs_ = Vec("mixcon::nonlinear3d::rhs", n);
   target_ = Vec("mixcon::nonlinear3d::target", n);
@@ -112,10 +113,16 @@ void SolidNonlinearMixedModel::updateDisplacement() { gather(x_, kUnknowns, 0, d
 double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
   Kokkos::deep_copy(g_, 0.0);
-  if (tangent && !matrixFree_)
+  // Small displacements: J0, the Jacobian at the origin (assembled, or the matrix-free products'
+  // state), is taken once; the residual is J0 x - f.
+  const bool withJacobian = small_ ? !originTaken_ : tangent;
+  const bool assembled = withJacobian && !matrixFree_;
+  if (assembled)
     Kokkos::deep_copy(tangent_.values, 0.0);
+  if (small_ && withJacobian && matrixFree_)
+    matrixFree_->update(tangentState(x_)); // the products stay at the origin
   const CsrMatrix<Memory> none;
-  const CsrMatrix<Memory> &a = tangent && !matrixFree_ ? tangent_ : none; // else at the solve
+  const CsrMatrix<Memory> &a = assembled ? tangent_ : none; // else at the solve
   LocalIndex inverted = -1;
   double fint = 0.0;
   const auto assemble = [&](auto elem) {
@@ -124,9 +131,17 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
     const Law law{solid_.material, solid_.stiffness, compliance_, stabilization_};
     // One test node's row block at a time: the whole Hex20 Jacobian (180 x 180) does not fit a
     // thread.
-    inverted = assembleNonlinearRows<kUnknowns, Elem>(
-        Exec(), solid_.mesh,
-        SolidMixedKernel<Elem, Memory, Law>{solid_.mesh, law, ConstVec(x_), {}}, map_, a, g_);
+    if (assembled || !small_)
+      inverted = assembleNonlinearRows<kUnknowns, Elem>(
+          Exec(), solid_.mesh,
+          SolidMixedKernel<Elem, Memory, Law>{solid_.mesh, law, tangentState(x_), {}}, map_, a, g_);
+    if (small_) { // g = J0 x
+      originTaken_ = true;
+      if (matrixFree_)
+        matrixFree_->applyJacobian(ConstVec(x_), g_);
+      else
+        multiply(Exec(), tangent_, ConstVec(x_), g_);
+    }
     fint = strideNorm(g_, kUnknowns, 0, dim(), {}, 0);
     subtractLoad(g_, kUnknowns, lambda);
     if (follower_.edges.extent(0) > 0) {
@@ -169,7 +184,7 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
                             dx_, solverSetupSeconds_);
   if (fresh_) {
     // K^L on the current configuration x = X + u (also the AMG's rigid-body modes).
-    movedCoordinates(referenceCoordinates(), x_, kUnknowns, positions_);
+    movedCoordinates(referenceCoordinates(), tangentState(x_), kUnknowns, positions_);
     ElementData<Memory, 3> d = solid_;
     d.mesh.coordinates = positions_;
     iterative_->zeroStiffness();
@@ -179,7 +194,8 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
     const double before = iterative_->setupSeconds();
     if (matrixFree_) { // J at this state: M's point matrices and nodal blocks
       const auto start = std::chrono::steady_clock::now();
-      matrixFree_->update(ConstVec(x_));
+      if (!small_) // else kept at the origin since evaluate() took J0
+        matrixFree_->update(ConstVec(x_));
       solverSetupSeconds_ += seconds(start);
       iterative_->refresh(matrixFree_->operators(), isConstrained_);
     } else {

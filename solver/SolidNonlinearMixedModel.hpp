@@ -7,7 +7,9 @@
 // f_ext, G_S = (1 - a) int psi (e(u) - D tau) da, e the Almansi strain, with the stabilization a
 // (0: the report's model). Path independent, so no stress update between increments; load stepping,
 // cutting, restart and follower face pressures as the displacement model. Solved with the direct
-// solver (sparse LU) or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). Data flow:
+// solver (sparse LU) or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). With small
+// displacements (NonlinearModel::setSmallDisplacements) the residual is J0 x - f, J0 the Jacobian
+// at x = 0 (the linear model's operator): the linear 3D mixed model through stages. Data flow:
 // kernels -> solver (this) -> io.
 #pragma once
 

@@ -278,12 +278,21 @@ std::vector<BadCase> badCases() {
                "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
                "[0, 1], friction: -0.1}\noutput: {directory: somewhere}"),
        "friction coefficient must be 0 or positive", 16},
-      {"contact_mixed",
-       replace(replace(g, "formulation: displacement", "formulation: mixed"),
+      {"contact_mixed_linear_operators",
+       replace(replace(g, "formulation: displacement", "formulation: mixed, operators: assembled"),
                "output: {directory: somewhere}",
                "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
                "[0, 1]}\noutput: {directory: somewhere}"),
-       "contact with formulation: mixed needs geometric_nonlinearity: true", 16},
+       "operators applies to the linear mixed model without contact or stages", 3},
+      {"contact_mixed_linear_krylov",
+       replace(replace(replace(g, "formulation: displacement", "formulation: mixed"),
+                       "solver: {type: direct}", "solver: {type: direct, krylov: gmres}"),
+               "output: {directory: somewhere}",
+               "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: "
+               "[0, 1]}\noutput: {directory: somewhere}"),
+       "krylov applies to the linear mixed model's Schur solver only (not with "
+       "geometric_nonlinearity, contact or stages)",
+       14},
       {"contact_mixed_amg",
        replace(replace(replace(g, "formulation: displacement",
                                "formulation: mixed, geometric_nonlinearity: true"),
@@ -520,6 +529,15 @@ TEST(Problem, ParsesNonlinearSteps) {
                    "m.yaml", "");
   EXPECT_EQ(m.solver.type, LinearSolverType::Direct);
   EXPECT_TRUE(m.loads[1].follower);
+  // So does the linear mixed model in contact (the only solver there), not without contact.
+  const std::string contact =
+      "contact:\n  - {type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: [0, 1]}\n";
+  const std::string linearMixed =
+      replace(replace(kGood, "formulation: displacement", "formulation: mixed"),
+              "solver: {type: direct}\n", "");
+  EXPECT_EQ(parseProblem(linearMixed + contact, "c.yaml", "").solver.type,
+            LinearSolverType::Direct);
+  EXPECT_EQ(parseProblem(linearMixed, "l.yaml", "").solver.type, LinearSolverType::Amg);
 }
 
 TEST(Problem, BadInputGivesDocumentedErrors) {

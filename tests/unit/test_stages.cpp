@@ -130,12 +130,23 @@ TEST(Stages, RefusesWhatItCannotRunWithFileAndLine) {
       {base + "stages: [{increment: 2, " + load + "}]\n", "unknown key 'increment'"},
       {R"(
 mesh: {generator: {type: rectangle, size: [10, 1], divisions: [4, 1], element: quad4}}
-model: {formulation: mixed, analysis: plane_stress}
+model: {formulation: mixed, analysis: plane_stress, compliance: lumped}
 materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
 boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
 stages: [{loads: [{boundary: right, traction: [0, -1]}]}]
 )",
-       "stages with formulation: mixed need geometric_nonlinearity: true"},
+       "stages.yaml:3:65: model.compliance: compliance applies to the linear mixed model without "
+       "contact or stages"},
+      {R"(
+mesh: {generator: {type: rectangle, size: [10, 1], divisions: [4, 1], element: quad4}}
+model: {formulation: mixed, analysis: plane_stress}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0, uy: 0}]
+solver: {type: amg, krylov: gmres}
+stages: [{loads: [{boundary: right, traction: [0, -1]}]}]
+)",
+       "krylov applies to the linear mixed model's Schur solver only (not with "
+       "geometric_nonlinearity, contact or stages)"},
       {R"(
 mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [3, 2], element: quad4}}
 model: {formulation: displacement, analysis: plane_strain}
@@ -245,6 +256,24 @@ boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
 solver: {type: direct}
 )",
      "{boundary: zmax, traction: [0, 0, -20]}", "{boundary: zmax, traction: [0, 0, 0]}"},
+    // The linear mixed models (small displacements in the iterating driver), with the AMG
+    // solves: block-triangular GMRES in 2D, its matrix-free Jacobian in 3D.
+    {"mixed_2d_linear", R"(
+mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: quad8}}
+model: {formulation: mixed, analysis: plane_stress, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: left, ux: 0}, {node_set: left_center, uy: 0}]
+solver: {type: amg, tolerance: 1e-11}
+)",
+     "{boundary: right, traction: [0, -2]}", "{boundary: right, traction: [0, 0]}"},
+    {"mixed_3d_linear", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
+model: {formulation: mixed, stabilization: 0.05}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+solver: {type: amg, jacobian: matrix_free, tolerance: 1e-11}
+)",
+     "{boundary: zmax, traction: [0, 0, -20]}", "{boundary: zmax, traction: [0, 0, 0]}"},
 };
 
 } // namespace
@@ -334,36 +363,76 @@ stages:
         << "step " << k;
 }
 
-// A linear body (no geometric nonlinearity) runs its stages through the iterating driver: each
-// step equals the linear solution of the loads it has reached.
+// A linear body (no geometric nonlinearity) runs its stages through the iterating driver with
+// small displacements: each step equals the linear model's solution (apps' linear branch,
+// MixedModel and SolidMixedModel for the mixed model) of the loads it has reached, for both
+// models in 2D and 3D.
 TEST(Stages, ALinearBodyGoesThroughItsStages) {
   test::ScratchDir dir("stages");
-  const std::string setup = R"(
-mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: quad8}}
-model: {formulation: displacement, analysis: plane_stress, thickness: 1.0}
-materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+  // A strip (2D, loaded on 'right') or a bar (3D, loaded on 'xmax') clamped at its left end.
+  const std::string strip = R"(
+mesh: {generator: {type: rectangle, size: [10, 1], origin: [0, -0.5], divisions: [10, 2], element: ELEMENT}}
 boundary_conditions: [{boundary: left, ux: 0}, {node_set: left_center, uy: 0}]
-solver: {type: direct}
 )";
-  const RunResult staged = run(setup + R"(
-stages:
-  - {name: bend, loads: [{boundary: right, traction: [0, -1]}]}
-  - {name: pull, increments: 2, loads: [{boundary: right, traction: [3, 0]}]}
-)",
-                               dir.path() / "staged");
-  const RunResult linear =
-      run(setup + "loads: [{boundary: right, traction: [1.5, -0.5]}]\n", dir.path() / "linear");
-  ASSERT_TRUE(staged.converged && linear.converged);
-  // Half way through 'pull': traction (1.5, -0.5).
-  EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", 2, "displacement"),
-                               readStep(dir.path() / "linear", 1, "displacement")),
-            1e-9);
+  const std::string bar = R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: ELEMENT}}
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+)";
+  const char *isotropic = "[{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]";
+  const struct {
+    const char *name, *element, *model, *materials, *solver;
+    double tolerance; ///< of the comparison: the direct solver's, or an iterative one's
+  } cases[] = {
+      {"displacement_2d", "quad8",
+       "{formulation: displacement, analysis: plane_stress, thickness: 1.0}", isotropic,
+       "{type: direct}", 1e-9},
+      {"mixed_2d", "quad8", "{formulation: mixed, analysis: plane_stress, thickness: 1.0}",
+       "[{region: body, type: orthotropic, E1: 1.2e4, E2: 4e3, G12: 2e3, nu12: 0.25, angle: 30}]",
+       "{type: direct}", 1e-9},
+      {"mixed_2d_report", "quad4",
+       "{formulation: mixed, analysis: plane_strain, thickness: 1.0, stabilization: 0}",
+       "[{region: body, type: isotropic, E: 1.2e4, nu: 0.3}]", "{type: direct}", 1e-9},
+      {"mixed_3d", "hex20", "{formulation: mixed, stabilization: 0.05}", isotropic,
+       "{type: direct}", 1e-9},
+      // The iterative solves: the block-triangular GMRES on the assembled J0 (2D), on the
+      // matrix-free one (3D); the linear runs solve with their own methods.
+      {"mixed_2d_amg", "quad8", "{formulation: mixed, analysis: plane_stress, thickness: 1.0}",
+       isotropic, "{type: amg, tolerance: 1e-12}", 1e-7},
+      {"mixed_3d_matrix_free", "hex8", "{formulation: mixed, stabilization: 0.05}", isotropic,
+       "{type: amg, jacobian: matrix_free, tolerance: 1e-12}", 1e-7},
+  };
+  for (const auto &c : cases) {
+    const bool solid = c.element[0] == 'h';
+    std::string setup = solid ? bar : strip;
+    setup.replace(setup.find("ELEMENT"), 7, c.element);
+    setup += std::string("model: ") + c.model + "\nmaterials: " + c.materials +
+             "\nsolver: " + c.solver + "\n";
+    const std::string end = solid ? "xmax" : "right";
+    const auto traction = [&](const char *planar, const char *spatial) {
+      return "{boundary: " + end + ", traction: " + (solid ? spatial : planar) + "}";
+    };
+    const fs::path staged = dir.path() / c.name / "staged", linear = dir.path() / c.name / "linear";
+    const RunResult a =
+        run(setup + "stages:\n  - {name: bend, loads: [" + traction("[0, -1]", "[0, 0, -1]") +
+                "]}\n  - {name: pull, increments: 2, loads: [" + traction("[3, 0]", "[3, 0, 0]") +
+                "]}\n",
+            staged);
+    const RunResult b =
+        run(setup + "loads: [" + traction("[1.5, -0.5]", "[1.5, 0, -0.5]") + "]\n", linear);
+    ASSERT_TRUE(a.converged && b.converged) << c.name;
+    ASSERT_EQ(a.steps.size(), 3u) << c.name;
+    // Half way through 'pull' the traction is (1.5, -0.5): the linear run's state.
+    for (const char *field : {"displacement", "stress"})
+      EXPECT_LE(relativeDifference(readStep(staged, 2, field), readStep(linear, 1, field)),
+                c.tolerance)
+          << c.name << " " << field;
+  }
 }
 
 // Rigid contact: an obstacle driven down presses the quarter cylinder, driven back it lets go:
 // the contact forces vanish (the top node, touching at the start, may stay closed without force)
 // and the body returns to zero; the displacement model with and without friction, the mixed
-// model (geometrically nonlinear, its statuses from its nodal stresses) with friction.
+// model (geometrically nonlinear and linear, its statuses from its nodal stresses) with friction.
 TEST(Stages, ARigidObstaclePressedAndLiftedLetsGo) {
   test::ScratchDir dir("stages");
   const struct {
@@ -373,6 +442,7 @@ TEST(Stages, ARigidObstaclePressedAndLiftedLetsGo) {
       {"displacement_friction", "{formulation: displacement, analysis: plane_strain}", "0.3"},
       {"mixed_friction",
        "{formulation: mixed, analysis: plane_strain, geometric_nonlinearity: true}", "0.3"},
+      {"mixed_linear_friction", "{formulation: mixed, analysis: plane_strain}", "0.3"},
   };
   for (const auto &c : cases) {
     const std::string yaml = std::string(R"(
