@@ -482,6 +482,16 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
         if (saved > 0)
           beginStage(saved, true);
       }
+      // Finite or small-displacement kinematics (states saved before this record: not checked).
+      if (restart->state.has("model/geometric_nonlinearity") &&
+          (restart->state.getScalar("model/geometric_nonlinearity") != 0.0) !=
+              p.model.geometricNonlinearity)
+        throw std::runtime_error(
+            std::string("the saved state is of a ") +
+            (p.model.geometricNonlinearity ? "linear run (small displacements)"
+                                           : "geometrically nonlinear run") +
+            ", this problem is " +
+            (p.model.geometricNonlinearity ? "geometrically nonlinear" : "linear"));
       model.restoreLoading(restart->state);
       if (restart->state.has("stepper/history_scales"))
         model.setHistoryScales(restart->state.get("stepper/history_scales", 3));
@@ -588,6 +598,7 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
     Checkpoint state; // what a restart from this step needs
     if (o.converged) {
       model.saveCommitted(state);
+      state.putScalar("model/geometric_nonlinearity", p.model.geometricNonlinearity ? 1.0 : 0.0);
       if (model.contactIterations())
         model.contactIterations()->saveCommitted(state);
       state.putScalar("stepper/load_factor", stepper.loadFactor());

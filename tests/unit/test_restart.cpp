@@ -182,6 +182,31 @@ stages:
 solver: {type: direct}
 )",
      true},
+    // The linear mixed models (small displacements in the iterating driver): in rigid contact
+    // with friction (2D), and a 3D bar loaded, held and unloaded.
+    {"stages_mixed_linear_rigid_contact_friction", R"(
+mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
+model: {formulation: mixed, analysis: plane_strain, thickness: 1.0}
+materials: [{region: body, type: isotropic, E: 21000, nu: 0.3}]
+boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
+contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: 0.3}]
+stages:
+  - {name: press, increments: 3, contact: [{boundary: arc, drive: {displacement: [0.002, -0.016]}}]}
+  - {name: release, increments: 3, contact: [{boundary: arc, drive: {displacement: [0, 0]}}]}
+)",
+     true},
+    {"stages_mixed_linear_3d", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
+model: {formulation: mixed, stabilization: 0.05}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+stages:
+  - {name: load, increments: 2, loads: [{boundary: zmax, traction: [0, 0, -20]}]}
+  - {name: pull, increments: 2, loads: [{boundary: xmax, traction: [30, 0, 0]}]}
+  - {name: unload, increments: 2, loads: [{boundary: zmax, traction: [0, 0, 0]}]}
+solver: {type: direct}
+)",
+     false},
 };
 
 } // namespace
@@ -264,6 +289,30 @@ TEST(Restart, RefusesWhatItCannotContinue) {
     EXPECT_EQ(runMixcon("run " + r.problem + " --restart " + r.restart, out, tmp.path()), 2) << out;
     EXPECT_NE(out.find(r.message), std::string::npos) << out;
   }
+  // The kinematics: a geometrically nonlinear run is not continued as a linear one (a linear
+  // body with stages runs in the same driver, with small displacements).
+  const Case &staged = *std::find_if(std::begin(kCases), std::end(kCases), [](const Case &k) {
+    return std::string(k.name) == "stages_release";
+  });
+  const fs::path stagedFile = tmp.path() / "staged.yaml", stagedRun = tmp.path() / "staged";
+  std::ofstream(stagedFile) << staged.yaml;
+  ASSERT_EQ(runMixcon("run " + stagedFile.string() + " -q --output " + stagedRun.string(), out,
+                      tmp.path()),
+            0)
+      << out;
+  interruptAfter(stagedRun, 3);
+  std::string linear = staged.yaml;
+  const std::string key = ", geometric_nonlinearity: true";
+  linear.erase(linear.find(key), key.size());
+  const fs::path linearFile = tmp.path() / "staged-linear.yaml";
+  std::ofstream(linearFile) << linear;
+  EXPECT_EQ(
+      runMixcon("run " + linearFile.string() + " --restart " + stagedRun.string(), out, tmp.path()),
+      2)
+      << out;
+  EXPECT_NE(out.find("the saved state is of a geometrically nonlinear run, this problem is linear"),
+            std::string::npos)
+      << out;
 }
 
 TEST(Restart, KilledRunKeepsEveryReportedStepAndRestartsToTheSameResult) {
