@@ -138,4 +138,10 @@ Mesh halfDiskMesh(double r, int n, int m, ElementType type, double angularGradin
 Mesh pinnedPlateMesh(double r, double b, double e, double l, int n, int m, int nEnd, int nFar,
                      ElementType type, double ratio = 1.0);
 
+namespace detail {
+/// GeneratorError "mesh generator <gen>: <what> must be positive" unless v > 0 (the generators'
+/// shared argument check, mesh/Generators.cpp and mesh/SolidGenerators.cpp).
+void requirePositive(const char *what, double v, const std::string &gen);
+} // namespace detail
+
 } // namespace mixcon

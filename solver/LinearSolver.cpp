@@ -477,6 +477,11 @@ private:
     HYPRE_BoomerAMGSetRelaxType(amg_, options_.smoother == AmgSmoother::L1Jacobi    ? 18
                                       : options_.smoother == AmgSmoother::Chebyshev ? 16
                                                                                     : 8);
+    // Chebyshev's eigenvalue bound from Gershgorin's discs, not hypre's CG estimate: that one did
+    // not terminate on NAFEMS LE10 and the 3D mixed model's Lame sphere (hypre_LINPACKcgtql1
+    // looping in the setup after a CG breakdown, hypre issue #531; docs/performance.md 3b).
+    if (options_.smoother == AmgSmoother::Chebyshev)
+      HYPRE_BoomerAMGSetChebyEigEst(amg_, 0);
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
     if (options_.nodalCoarsening)
