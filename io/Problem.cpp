@@ -215,8 +215,7 @@ Problem parseDocument(const std::string &yamlText, const std::string &name,
     detail::readHybrid(top, p, baseDirectory);
   detail::readSteps(top, p);
   detail::readStages(top, p);
-  if (p.model.formulation == Formulation::Mixed && !p.model.geometricNonlinearity &&
-      (!p.contact.empty() || !p.stages.empty()) && top.has("model")) {
+  if (detail::mixedInIteratingDriver(p) && !p.model.geometricNonlinearity && top.has("model")) {
     // The linear mixed model with contact or stages runs in the iterating driver with small
     // displacements: the consistent M and equal-order stresses; its own operator keys do not
     // apply there.

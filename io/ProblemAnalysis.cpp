@@ -100,20 +100,23 @@ void readSteps(const YamlItem &top, Problem &p) {
   }
 }
 
+bool mixedInIteratingDriver(const Problem &p) {
+  return p.model.formulation == Formulation::Mixed &&
+         (p.model.geometricNonlinearity || !p.contact.empty() || !p.stages.empty());
+}
+
 void readSolver(const YamlItem &top, Problem &p) {
   const bool nonlinearMixed =
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
-  // The mixed model in the iterating driver: geometrically nonlinear, or linear with contact or
-  // stages (small displacements); its solver keys are the nonlinear model's.
-  const bool drivenMixed = p.model.formulation == Formulation::Mixed &&
-                           (nonlinearMixed || !p.contact.empty() || !p.stages.empty());
+  // Its solver keys are the geometrically nonlinear model's.
+  const bool drivenMixed = mixedInIteratingDriver(p);
   // The 2D mixed model in the iterating driver solves with the direct solver by default when it
   // is geometrically nonlinear or in contact (contact needs it: solver/Rules.hpp). The 3D mixed
   // model (linear and nonlinear) with its block-triangular AMG solve: the LU of its 9-per-node
   // system grows too fast in 3D (the Hex8 Lame sphere of 54,873 unknowns: 185 s and 10.7 GiB
   // against 4.2 s and 0.42 GiB, docs/performance.md), which also bounds its direct fall back.
   const bool solidMixed = p.model.formulation == Formulation::Mixed && p.mesh.dim() == 3;
-  if ((nonlinearMixed || (drivenMixed && !p.contact.empty())) && !solidMixed)
+  if (drivenMixed && (nonlinearMixed || !p.contact.empty()) && !solidMixed)
     p.solver.type = LinearSolverType::Direct;
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;

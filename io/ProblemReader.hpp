@@ -176,6 +176,9 @@ Mesh readMesh(const YamlItem &m, const std::string &baseDir, bool body = false);
 /// model: the formulation and its options, with the mixed model's element checks against the
 /// mesh's element type (io/ProblemModel.cpp).
 ModelSpec readModel(const YamlItem &m, ElementType meshElement);
+/// The mixed model runs in the iterating driver: geometrically nonlinear, or linear (small
+/// displacements) with contact or stages (io/ProblemAnalysis.cpp).
+bool mixedInIteratingDriver(const Problem &p);
 /// Fails at the first of the linear mixed model's own operator keys (compliance, stress_element,
 /// operators) that `m` has, with the message key + why.
 void refuseLinearMixedKeys(const YamlItem &m, const std::string &why);
