@@ -180,6 +180,12 @@ LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpac
     angle_[k] = h(k, 3);
     arc_[k] = h(k, 4);
   }
+  if (saved_.status.empty() && saved_.committedGap.empty()) {
+    // The first detection is the initial state: where a node that closes in the first
+    // increment starts from (kept through a rollback before anything is committed).
+    saved_.committedArc = arc_;
+    saved_.committedGap = gap_;
+  }
   buildConstraints();
   return penetrating;
 }
@@ -253,10 +259,21 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
     const CoulombOutcome r =
         updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
     if (r.anchor) {
-      // A node that closes sticks where it touches. A slipping node that reverses sticks where
-      // it was at the last converged state: in the reversed direction it would not have moved
-      // (stick is the trial state from there).
-      anchorArc_[k] = before == ContactStatus::Slip ? committedArc_[k] : arc_[k];
+      // A node that closes sticks where it crossed the obstacle during the increment, a
+      // fraction g0 / (g0 - g) of the way from its arc at the last converged state (gap
+      // g0 > 0) to the current one (gap g < 0; anchored where the increment ends instead, it
+      // would carry the rest of the increment's tangential motion as a spurious stick
+      // displacement). A slipping node that reverses sticks where it was at the last converged
+      // state: in the reversed direction it would not have moved (stick is the trial state
+      // from there).
+      const double g0 = saved_.committedGap.empty() ? 0.0 : saved_.committedGap[k];
+      if (before == ContactStatus::Slip)
+        anchorArc_[k] = committedArc_[k];
+      else if (g0 > 0.0 && gap_[k] < 0.0)
+        anchorArc_[k] =
+            saved_.committedArc[k] + g0 / (g0 - gap_[k]) * (arc_[k] - saved_.committedArc[k]);
+      else
+        anchorArc_[k] = arc_[k];
       if (before == ContactStatus::Open)
         committedArc_[k] = arc_[k]; // slip is measured from where the node closed
     }
@@ -318,7 +335,7 @@ int RigidContact::closeTouching(double tolerance) {
 
 void RigidContact::commit() {
   committedArc_ = arc_;
-  saved_ = {status_, anchorArc_, normalForce_, tangentForce_, motion_, committedArc_};
+  saved_ = {status_, anchorArc_, normalForce_, tangentForce_, motion_, committedArc_, gap_};
 }
 
 void RigidContact::rollback() {
@@ -345,14 +362,15 @@ void RigidContact::saveCommitted(Checkpoint &state) const {
   const std::size_t m = node_.size();
   const bool none = saved_.status.empty(); // nothing committed yet: the initial state
   const std::vector<double> zero(m, 0.0);
-  state.putIntegers("contact/status",
-                    none ? std::vector<ContactStatus>(m, ContactStatus::Open) : saved_.status);
+  const std::vector<ContactStatus> open(m, ContactStatus::Open);
+  state.putIntegers("contact/status", none ? open : saved_.status);
   state.put("contact/anchor_arc", none ? zero : saved_.anchorArc);
   state.put("contact/committed_arc", none ? zero : saved_.committedArc);
   state.put("contact/normal_force", none ? zero : saved_.normalForce);
   state.put("contact/tangential_force", none ? zero : saved_.tangentForce);
   state.put("contact/obstacle_motion",
             none ? std::vector<double>(motion_.size(), 0.0) : saved_.motion);
+  state.put("contact/committed_gap", none ? zero : saved_.committedGap);
 }
 
 void RigidContact::restoreCommitted(const Checkpoint &state) {
@@ -364,6 +382,10 @@ void RigidContact::restoreCommitted(const Checkpoint &state) {
   s.normalForce = state.get("contact/normal_force", m);
   s.tangentForce = state.get("contact/tangential_force", m);
   s.motion = state.get("contact/obstacle_motion", motion_.size());
+  // Written since the crossing-point anchor; without it a node that closes in the next
+  // increment is anchored where the increment ends.
+  s.committedGap =
+      state.getOr("contact/committed_gap", m, std::numeric_limits<double>::quiet_NaN());
   saved_ = std::move(s);
   rollback();
 }

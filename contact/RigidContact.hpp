@@ -203,9 +203,12 @@ private:
   std::vector<DrivenComponent> driven_;
   double lambda_ = 0.0;
   std::vector<double> baseMotion_, baseForce_; ///< stages: 2 per obstacle, where a stage starts
+  /// The last converged state. committedArc and committedGap (NaN when unknown: a restart file
+  /// written before it was saved) are also the initial state's before anything is committed:
+  /// where a node that closes in the next increment starts from.
   struct Saved {
     std::vector<ContactStatus> status;
-    std::vector<double> anchorArc, normalForce, tangentForce, motion, committedArc;
+    std::vector<double> anchorArc, normalForce, tangentForce, motion, committedArc, committedGap;
   } saved_;
   void uploadObstacles();
   ContactConstraints constraints_;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -367,6 +368,13 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
       penetrating += segment_[k] >= 0 && gap_[k] < 0.0;
     }
   }
+  if (saved_.status.empty() && saved_.committedGap.empty()) {
+    // The first detection is the initial state: where a node that closes in the first
+    // increment starts from (kept through a rollback before anything is committed).
+    saved_.committedSegment = segment_;
+    saved_.committedXi = xi_;
+    saved_.committedGap = gap_;
+  }
   buildPairs();
   return penetrating;
 }
@@ -507,11 +515,18 @@ int SurfaceContact::updateStatus(const std::vector<double> &g, int stride, std::
     const CoulombOutcome r =
         updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
     if (r.anchor) {
-      // A node that closes sticks where it touches; a slipping node that reverses sticks where
-      // it was at the last converged state (stick is the trial state from there).
+      // A node that closes sticks where it crossed the target during the increment (anchored
+      // at the end of the increment instead, it carries the relative motion of the rest of the
+      // increment as a spurious stick displacement: the stick tractions then scatter node to
+      // node, docs/contact.md); a slipping node that reverses sticks where it was at the last
+      // converged state (stick is the trial state from there).
       const bool reverses = before == ContactStatus::Slip && committedSegment_[k] >= 0;
-      anchorSegment_[k] = reverses ? committedSegment_[k] : segment_[k];
-      anchorXi_[k] = reverses ? committedXi_[k] : xi_[k];
+      if (reverses) {
+        anchorSegment_[k] = committedSegment_[k];
+        anchorXi_[k] = committedXi_[k];
+      } else {
+        crossingPoint(k, anchorSegment_[k], anchorXi_[k]);
+      }
       if (before == ContactStatus::Open) {
         committedSegment_[k] = segment_[k];
         committedXi_[k] = xi_[k];
@@ -556,11 +571,57 @@ bool SurfaceContact::penetrationWithin(double relative, std::string &where) cons
   return false;
 }
 
+void SurfaceContact::crossingPoint(std::size_t k, int &segment, double &xi) const {
+  segment = segment_[k];
+  xi = xi_[k];
+  if (saved_.committedGap.empty())
+    return;
+  const int s0 = saved_.committedSegment[k];
+  const double g0 = saved_.committedGap[k], g = gap_[k], xi0 = saved_.committedXi[k];
+  if (s0 < 0 || segment < 0 || !(g0 > 0.0) || !(g < 0.0))
+    return; // no start to interpolate from (or not a crossing): where it is now
+  const double a = g0 / (g0 - g);
+  if (s0 == segment) {
+    xi = xi0 + a * (xi_[k] - xi0);
+    return;
+  }
+  // Two segments sharing an end: a path coordinate along them, zero at the shared end,
+  // negative on the start's segment, in current chord lengths.
+  const auto &seg = specs_[static_cast<std::size_t>(spec_[k])].target;
+  const auto &from = seg[static_cast<std::size_t>(s0)],
+             &to = seg[static_cast<std::size_t>(segment)];
+  int endFrom = -1, endTo = -1;
+  for (int e = 0; e < 2; ++e)
+    for (int f = 0; f < 2; ++f)
+      if (from[e] == to[f]) {
+        endFrom = e;
+        endTo = f;
+      }
+  if (endFrom < 0)
+    return; // farther than the next segment: where it is now
+  const auto length = [this](const auto &ends) {
+    const double *p = &position_[2 * static_cast<std::size_t>(ends[0])];
+    const double *q = &position_[2 * static_cast<std::size_t>(ends[1])];
+    return std::hypot(q[0] - p[0], q[1] - p[1]);
+  };
+  const double lFrom = length(from), lTo = length(to);
+  const double xiFrom = endFrom == 0 ? -1.0 : 1.0, xiTo = endTo == 0 ? -1.0 : 1.0;
+  const double start = -0.5 * std::abs(xi0 - xiFrom) * lFrom;
+  const double end = 0.5 * std::abs(xi_[k] - xiTo) * lTo;
+  const double at = start + a * (end - start);
+  if (at < 0.0) {
+    segment = s0;
+    xi = xiFrom - xiFrom * 2.0 * (-at) / std::max(lFrom, 1e-300);
+  } else {
+    xi = xiTo - xiTo * 2.0 * at / std::max(lTo, 1e-300);
+  }
+}
+
 void SurfaceContact::commit() {
   committedSegment_ = segment_;
   committedXi_ = xi_;
   saved_ = {status_,      anchorSegment_, committedSegment_, anchorXi_,
-            committedXi_, normalForce_,   tangentForce_};
+            committedXi_, normalForce_,   tangentForce_,     gap_};
 }
 
 void SurfaceContact::rollback() {
@@ -592,14 +653,15 @@ void SurfaceContact::saveCommitted(Checkpoint &state) const {
   const bool none = saved_.status.empty(); // nothing committed yet: the initial state
   const std::vector<double> zero(m, 0.0);
   const std::vector<int> noSegment(m, -1);
-  state.putIntegers("contact/status",
-                    none ? std::vector<ContactStatus>(m, ContactStatus::Open) : saved_.status);
+  const std::vector<ContactStatus> open(m, ContactStatus::Open);
+  state.putIntegers("contact/status", none ? open : saved_.status);
   state.putIntegers("contact/anchor_segment", none ? noSegment : saved_.anchorSegment);
   state.putIntegers("contact/committed_segment", none ? noSegment : saved_.committedSegment);
   state.put("contact/anchor_xi", none ? zero : saved_.anchorXi);
   state.put("contact/committed_xi", none ? zero : saved_.committedXi);
   state.put("contact/normal_force", none ? zero : saved_.normalForce);
   state.put("contact/tangential_force", none ? zero : saved_.tangentForce);
+  state.put("contact/committed_gap", none ? zero : saved_.committedGap);
 }
 
 void SurfaceContact::restoreCommitted(const Checkpoint &state) {
@@ -612,6 +674,10 @@ void SurfaceContact::restoreCommitted(const Checkpoint &state) {
   s.committedXi = state.get("contact/committed_xi", m);
   s.normalForce = state.get("contact/normal_force", m);
   s.tangentForce = state.get("contact/tangential_force", m);
+  // Written since the crossing-point anchor; without it a node that closes in the next
+  // increment is anchored where the increment ends.
+  s.committedGap =
+      state.getOr("contact/committed_gap", m, std::numeric_limits<double>::quiet_NaN());
   saved_ = std::move(s);
   rollback();
 }

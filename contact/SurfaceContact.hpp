@@ -190,11 +190,19 @@ private:
   std::vector<int> prescribed_;
   std::vector<SurfacePair> pairs_;
   std::vector<double> friction_;
+  /// The last converged state. committedSegment, committedXi and committedGap (NaN when
+  /// unknown: a restart file written before it was saved) are also the initial state's before
+  /// anything is committed: where a node that closes in the next increment starts from.
   struct Saved {
     std::vector<ContactStatus> status;
     std::vector<int> anchorSegment, committedSegment;
-    std::vector<double> anchorXi, committedXi, normalForce, tangentForce;
+    std::vector<double> anchorXi, committedXi, normalForce, tangentForce, committedGap;
   } saved_;
+  /// Where on the target candidate k crossed it during the increment that closes it: the point
+  /// a fraction g0 / (g0 - g) of the way from its projection at the last converged state (gap
+  /// g0 > 0, saved_) to the current one (gap g < 0) along the target, when both lie on one
+  /// segment or on two that share an end; otherwise the current projection.
+  void crossingPoint(std::size_t k, int &segment, double &xi) const;
 };
 
 } // namespace mixcon

@@ -42,6 +42,11 @@ public:
                                std::to_string(expected));
     return it->second;
   }
+  /// The array `name` if the saved state has it (checked as get does), otherwise `expected`
+  /// copies of `fallback`: an array added after restart files of an earlier release were written.
+  std::vector<double> getOr(const std::string &name, std::size_t expected, double fallback) const {
+    return has(name) ? get(name, expected) : std::vector<double>(expected, fallback);
+  }
   double getScalar(const std::string &name) const { return get(name, 1)[0]; }
   template <class Int> std::vector<Int> getIntegers(const std::string &name, std::size_t n) const {
     std::vector<Int> out;

@@ -257,6 +257,35 @@ TEST(Restart, ContinuesAnInterruptedRunToTheUninterruptedResults) {
   }
 }
 
+// A state saved before `contact/committed_gap` was (a restart file of an earlier release): the
+// run continues, nodes that close in the next increment anchored where it ends, as then.
+TEST(Restart, ContinuesFromAStateWithoutTheCommittedGap) {
+  TempDir tmp;
+  for (const Case &c : kCases) {
+    if (!c.contact)
+      continue;
+    const fs::path file = tmp.path() / (std::string(c.name) + ".yaml");
+    std::ofstream(file) << c.yaml;
+    const fs::path run = tmp.path() / c.name;
+    std::string out;
+    ASSERT_EQ(runMixcon("run " + file.string() + " -q --output " + run.string(), out, tmp.path()),
+              0)
+        << c.name << ": " << out;
+    const int steps = static_cast<int>(stepsOf(run).size()), at = steps / 2;
+    interruptAfter(run, at);
+    char name[32];
+    std::snprintf(name, sizeof name, "step-%06d.h5", at);
+    const hid_t f = H5Fopen((run / "results.d" / name).c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0) << c.name;
+    const std::string gap = "/steps/" + std::to_string(at) + "/restart/contact/committed_gap";
+    EXPECT_GE(H5Ldelete(f, gap.c_str(), H5P_DEFAULT), 0) << c.name << ": " << gap;
+    H5Fclose(f);
+    EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + run.string(), out, tmp.path()), 0)
+        << c.name << ": " << out;
+    EXPECT_EQ(static_cast<int>(stepsOf(run).size()), steps) << c.name << ": " << out;
+  }
+}
+
 TEST(Restart, RefusesWhatItCannotContinue) {
   TempDir tmp;
   const std::string yaml = kCases[0].yaml;

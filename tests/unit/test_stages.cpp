@@ -512,6 +512,71 @@ stages:
           << "step " << k << " " << field;
 }
 
+// A node that closes during an increment sticks where it touched the target, not where the
+// increment ends. A block (1 x 1, its bottom 0.1 above the target) is driven at its top along
+// a diagonal, (0.2, -0.15) in n increments, with friction 10 (stick everywhere). Until its
+// bottom touches, at 2/3 of the drive, it translates rigidly; from there the bottom sticks.
+// Reference: the bottom ends at ux = 0.2 * 2/3 and uy = -0.1 whatever n (touching inside the
+// third of 4 increments or the fourth of 5). Anchored where the closing increment ends, it
+// would end at 0.2 * 3/4 = 0.15 (n = 4) or 0.2 * 4/5 = 0.16 (n = 5). On a rigid plane the
+// motion is exact; on an elastic base 1000 times stiffer than the block, the base's own
+// deformation leaves a few 1e-5 (some bottom nodes cross from one target segment to the next
+// in the closing increment).
+TEST(Stages, ANodeThatClosesInAnIncrementSticksWhereItTouched) {
+  test::ScratchDir dir("stages");
+  const std::string block =
+      "{type: rectangle, size: [1, 1], origin: [0, 0.1], divisions: [2, 2], element: quad4}";
+  const struct {
+    const char *name, *setup;
+    double tolerance;
+  } cases[] = {
+      {"rigid_half_plane", R"(
+mesh: {generator: BLOCK}
+materials: [{region: body, type: isotropic, E: 1000, nu: 0.3}]
+boundary_conditions: [{boundary: top, ux: 0.2, uy: -0.15}]
+contact: [{type: rigid_half_plane, boundary: bottom, point: [0, 0], normal: [0, 1], friction: 10}]
+)",
+       1e-9},
+      {"node_to_segment", R"(
+mesh:
+  bodies:
+    - {name: block, generator: BLOCK}
+    - name: base
+      generator: {type: rectangle, size: [2.9, 0.5], origin: [-0.95, -0.5], divisions: [37, 2],
+                  element: quad4}
+materials:
+  - {region: block, type: isotropic, E: 1000, nu: 0.3}
+  - {region: base, type: isotropic, E: 1.0e6, nu: 0.3}
+boundary_conditions: [{boundary: block.top, ux: 0.2, uy: -0.15}, {boundary: base.bottom, ux: 0, uy: 0}]
+contact: [{type: node_to_segment, contactor: block.bottom, target: base.top, friction: 10}]
+)",
+       2e-4},
+  };
+  for (const auto &c : cases)
+    for (int n : {4, 5}) {
+      std::string yaml =
+          std::string("model: {formulation: displacement, analysis: "
+                      "plane_strain}\nsolver: {type: direct}\nsteps: {increments: ") +
+          std::to_string(n) + "}\n" + c.setup;
+      yaml.replace(yaml.find("BLOCK"), 5, block);
+      const std::string what = std::string(c.name) + ", " + std::to_string(n) + " increments";
+      const Problem p = parseProblem(yaml, "touch.yaml", dir.path().string());
+      RunOptions o;
+      o.outputDirectory = (dir.path() / (std::string(c.name) + std::to_string(n))).string();
+      const RunResult r = runAnalysis(p, o, MPI_COMM_WORLD);
+      ASSERT_TRUE(r.converged) << what;
+      int bottom = 0;
+      for (LocalIndex k = 0; k < p.mesh.numNodes(); ++k) {
+        if (std::abs(p.mesh.coordinate(k, 1) - 0.1) > 1e-12)
+          continue;
+        ++bottom;
+        EXPECT_NEAR(r.displacement[2 * k], 0.2 * 2.0 / 3.0, c.tolerance) << what << ", node " << k;
+        EXPECT_NEAR(r.displacement[2 * k + 1], -0.1, c.tolerance) << what << ", node " << k;
+      }
+      EXPECT_EQ(bottom, 3) << what;
+    }
+}
+
 #if defined(MIXCON_APP)
 // The program: progress lines name the stage, steps are numbered continuously with their stage
 // and pseudo-time in summary.json, contact.csv and the XDMF time series ParaView animates.
