@@ -4,8 +4,11 @@
 # the 2D Hertz run is spent in it (issue 20). The configuration matches Debian's where it matters for
 # the ABI (/usr/include/hypre/HYPRE_config.h: 32-bit HYPRE_Int and HYPRE_BigInt, no mixed int, MPI
 # with Open MPI, host memory), plus OpenMP. Built with hypre's CMake: a shared libHYPRE and a
-# HYPREConfig.cmake that cmake/FindHYPRE.cmake finds through HYPRE_ROOT. Idempotent: a finished
-# install is detected and reused.
+# HYPREConfig.cmake that cmake/FindHYPRE.cmake finds through HYPRE_ROOT. One fix is applied to the
+# source: cmake/patches/hypre-2.26.0-chebyshev-estimate.patch (hypre's Chebyshev eigenvalue
+# estimate looped forever on BoomerAMG levels with an empty row; mixcon probes for the fix at run
+# time and otherwise takes Gershgorin's bound). Idempotent: a finished install (of this patch
+# level) is detected and reused.
 #
 # Usage: cmake/build-hypre.sh [PREFIX]
 #   PREFIX defaults to ${MIXCON_CACHE:-$HOME/.cache/mixcon}/hypre-2.26.0-openmp
@@ -14,7 +17,8 @@ set -euo pipefail
 
 cache=${MIXCON_CACHE:-$HOME/.cache/mixcon}
 prefix=${1:-$cache/hypre-2.26.0-openmp}
-stamp="$prefix/.mixcon-hypre-complete"
+# The stamp names the patch level: an install of an earlier level is rebuilt in place.
+stamp="$prefix/.mixcon-hypre-complete-chebyshev-estimate"
 if [ -f "$stamp" ] && [ -f "$prefix/lib/cmake/HYPRE/HYPREConfig.cmake" ]; then
   echo "mixcon: hypre already installed"
   echo "$prefix"
@@ -31,6 +35,7 @@ bash "$(dirname "${BASH_SOURCE[0]}")/fetch-debian-source.sh" "$cache" "$work" hy
 
 tar -C "$work" -xzf "$cache/$tarball"
 srcdir=$(ls -d "$work"/hypre-*/src)
+patch -p1 -d "$srcdir/.." < "$(dirname "${BASH_SOURCE[0]}")/patches/hypre-2.26.0-chebyshev-estimate.patch"
 # Debian's ABI: HYPRE_Int = HYPRE_BigInt = int (no HYPRE_ENABLE_BIGINT / MIXEDINT), MPI on, double
 # precision, host memory. Its SuperLU_dist coupling is left out (mixcon does not call it). The
 # install's RPATH points at its own lib directory, so programs linking it need no LD_LIBRARY_PATH.
@@ -42,5 +47,6 @@ cmake -S "$srcdir" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_C_FLAGS="-w"
 cmake --build "$work/build" -j "$(nproc)"
 cmake --install "$work/build"
+rm -f "$prefix"/.mixcon-hypre-complete*
 touch "$stamp"
 echo "$prefix"

@@ -477,11 +477,12 @@ private:
     HYPRE_BoomerAMGSetRelaxType(amg_, options_.smoother == AmgSmoother::L1Jacobi    ? 18
                                       : options_.smoother == AmgSmoother::Chebyshev ? 16
                                                                                     : 8);
-    // Chebyshev's eigenvalue bound from Gershgorin's discs, not hypre's CG estimate: that one did
-    // not terminate on NAFEMS LE10 and the 3D mixed model's Lame sphere (hypre_LINPACKcgtql1
-    // looping in the setup after a CG breakdown, hypre issue #531; docs/performance.md 3b).
+    // Chebyshev's eigenvalue bound: hypre's Lanczos (CG) estimate, 10 steps per level, where
+    // the loaded hypre has mixcon's fix of it; otherwise Gershgorin's discs, looser but safe (the
+    // unfixed estimate never returned on NAFEMS LE10 and the 3D mixed model's Lame sphere:
+    // docs/performance.md 3b).
     if (options_.smoother == AmgSmoother::Chebyshev)
-      HYPRE_BoomerAMGSetChebyEigEst(amg_, 0);
+      HYPRE_BoomerAMGSetChebyEigEst(amg_, hypreChebyshevEstimateIsSafe() ? 10 : 0);
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
     if (options_.nodalCoarsening)
@@ -760,6 +761,22 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
     total += s.iterations;
   }
   return s;
+}
+
+bool hypreChebyshevEstimateIsSafe() {
+  static const bool safe = [] {
+    hypre_CSRMatrix *a = hypre_CSRMatrixCreate(1, 1, 1);
+    hypre_CSRMatrixInitialize_v2(a, 0, HYPRE_MEMORY_HOST);
+    hypre_CSRMatrixI(a)[0] = 0;
+    hypre_CSRMatrixI(a)[1] = 1;
+    hypre_CSRMatrixJ(a)[0] = 0;
+    hypre_CSRMatrixData(a)[0] = 0.0;
+    HYPRE_Complex d = -1.0;
+    hypre_CSRMatrixExtractDiagonal(a, &d, 4); // 1 / sqrt(|a_ii|), the Chebyshev scaling
+    hypre_CSRMatrixDestroy(a);
+    return d == 0.0;
+  }();
+  return safe;
 }
 
 std::string hypreVersion() {

@@ -3,7 +3,9 @@
 // library the loader actually bound is probed at run time: hypre_NumThreads is a function only in
 // an OpenMP build (a sequential hypre defines it as a macro returning 1, so libHYPRE has no such
 // symbol). CI sets MIXCON_EXPECT_HYPRE=OpenMP for the threaded build of cmake/build-hypre.sh and
-// MIXCON_EXPECT_HYPRE=sequential for Debian's libhypre-dev.
+// MIXCON_EXPECT_HYPRE=sequential for Debian's libhypre-dev. The threaded build carries mixcon's fix
+// of the Chebyshev eigenvalue estimate (cmake/patches/), Debian's does not: the run-time probe
+// hypreChebyshevEstimateIsSafe tells them apart.
 #include <solver/LinearSolver.hpp>
 
 #include <dlfcn.h>
@@ -54,4 +56,16 @@ TEST(HypreBuild, VersionNamesTheLinkedThreading) {
   if (!loaded.empty()) {
     EXPECT_EQ(loaded, std::string(expected)) << loadedHyprePath();
   }
+}
+
+TEST(HypreBuild, TheThreadedBuildHasTheChebyshevEstimateFix) {
+  const bool safe = mixcon::hypreChebyshevEstimateIsSafe();
+  RecordProperty("chebyshev_estimate_fixed", safe ? "yes" : "no");
+  EXPECT_EQ(mixcon::hypreChebyshevEstimateIsSafe(), safe) << "probed once, then kept";
+  const char *expected = std::getenv("MIXCON_EXPECT_HYPRE");
+  if (expected == nullptr)
+    return;
+  EXPECT_EQ(safe, std::string(expected) == "OpenMP")
+      << "MIXCON_EXPECT_HYPRE=" << expected << ": cmake/build-hypre.sh's hypre has the fix of "
+      << "cmake/patches/hypre-2.26.0-chebyshev-estimate.patch, Debian's libhypre-dev does not";
 }

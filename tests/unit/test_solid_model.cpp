@@ -427,9 +427,13 @@ TEST(SolidProblem, AmgSmootherKey) {
             std::string::npos);
 }
 
-// smoother: chebyshev takes its eigenvalue bound from Gershgorin's discs: hypre's CG estimate did
-// not terminate (hypre_LINPACKcgtql1 looping in the AMG setup) on NAFEMS LE10 (displacement
-// model, Hex20) and on the 3D mixed model's Lame sphere (Hex8). Both now run to their answers.
+// smoother: chebyshev on NAFEMS LE10 (displacement model, Hex20) and the 3D mixed model's Lame
+// sphere (Hex8), where hypre 2.26's Lanczos (CG) eigenvalue estimate never returned
+// (hypre_LINPACKcgtql1 looping in the AMG setup: a coarse operator with an empty row, which the
+// rigid-body modes' interpolation leaves, scaled by 1/sqrt(0)). Both run to their answers: with
+// the fixed hypre of cmake/build-hypre.sh on that estimate, where LE10 then takes 48 PCG
+// iterations (Gershgorin's looser bound: 89; reference: the default smoother's 39), otherwise on
+// Gershgorin's bound.
 TEST(SolidProblem, ChebyshevSmootherFinishesWhereHypresEigenvalueEstimateHung) {
   test::ScratchDir dir("chebyshev");
   for (const char *file : {"/examples/nafems_le10/le10.yaml", "/examples/lame_sphere_mixed.yaml"}) {
@@ -442,6 +446,9 @@ TEST(SolidProblem, ChebyshevSmootherFinishesWhereHypresEigenvalueEstimateHung) {
     EXPECT_TRUE(r.converged) << file;
     ASSERT_EQ(r.steps.size(), 1u) << file;
     EXPECT_LE(r.steps[0].residual, 10 * p.solver.tolerance) << file;
+    if (hypreChebyshevEstimateIsSafe() && !r.verification) { // LE10 on the Lanczos bound
+      EXPECT_LT(r.steps[0].linearIterations, 70) << file;
+    }
     if (r.verification) { // the Lame sphere against its closed form
       EXPECT_TRUE(r.verification->passed) << file;
     }
