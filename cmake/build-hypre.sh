@@ -17,9 +17,13 @@ set -euo pipefail
 
 cache=${MIXCON_CACHE:-$HOME/.cache/mixcon}
 prefix=${1:-$cache/hypre-2.26.0-openmp}
-# The stamp names the patch level: an install of an earlier level is rebuilt in place.
-stamp="$prefix/.mixcon-hypre-complete-chebyshev-estimate"
-if [ -f "$stamp" ] && [ -f "$prefix/lib/cmake/HYPRE/HYPREConfig.cmake" ]; then
+patch_file="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/patches/hypre-2.26.0-chebyshev-estimate.patch"
+# The stamp names the patch (a hash of its text): an install of another patch level is rebuilt in
+# place. The unpatched installs of earlier checkouts stamp `.mixcon-hypre-complete`; its presence
+# means one of them rebuilt this prefix since, so it is rebuilt again.
+stamp="$prefix/.mixcon-hypre-complete-$(sha256sum "$patch_file" | cut -c1-12)"
+if [ -f "$stamp" ] && [ ! -e "$prefix/.mixcon-hypre-complete" ] &&
+  [ -f "$prefix/lib/cmake/HYPRE/HYPREConfig.cmake" ]; then
   echo "mixcon: hypre already installed"
   echo "$prefix"
   exit 0
@@ -35,7 +39,8 @@ bash "$(dirname "${BASH_SOURCE[0]}")/fetch-debian-source.sh" "$cache" "$work" hy
 
 tar -C "$work" -xzf "$cache/$tarball"
 srcdir=$(ls -d "$work"/hypre-*/src)
-patch -p1 -d "$srcdir/.." < "$(dirname "${BASH_SOURCE[0]}")/patches/hypre-2.26.0-chebyshev-estimate.patch"
+patch -p1 --forward --batch -d "$srcdir/.." < "$patch_file"
+rm -f "$prefix"/.mixcon-hypre-complete* # a half-done reinstall carries no stamp
 # Debian's ABI: HYPRE_Int = HYPRE_BigInt = int (no HYPRE_ENABLE_BIGINT / MIXEDINT), MPI on, double
 # precision, host memory. Its SuperLU_dist coupling is left out (mixcon does not call it). The
 # install's RPATH points at its own lib directory, so programs linking it need no LD_LIBRARY_PATH.
@@ -47,6 +52,5 @@ cmake -S "$srcdir" -B "$work/build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_C_FLAGS="-w"
 cmake --build "$work/build" -j "$(nproc)"
 cmake --install "$work/build"
-rm -f "$prefix"/.mixcon-hypre-complete*
 touch "$stamp"
 echo "$prefix"

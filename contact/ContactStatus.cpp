@@ -76,6 +76,10 @@ CoulombOutcome updateCoulomb(ContactStatus &status, double &normalForce, double 
   return out;
 }
 
+double crossingFraction(double committed, double current) {
+  return committed > 0.0 && current < 0.0 ? committed / (committed - current) : -1.0;
+}
+
 std::string statusSignature(const std::vector<ContactStatus> &s) {
   std::string r(s.size(), 'o');
   for (std::size_t k = 0; k < s.size(); ++k)

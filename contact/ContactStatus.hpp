@@ -44,6 +44,13 @@ struct CoulombOutcome {
 CoulombOutcome updateCoulomb(ContactStatus &status, double &normalForce, double &tangentForce,
                              const CoulombInput &in, bool frozen);
 
+/// Where in an increment a candidate crossed the other surface, its gap going linearly from
+/// `committed` (at the last converged state) to `current`: the fraction g0 / (g0 - g) of the
+/// increment, in (0, 1), when g0 > 0 > g; otherwise -1 (no crossing to interpolate: it started
+/// inside, or a gap is unknown, NaN). A node that closes is anchored there, not where the
+/// increment ends (docs/contact.md, "Statuses").
+double crossingFraction(double committed, double current);
+
 /// A string of the statuses (cycle detection) and the number of closed ones.
 std::string statusSignature(const std::vector<ContactStatus> &s);
 LocalIndex countClosed(const std::vector<ContactStatus> &s);

@@ -181,8 +181,10 @@ LocalIndex RigidContact::detect(const Kokkos::View<const double *[2], DeviceSpac
     arc_[k] = h(k, 4);
   }
   if (saved_.status.empty() && saved_.committedGap.empty()) {
-    // The first detection is the initial state: where a node that closes in the first
-    // increment starts from (kept through a rollback before anything is committed).
+    // The state of the first detection (the initial one, at rest) is where a node that closes
+    // in the first increment starts from; kept through a rollback before anything is
+    // committed. (Where it already holds the first increment's motion, a node that closes
+    // there is anchored where it is, as before.)
     saved_.committedArc = arc_;
     saved_.committedGap = gap_;
   }
@@ -255,7 +257,7 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
         mu,
         gap_[k]<0.0,
                 // Stick again when the node moves along its friction force (slip reversed).
-                (arc_[k] - committedArc_[k]) * tangentForce_[k]> 0.0};
+                arcChange(k, committedArc_[k]) * tangentForce_[k]> 0.0};
     const CoulombOutcome r =
         updateCoulomb(status_[k], normalForce_[k], tangentForce_[k], in, frozen);
     if (r.anchor) {
@@ -266,12 +268,12 @@ int RigidContact::updateStatus(const std::vector<double> &g, int stride, std::st
       // displacement). A slipping node that reverses sticks where it was at the last converged
       // state: in the reversed direction it would not have moved (stick is the trial state
       // from there).
-      const double g0 = saved_.committedGap.empty() ? 0.0 : saved_.committedGap[k];
+      const double a =
+          saved_.committedGap.empty() ? -1.0 : crossingFraction(saved_.committedGap[k], gap_[k]);
       if (before == ContactStatus::Slip)
         anchorArc_[k] = committedArc_[k];
-      else if (g0 > 0.0 && gap_[k] < 0.0)
-        anchorArc_[k] =
-            saved_.committedArc[k] + g0 / (g0 - gap_[k]) * (arc_[k] - saved_.committedArc[k]);
+      else if (a >= 0.0)
+        anchorArc_[k] = arc_[k] - (1.0 - a) * arcChange(k, saved_.committedArc[k]);
       else
         anchorArc_[k] = arc_[k];
       if (before == ContactStatus::Open)
@@ -331,6 +333,13 @@ int RigidContact::closeTouching(double tolerance) {
     }
   buildConstraints();
   return closed;
+}
+
+double RigidContact::arcChange(std::size_t k, double from) const {
+  const RigidObstacle &o = specs_[static_cast<std::size_t>(obstacle_[k])].obstacle;
+  const double d = arc_[k] - from;
+  // On a circle the arc is R atan2, which jumps by 2 pi R at the angle pi.
+  return o.kind == ObstacleKind::Circle ? std::remainder(d, 2.0 * M_PI * o.radius) : d;
 }
 
 void RigidContact::commit() {

@@ -211,6 +211,8 @@ private:
     std::vector<double> anchorArc, normalForce, tangentForce, motion, committedArc, committedGap;
   } saved_;
   void uploadObstacles();
+  /// Candidate k's arc since `from`: arc_[k] - from, on a circle across the angle pi too.
+  double arcChange(std::size_t k, double from) const;
   ContactConstraints constraints_;
   Kokkos::View<RigidObstacle *, DeviceSpace> obstacles_;
   Kokkos::View<LocalIndex *, DeviceSpace> nodesDevice_;

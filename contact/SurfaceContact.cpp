@@ -369,8 +369,10 @@ LocalIndex SurfaceContact::detect(const Kokkos::View<const double *[2], DeviceSp
     }
   }
   if (saved_.status.empty() && saved_.committedGap.empty()) {
-    // The first detection is the initial state: where a node that closes in the first
-    // increment starts from (kept through a rollback before anything is committed).
+    // The state of the first detection (the initial one, at rest) is where a node that closes
+    // in the first increment starts from; kept through a rollback before anything is
+    // committed. (Where it already holds the first increment's motion, a node that closes
+    // there is anchored where it is, as before.)
     saved_.committedSegment = segment_;
     saved_.committedXi = xi_;
     saved_.committedGap = gap_;
@@ -577,10 +579,9 @@ void SurfaceContact::crossingPoint(std::size_t k, int &segment, double &xi) cons
   if (saved_.committedGap.empty())
     return;
   const int s0 = saved_.committedSegment[k];
-  const double g0 = saved_.committedGap[k], g = gap_[k], xi0 = saved_.committedXi[k];
-  if (s0 < 0 || segment < 0 || !(g0 > 0.0) || !(g < 0.0))
+  const double a = crossingFraction(saved_.committedGap[k], gap_[k]), xi0 = saved_.committedXi[k];
+  if (s0 < 0 || segment < 0 || a < 0.0)
     return; // no start to interpolate from (or not a crossing): where it is now
-  const double a = g0 / (g0 - g);
   if (s0 == segment) {
     xi = xi0 + a * (xi_[k] - xi0);
     return;
@@ -597,8 +598,31 @@ void SurfaceContact::crossingPoint(std::size_t k, int &segment, double &xi) cons
         endFrom = e;
         endTo = f;
       }
-  if (endFrom < 0)
-    return; // farther than the next segment: where it is now
+  if (endFrom < 0) {
+    // Farther than the next segment: the point a fraction a of the way along the chord from
+    // where the start's material point is now to the current projection, projected back onto
+    // the nearest target segment (all of this contact's: a node closing after a long slide).
+    double p0[2], p1[2], w[3];
+    LocalIndex nodes[3];
+    int count = 0;
+    targetPoint(spec_[k], s0, xi0, p0, nodes, w, count);
+    targetPoint(spec_[k], segment, xi_[k], p1, nodes, w, count);
+    const double q[2] = {p0[0] + a * (p1[0] - p0[0]), p0[1] + a * (p1[1] - p0[1])};
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < seg.size(); ++j) {
+      double ends[3][2] = {};
+      for (int e = 0; e < 3; ++e)
+        for (int i = 0; e < (seg[j][2] >= 0 ? 3 : 2) && i < 2; ++i)
+          ends[e][i] = position_[2 * static_cast<std::size_t>(seg[j][e]) + i];
+      const SegmentProjection r = projectOntoSegment(q, ends[0], ends[1], ends[2], seg[j][2] >= 0);
+      if (r.distance2 < best) {
+        best = r.distance2;
+        segment = static_cast<int>(j);
+        xi = r.xi;
+      }
+    }
+    return;
+  }
   const auto length = [this](const auto &ends) {
     const double *p = &position_[2 * static_cast<std::size_t>(ends[0])];
     const double *q = &position_[2 * static_cast<std::size_t>(ends[1])];

@@ -201,7 +201,8 @@ private:
   /// Where on the target candidate k crossed it during the increment that closes it: the point
   /// a fraction g0 / (g0 - g) of the way from its projection at the last converged state (gap
   /// g0 > 0, saved_) to the current one (gap g < 0) along the target, when both lie on one
-  /// segment or on two that share an end; otherwise the current projection.
+  /// segment or on two that share an end; farther apart, the point as far along the chord
+  /// between them projected back onto the target; no crossing: the current projection.
   void crossingPoint(std::size_t k, int &segment, double &xi) const;
 };
 

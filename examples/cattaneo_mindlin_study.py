@@ -25,13 +25,13 @@ relative to mu P.
   - the running integral of the shear traction within 4 % of mu P (--mesh fine: 3.5 %), and the
     slip nodes' tractions on the cone, |q| = mu p (1e-6);
   - the measured b within 3 % of Hertz's (with the computed P);
-  - every unloading step: c' and the running integral as above (the residual tractions of the
-    unloading solution);
+  - every unloading step: c', the stick nodes' shear tractions and the running integral as above
+    (the residual tractions of the unloading solution);
 and for the proportional run (16 increments to the P and Q of the shear step nearest
 Q / mu P = 0.6; its sideways displacement found by one secant step), no slip anywhere at the end
 while pressed first the same loads have a slip zone: the history matters.
-Writes cattaneo_mindlin.csv and the PNG cattaneo_mindlin.png (shear tractions against the closed
-form at two Q / mu P).
+Writes cattaneo_mindlin.csv and the PNG cattaneo_mindlin.png (the shear tractions node by node
+against the closed forms: two shear steps, and two unloading steps).
 
 Usage: python3 examples/cattaneo_mindlin_study.py [--mixcon build/apps/mixcon]
            [--out out/cattaneo_mindlin] [--mesh coarse|fine] [--check]

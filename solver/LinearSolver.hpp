@@ -157,11 +157,14 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();
 
+namespace detail {
 /// Whether the loaded libHYPRE has cmake/patches/hypre-2.26.0-chebyshev-estimate.patch (the
 /// build of cmake/build-hypre.sh): probed once, by scaling a 1 x 1 zero matrix by its diagonal
-/// (the fixed hypre gives 0, the unfixed 1/sqrt(0) = inf). With it `smoother: chebyshev` takes
-/// its eigenvalue bound from hypre's Lanczos estimate; without it from Gershgorin's discs (that
-/// estimate can loop forever there, hypre issue #531).
+/// on the host (the fixed hypre gives 0, the unfixed 1/sqrt(0) = inf; the error it may flag is
+/// cleared). False for a GPU-enabled hypre, whose device estimate the patch does not touch. With
+/// it `smoother: chebyshev` takes its eigenvalue bound from hypre's Lanczos estimate; without it
+/// from Gershgorin's discs (that estimate can loop forever there, hypre issue #531).
 bool hypreChebyshevEstimateIsSafe();
+} // namespace detail
 
 } // namespace mixcon

@@ -1,7 +1,9 @@
 // Rigid-obstacle geometry and detection (contact/RigidObstacle.hpp) against plain host formulas,
 // and the nodal local frames (solver/LocalFrames.hpp) against dense R^T A R, for 2 and 5 unknowns
 // per node; the seating of a force-driven obstacle against a host ray cast; the rigid correction
-// through its constraint set (solver/ConstraintSet.hpp) against the dense constrained solve.
+// through its constraint set (solver/ConstraintSet.hpp) against the dense constrained solve;
+// where in an increment a candidate crossed the other surface (contact/ContactStatus.hpp).
+#include <contact/ContactStatus.hpp>
 #include <contact/RigidContact.hpp>
 #include <contact/RigidObstacle.hpp>
 #include <core/Transfer.hpp>
@@ -15,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 using namespace mixcon;
@@ -437,4 +440,17 @@ TEST(RigidContact, CorrectionThroughTheConstraintSetEqualsTheDenseConstrainedSol
   sys.displacement = uv;
   sys.target = target;
   EXPECT_EQ(driven.constraintSet(sys), nullptr);
+}
+
+// The gap goes linearly from g0 to g over an increment: it is zero at g0 / (g0 - g). Only an
+// open start (g0 > 0) and a penetrating end (g < 0) cross; an unknown gap (NaN, a restart file
+// without it) does not.
+TEST(ContactStatus, CrossingFractionIsWhereTheGapVanishes) {
+  EXPECT_DOUBLE_EQ(crossingFraction(0.025, -0.0125), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(crossingFraction(1e-3, -3e-3), 0.25);
+  const double nan = std::nan("");
+  const std::pair<double, double> none[] = {{0.0, -1.0}, {-0.1, -0.2}, {0.1, 0.05},
+                                            {0.1, 0.0},  {nan, -0.1},  {0.1, nan}};
+  for (const auto &[g0, g] : none)
+    EXPECT_EQ(crossingFraction(g0, g), -1.0) << g0 << " -> " << g;
 }

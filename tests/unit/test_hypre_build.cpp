@@ -59,12 +59,11 @@ TEST(HypreBuild, VersionNamesTheLinkedThreading) {
 }
 
 TEST(HypreBuild, TheThreadedBuildHasTheChebyshevEstimateFix) {
-  const bool safe = mixcon::hypreChebyshevEstimateIsSafe();
+  const bool safe = mixcon::detail::hypreChebyshevEstimateIsSafe();
   RecordProperty("chebyshev_estimate_fixed", safe ? "yes" : "no");
-  EXPECT_EQ(mixcon::hypreChebyshevEstimateIsSafe(), safe) << "probed once, then kept";
   const char *expected = std::getenv("MIXCON_EXPECT_HYPRE");
   if (expected == nullptr)
-    return;
+    GTEST_SKIP() << "MIXCON_EXPECT_HYPRE is not set: which hypre to expect is unknown";
   EXPECT_EQ(safe, std::string(expected) == "OpenMP")
       << "MIXCON_EXPECT_HYPRE=" << expected << ": cmake/build-hypre.sh's hypre has the fix of "
       << "cmake/patches/hypre-2.26.0-chebyshev-estimate.patch, Debian's libhypre-dev does not";

@@ -282,6 +282,8 @@ TEST(Restart, ContinuesFromAStateWithoutTheCommittedGap) {
     H5Fclose(f);
     EXPECT_EQ(runMixcon("run " + file.string() + " --restart " + run.string(), out, tmp.path()), 0)
         << c.name << ": " << out;
+    EXPECT_NE(out.find("restarting from step " + std::to_string(at)), std::string::npos)
+        << c.name << ": " << out;
     EXPECT_EQ(static_cast<int>(stepsOf(run).size()), steps) << c.name << ": " << out;
   }
 }

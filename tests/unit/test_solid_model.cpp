@@ -446,8 +446,9 @@ TEST(SolidProblem, ChebyshevSmootherFinishesWhereHypresEigenvalueEstimateHung) {
     EXPECT_TRUE(r.converged) << file;
     ASSERT_EQ(r.steps.size(), 1u) << file;
     EXPECT_LE(r.steps[0].residual, 10 * p.solver.tolerance) << file;
-    if (hypreChebyshevEstimateIsSafe() && !r.verification) { // LE10 on the Lanczos bound
-      EXPECT_LT(r.steps[0].linearIterations, 70) << file;
+    if (std::string(file).find("le10") != std::string::npos) { // 48 on the Lanczos bound, 89
+      EXPECT_LT(r.steps[0].linearIterations, detail::hypreChebyshevEstimateIsSafe() ? 70 : 120)
+          << file;
     }
     if (r.verification) { // the Lame sphere against its closed form
       EXPECT_TRUE(r.verification->passed) << file;
