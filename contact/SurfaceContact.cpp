@@ -610,11 +610,12 @@ void SurfaceContact::crossingPoint(std::size_t k, int &segment, double &xi) cons
     const double q[2] = {p0[0] + a * (p1[0] - p0[0]), p0[1] + a * (p1[1] - p0[1])};
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < seg.size(); ++j) {
-      double ends[3][2] = {};
-      for (int e = 0; e < 3; ++e)
-        for (int i = 0; e < (seg[j][2] >= 0 ? 3 : 2) && i < 2; ++i)
+      const bool quadratic = seg[j][2] >= 0;
+      double ends[3][2] = {}; // the end nodes, then the middle one of a quadratic segment
+      for (int e = 0; e < (quadratic ? 3 : 2); ++e)
+        for (int i = 0; i < 2; ++i)
           ends[e][i] = position_[2 * static_cast<std::size_t>(seg[j][e]) + i];
-      const SegmentProjection r = projectOntoSegment(q, ends[0], ends[1], ends[2], seg[j][2] >= 0);
+      const SegmentProjection r = projectOntoSegment(q, ends[0], ends[1], ends[2], quadratic);
       if (r.distance2 < best) {
         best = r.distance2;
         segment = static_cast<int>(j);
