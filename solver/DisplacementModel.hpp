@@ -22,7 +22,8 @@ public:
   /// Solves K u = lambda F with u = lambda g on constrained unknowns; result in displacement().
   LinearSolveStats solve(double loadFactor) override;
 
-  const CsrMatrix<Memory> &unconstrainedStiffness() const { return stiffness_; }
+  /// A fresh K^L without constraints (the model keeps only its constrained one).
+  CsrMatrix<Memory> assembleStiffness() const;
   double assemblySeconds() const override { return assemblySeconds_; }
   double solverSetupSeconds() const override { return solver_ ? solver_->setupSeconds() : 0.0; }
   std::string solverName() const override { return solver_ ? solver_->name() : std::string(); }
@@ -32,8 +33,7 @@ public:
 
 private:
   NodeGraph graph_;
-  CsrMatrix<Memory> stiffness_;        ///< unconstrained K^L
-  CsrMatrix<Memory> constrained_;      ///< K^L with identity-like constrained rows
+  CsrMatrix<Memory> stiffness_;        ///< K^L with identity-like constrained rows
   Kokkos::View<double *, Memory> rhs_; ///< constrained right-hand side for lambda = 1
   std::unique_ptr<LinearSolver> solver_;
   double assemblySeconds_ = 0.0;

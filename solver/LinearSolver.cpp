@@ -20,6 +20,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace mixcon {
@@ -252,7 +253,7 @@ public:
       matrix_ = a;
       ++builds_;
     } else if (options_.reuseHierarchy && amg_ && !rebuild_ && samePattern(a)) {
-      updateValues(a); // the hierarchy stays; its fine level is this matrix
+      setValues(a, "IJMatrixSetValues (kept hierarchy)"); // the hierarchy stays
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
       matrix_ = a;
@@ -399,28 +400,48 @@ private:
            static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes;
   }
 
-  /// Same rows and columns as the matrix of the last build (the same views, or equal arrays).
+  /// Same rows and columns as the matrix of the last setup, matrix_ (the same views, or equal
+  /// arrays).
   bool samePattern(const CsrMatrix<DeviceSpace> &a) const {
-    if (a.numRows != builtRows_ || a.columns.extent(0) != builtColumns_.size())
+    if (a.numRows != builtRows_ || a.columns.extent(0) != matrix_.columns.extent(0))
       return false;
+    if (a.rowOffsets.data() == matrix_.rowOffsets.data() &&
+        a.columns.data() == matrix_.columns.data())
+      return true;
     const auto ro = hostReadable(a.rowOffsets);
     const auto co = hostReadable(a.columns);
+    const auto built = hostReadable(matrix_.columns);
     for (LocalIndex i = 0; i < a.numRows; ++i)
       if (ncols_[i] != static_cast<HYPRE_Int>(ro(i + 1) - ro(i)))
         return false;
-    const HYPRE_BigInt lo = dofs_.ownedBegin;
-    for (std::size_t k = 0; k < builtColumns_.size(); ++k)
-      if (builtColumns_[k] != lo + co(k))
+    for (std::size_t k = 0; k < co.extent(0); ++k)
+      if (built(k) != co(k))
         return false;
     return true;
   }
 
-  /// New values into the assembled hypre matrix (same pattern): the kept hierarchy's fine level.
-  void updateValues(const CsrMatrix<DeviceSpace> &a) {
+  /// HYPRE_IJMatrixSetValues of all rows of `a` into ij_. The global column numbers are the
+  /// matrix's own array where they coincide with its local ones (one rank, and hypre's integer
+  /// type is LocalIndex), else a temporary copy: none is kept (it was 1 GB for the 3.1M-unknown
+  /// cube, docs/performance.md).
+  void setValues(const CsrMatrix<DeviceSpace> &a, const char *what) {
+    const auto co = hostReadable(a.columns);
     const auto va = hostReadable(a.values);
-    check(HYPRE_IJMatrixSetValues(ij_, a.numRows, ncols_.data(), rows_.data(), builtColumns_.data(),
+    const HYPRE_BigInt lo = dofs_.ownedBegin;
+    if constexpr (std::is_same_v<HYPRE_BigInt, LocalIndex>) {
+      if (lo == 0) {
+        check(HYPRE_IJMatrixSetValues(ij_, a.numRows, ncols_.data(), rows_.data(), co.data(),
+                                      va.data()),
+              what);
+        return;
+      }
+    }
+    std::vector<HYPRE_BigInt> global(co.extent(0));
+    for (std::size_t k = 0; k < global.size(); ++k)
+      global[k] = lo + co(k); // serial numbering: local column + first owned row
+    check(HYPRE_IJMatrixSetValues(ij_, a.numRows, ncols_.data(), rows_.data(), global.data(),
                                   va.data()),
-          "IJMatrixSetValues (kept hierarchy)");
+          what);
   }
 
   /// The hypre matrix, vectors and a fresh BoomerAMG hierarchy with its Krylov method, from
@@ -431,31 +452,24 @@ private:
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     const HYPRE_Int n = a.numRows;
     const auto ro = hostReadable(a.rowOffsets);
-    const auto co = hostReadable(a.columns);
-    const auto va = hostReadable(a.values);
 
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
     ncols_.resize(n);
     std::vector<HYPRE_Int> offdSizes(n, 0);
-    builtColumns_.resize(co.extent(0));
     rows_.resize(n); // owned global rows, reused by every solve() and precondition()
     zero_.assign(n, 0.0);
     for (HYPRE_Int i = 0; i < n; ++i) {
       ncols_[i] = static_cast<HYPRE_Int>(ro(i + 1) - ro(i));
       rows_[i] = lo + i;
     }
-    for (std::size_t k = 0; k < builtColumns_.size(); ++k)
-      builtColumns_[k] = lo + co(k); // serial numbering: local column + first owned row
     builtRows_ = n;
     normInf_ = rowSumNorm(a);
     MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
     check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, ncols_.data(), offdSizes.data()),
           "IJMatrixSetDiagOffdSizes");
     check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
-    check(HYPRE_IJMatrixSetValues(ij_, n, ncols_.data(), rows_.data(), builtColumns_.data(),
-                                  va.data()),
-          "IJMatrixSetValues");
+    setValues(a, "IJMatrixSetValues");
     check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
     check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
 
@@ -710,10 +724,9 @@ private:
   HYPRE_ParCSRMatrix parA_ = nullptr;
   HYPRE_ParVector parb_ = nullptr, parx_ = nullptr, parr_ = nullptr;
   HYPRE_Solver pcg_ = nullptr, gmres_ = nullptr, amg_ = nullptr;
-  CsrMatrix<DeviceSpace> matrix_;          ///< the matrix of the last setup (for rebuilds)
-  std::vector<HYPRE_BigInt> rows_;         ///< owned global row numbers
-  std::vector<HYPRE_Int> ncols_;           ///< entries per row of the built matrix
-  std::vector<HYPRE_BigInt> builtColumns_; ///< its global column numbers
+  CsrMatrix<DeviceSpace> matrix_;  ///< the matrix of the last setup (for rebuilds)
+  std::vector<HYPRE_BigInt> rows_; ///< owned global row numbers
+  std::vector<HYPRE_Int> ncols_;   ///< entries per row of the built matrix
   LocalIndex builtRows_ = -1;
   std::vector<double> zero_;                             ///< zero initial guess
   Kokkos::View<const double **, DeviceSpace> positions_; ///< see setNearNullSpace()

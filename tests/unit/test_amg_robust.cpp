@@ -128,7 +128,7 @@ TEST(SlenderStrip, FallsBackToTheDirectSolverAndSaysSo) {
 namespace {
 /// K^L of a clamped Quad4 square (2 unknowns per node), scaled by `scale` in its first half of
 /// rows and columns' symmetric part: the same pattern, other values.
-CsrMatrix<Memory> squareStiffness(const Mesh &mesh, double stiffer) {
+CsrMatrix<Memory> squareStiffness(const Mesh &mesh, double stiffer, bool wide = false) {
   ElementData<Memory> d;
   d.mesh = toDevice<Memory>(mesh);
   d.thickness = 1.0;
@@ -142,7 +142,8 @@ CsrMatrix<Memory> squareStiffness(const Mesh &mesh, double stiffer) {
   hs(0) = isotropicStiffness(1.0, 0.3, PlaneAnalysis::PlaneStress);
   hs(1) = isotropicStiffness(stiffer, 0.3, PlaneAnalysis::PlaneStress);
   Kokkos::deep_copy(d.stiffness, hs);
-  const NodeGraph graph = buildNodeGraph(mesh);
+  // wide: the pattern of the second neighbours (zeros beyond the first), the same rows
+  const NodeGraph graph = wide ? secondNeighbourGraph(buildNodeGraph(mesh)) : buildNodeGraph(mesh);
   CsrMatrix<Memory> a = expandGraph<Memory>(graph, 2);
   const auto map = elementScatterMap<Memory>(mesh, graph);
   assembleLinearStiffness<Quad4>(Exec(), d, map, a);
@@ -193,6 +194,20 @@ TEST(AmgReuse, KeepsTheHierarchyForTheSamePatternAndStillSolves) {
   }
   EXPECT_EQ(amg->builds(), 1);
   EXPECT_EQ(amg->reuses(), 2);
+  // The same matrix again (the same views): kept. A pattern with more entries on the same rows
+  // (the second neighbours, zeros there): a fresh hierarchy, and still the same solution.
+  const CsrMatrix<Memory> last = squareStiffness(mesh, 1.1);
+  solveWith(*amg, last, st);
+  solveWith(*amg, last, st);
+  EXPECT_EQ(amg->builds(), 1);
+  EXPECT_EQ(amg->reuses(), 4);
+  const CsrMatrix<Memory> wide = squareStiffness(mesh, 1.1, true);
+  ASSERT_EQ(wide.numRows, last.numRows);
+  ASSERT_GT(wide.columns.extent(0), last.columns.extent(0));
+  const auto xw = solveWith(*amg, wide, st);
+  EXPECT_EQ(amg->builds(), 2);
+  EXPECT_TRUE(st.converged);
+  EXPECT_LT(relativeDifference(xw, solveWith(*direct, last, ds)), 1e-6);
 
   o.reuseHierarchy = false; // every setup builds
   auto fresh = makeLinearSolver(o, dofs, MPI_COMM_WORLD);

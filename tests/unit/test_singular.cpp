@@ -46,7 +46,7 @@ struct SingularLame {
     direct.type = LinearSolverType::Direct;
     model.setup(direct, MPI_COMM_WORLD);
     dofs = model.dofs();
-    matrix = cloneValues(model.unconstrainedStiffness());
+    matrix = model.assembleStiffness();
     const LocalIndex n = dofs.numOwned();
     Kokkos::View<int *, DeviceSpace> constrained("constrained", n);
     Kokkos::View<double *, DeviceSpace> value("value", n);
