@@ -4,8 +4,9 @@
   linear     PCG/GMRES iterations of linear strips of L/h = 10, 100, 1000, 10000 (Quad8, 2 elements
              through the depth h = 1, square elements, clamped left end, transverse traction on the
              top edge, E = 1e4, nu = 0.3, plane stress), displacement and linear mixed model, for
-             four solver settings: old AMG (no rigid-body modes, coarsest 9, no direct fall back),
-             the default, coarsest_size 500 and 2000 (with the rigid-body modes). With --dim 3:
+             five solver settings: old AMG (no rigid-body modes, coarsest 9, no direct fall back),
+             the default, coarsest_size 500 and 2000 (with the rigid-body modes), and the default
+             with `coarse_space: rigid_body` (--settings picks them by letter). With --dim 3:
              the strips as solids of square section h x h (Hex20, 2 x 2 through the section,
              clamped face xmin, traction on ymax), displacement model.
   nonlinear  examples/cantilever/slender_{displacement,mixed}.yaml at divisions [200, 2] with
@@ -18,6 +19,7 @@ Every run writes its problem file under --out and runs the binary; the step line
 direct solver) are parsed. Prints markdown tables.
 Usage: /usr/bin/python3 bench/slender_amg.py {linear,nonlinear,reuse} [--mixcon build/apps/mixcon]
        [--out out/slender_amg] [--lh 10 100 1000 10000] [--rounds 3] [--timeout 600] [--dim 3]
+       [--settings abcde]
 """
 import argparse
 import json
@@ -36,6 +38,7 @@ SETTINGS = [
     ("(b) default", {}),
     ("(c) coarsest 500", {"coarsest_size": 500}),
     ("(d) coarsest 2000", {"coarsest_size": 2000}),
+    ("(e) rigid-body coarse space", {"coarse_space": "rigid_body"}),
 ]
 
 STEP = re.compile(r"^step (\d+)/(\d+).*?iterations (\d+)\s+cuts (\d+)\s+linear its (\d+)\s+"
@@ -109,8 +112,11 @@ def linear(args):
     for formulation in models:
         for lh in args.lh:
             for name, s in SETTINGS:
+                if name[1] not in args.settings:
+                    continue
                 out = os.path.join(args.out, f"linear{args.dim}d", f"{formulation}_{lh}_{name[1]}")
-                r = run(args.mixcon, strip(lh, formulation, s, args.dim), out, args.timeout)
+                keys = dict(s, **({"tolerance": args.tolerance} if args.tolerance else {}))
+                r = run(args.mixcon, strip(lh, formulation, keys, args.dim), out, args.timeout)
                 m = re.search(r"(\d+) unknowns", r["text"])
                 st = r["steps"][-1] if r["steps"] else None
                 its = st[4] if st else "-"
@@ -212,6 +218,10 @@ def main():
     ap.add_argument("--dim", type=int, choices=[2, 3], default=2,
                     help="linear: 3 runs the strips as Hex20 solids of square section")
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--tolerance", type=float, default=None,
+                    help="linear: the solver tolerance (default mixcon's, 1e-8)")
+    ap.add_argument("--settings", default="abcde",
+                    help="linear: the settings to run, by letter (default all: abcde)")
     ap.add_argument("--timeout", type=float, default=600)
     args = ap.parse_args()
     {"linear": linear, "nonlinear": nonlinear, "reuse": reuse}[args.what](args)

@@ -134,11 +134,26 @@ void readSolver(const YamlItem &top, Problem &p) {
     p.model.mixedNewton.restart = kSolidMixedRestart;
   if (top.has("solver")) {
     const YamlItem s = top["solver"];
-    s.allowOnly({"type", "tolerance", "max_iterations", "strong_threshold", "aggressive_levels",
-                 "print_level", "krylov", "preconditioner", "inner_tolerance",
-                 "interpolation_max_elements", "nodal_coarsening", "method",
-                 "stress_block_tolerance", "jacobian", "rigid_body_modes", "coarsest_size",
-                 "smoother", "reuse_hierarchy", "direct_fallback"});
+    s.allowOnly({"type",
+                 "tolerance",
+                 "max_iterations",
+                 "strong_threshold",
+                 "aggressive_levels",
+                 "print_level",
+                 "krylov",
+                 "preconditioner",
+                 "inner_tolerance",
+                 "interpolation_max_elements",
+                 "nodal_coarsening",
+                 "method",
+                 "stress_block_tolerance",
+                 "jacobian",
+                 "rigid_body_modes",
+                 "coarsest_size",
+                 "smoother",
+                 "reuse_hierarchy",
+                 "direct_fallback",
+                 "coarse_space"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
     if (solidMixed) { // the 3D mixed model: the direct solver or the block-triangular AMG solve
       for (const char *key : {"method", "krylov", "preconditioner", "inner_tolerance"})
@@ -274,6 +289,8 @@ void readSolver(const YamlItem &top, Problem &p) {
     }
     if (s.has("reuse_hierarchy"))
       p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();
+    if (s.has("coarse_space"))
+      p.solver.coarseSpace = s["coarse_space"].choice({"none", "rigid_body"}) == "rigid_body";
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
       p.solver.directFallbackUnknowns = 0;
   }

@@ -11,6 +11,10 @@ namespace mixcon {
 
 using Exec = Kokkos::DefaultExecutionSpace;
 
+void multiply(const CsrMatrix<DeviceSpace> &a, const ConstDeviceVector &x, const DeviceVector &y) {
+  multiply(Kokkos::DefaultExecutionSpace(), a, x, y);
+}
+
 double dot(const ConstDeviceVector &a, const ConstDeviceVector &b) {
   double s = 0.0;
   Kokkos::parallel_reduce(

@@ -59,6 +59,9 @@ KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const 
                         KrylovWorkspace *workspace = nullptr);
 
 double dot(const ConstDeviceVector &a, const ConstDeviceVector &b);
+/// y = A x on the default execution space (compiled here, so that host-library translation
+/// units such as the hypre and Eigen solvers launch no kernel of their own).
+void multiply(const CsrMatrix<DeviceSpace> &a, const ConstDeviceVector &x, const DeviceVector &y);
 /// y = alpha x + beta y
 void axpby(double alpha, const ConstDeviceVector &x, double beta, const DeviceVector &y);
 

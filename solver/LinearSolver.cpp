@@ -2,6 +2,7 @@
 #include <core/Transfer.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
+#include <solver/RigidCoarseSpace.hpp>
 #include <solver/Rules.hpp>
 
 #include <Eigen/SparseCholesky>
@@ -90,6 +91,9 @@ double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
 /// it at every V-cycle; larger ones (the escalation ladder) by the inverse formed at setup (relax
 /// type 199): 1.1 s against 27 s per load step of the L/h = 100 cantilever with 4000.
 constexpr int kGaussEliminationSize = 100;
+/// The largest rigid-body coarse space (LinearSolverOptions::coarseSpace) factorized: as the
+/// direct fall back's limit; its sparse LDL^T is about as costly per unknown.
+constexpr long kMaxCoarseSpace = 200000;
 
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
 
@@ -257,6 +261,7 @@ public:
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
       matrix_ = a;
+      buildCoarseSpace(); // its Galerkin operator follows the values
       ++reuses_;
       kept_ = true;
     } else {
@@ -297,6 +302,10 @@ public:
     }
     if (!direct_ && !kept_)
       freshIterations_ = std::max(s.iterations, 1);
+    if (!coarseNote_.empty()) { // why the coarse space asked for was not built
+      appendNote(note, coarseNote_);
+      coarseNote_.clear();
+    }
     s.iterations = total;
     s.note = note;
     s.solveSeconds = seconds(start);
@@ -311,6 +320,15 @@ public:
       direct_->precondition(b, x);
       return;
     }
+    if (coarse_)
+      twoLevel(b, x);
+    else
+      vcycle(b, x);
+  }
+
+  /// x = B b: one BoomerAMG V-cycle from a zero initial guess.
+  void vcycle(const Kokkos::View<const double *, DeviceSpace> &b,
+              const Kokkos::View<double *, DeviceSpace> &x) {
     // Once per iteration of the Krylov method around it: on the views' memory where hypre can.
     const HYPRE_Int n = dofs_.numOwned();
     if constexpr (kHypreReadsKokkosMemory) {
@@ -368,9 +386,17 @@ public:
   std::string name() const override {
     if (direct_)
       return direct_->name() + " (fallen back from AMG)";
-    std::string n = options_.symmetric ? "hypre PCG + BoomerAMG" : "hypre GMRES + BoomerAMG";
+    // Before the first setup, the coarse space asked for; after it, the one built (or none).
+    const bool coarse = coarse_ || (options_.coarseSpace && builds_ == 0);
+    std::string n = coarse ? (options_.symmetric ? "CG + BoomerAMG" : "GMRES + BoomerAMG")
+                    : options_.symmetric ? "hypre PCG + BoomerAMG"
+                                         : "hypre GMRES + BoomerAMG";
     if (!rotations_.empty() || willUseRotations())
       n += " with rigid-body modes";
+    if (coarse_)
+      n += " and a rigid-body coarse space of " + std::to_string(coarse_->size()) + " unknowns";
+    else if (coarse)
+      n += " and a rigid-body coarse space";
     return n;
   }
   double setupSeconds() const override { return setupSeconds_; }
@@ -536,9 +562,95 @@ private:
       if (retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
         return;
     }
+    buildCoarseSpace();
     ++builds_;
     kept_ = false;
     rebuild_ = false;
+  }
+
+  /// The rigid-body coarse space of LinearSolverOptions::coarseSpace on matrix_ (one rank, node
+  /// positions given); where it cannot be had, why goes to the next solve's note.
+  void buildCoarseSpace() {
+    coarse_.reset();
+    if (!options_.coarseSpace)
+      return;
+    std::string why;
+    if (ranks_ != 1)
+      why = "it needs one rank";
+    else if (!(static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes &&
+               static_cast<int>(positions_.extent(1)) == dofs_.dofsPerNode))
+      why = "it needs the node positions of 2 or 3 displacement unknowns per node";
+    else {
+      auto c = std::make_unique<RigidCoarseSpace>(matrix_, positions_, kMaxCoarseSpace,
+                                                  options_.symmetric);
+      if (c->ok())
+        coarse_ = std::move(c);
+      else
+        why = c->why();
+    }
+    // Said once per reason (a Newton run sets up every iteration), in the next solve's note.
+    if (!why.empty() && why != coarseRefusal_)
+      coarseNote_ = "no rigid-body coarse space: " + why;
+    coarseRefusal_ = why;
+  }
+
+  /// z = M^-1 r with the balancing preconditioner of the coarse space around one V-cycle B:
+  /// c = C r, y = B (r - A c), z = c + y - C A y (solver/RigidCoarseSpace.hpp).
+  void twoLevel(const ConstDeviceVector &r, const DeviceVector &z) {
+    const std::size_t n = r.extent(0);
+    for (DeviceVector *v : {&cw_, &sw_, &yw_, &qw_})
+      if (v->extent(0) != n)
+        *v = DeviceVector("mixcon::amg::twoLevel", n);
+    coarseApply(r, cw_);
+    multiply(matrix_, ConstDeviceVector(cw_), sw_);
+    axpby(1.0, r, -1.0, sw_);
+    vcycle(sw_, yw_);
+    multiply(matrix_, ConstDeviceVector(yw_), qw_);
+    coarseApply(qw_, sw_);
+    Kokkos::deep_copy(z, cw_);
+    axpby(1.0, yw_, 1.0, z);
+    axpby(-1.0, sw_, 1.0, z);
+  }
+
+  /// z = C r on the host (Eigen): the views' own memory where the host can read it.
+  void coarseApply(const ConstDeviceVector &r, const DeviceVector &z) {
+    Kokkos::fence();
+    if constexpr (kHostAccessible<DeviceSpace>) {
+      coarse_->apply(r.data(), z.data());
+    } else {
+      const auto hr = copyToHost(r);
+      auto hz = hostMirror(z);
+      coarse_->apply(hr.data(), hz.data());
+      copyToDevice(z, hz);
+    }
+  }
+
+  /// iterate() with the coarse space: mixcon's CG (GMRES for a nonsymmetric matrix) around
+  /// twoLevel(), on matrix_; the same convergence decision as hypre's Krylov methods.
+  LinearSolveStats iterateTwoLevel(const Kokkos::View<const double *, DeviceSpace> &b,
+                                   const Kokkos::View<double *, DeviceSpace> &x, double bnorm,
+                                   int cap) {
+    KrylovOptions ko;
+    ko.method = options_.symmetric ? KrylovMethod::Cg : KrylovMethod::Gmres;
+    ko.tolerance = options_.tolerance;
+    ko.maxIterations = cap;
+    ko.restart = options_.gmresRestart;
+    ko.backwardErrorFloor = true; // stops there; converged or not is decided below
+    const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
+      multiply(matrix_, v, y);
+    };
+    const LinearMap p = [&](const ConstDeviceVector &r, const DeviceVector &z) { twoLevel(r, z); };
+    Kokkos::deep_copy(x, 0.0);
+    const KrylovStats k = krylovSolve(ko, a, p, b, x, &workspace_);
+    const double xx = dot(ConstDeviceVector(x), ConstDeviceVector(x));
+    LinearSolveStats s;
+    s.iterations = k.iterations;
+    s.relativeResidual = k.relativeResidual;
+    s.converged =
+        trueResidualConverged(s.relativeResidual, xx, options_.tolerance, k.converged, 10.0,
+                              backwardError(k.relativeResidual * std::sqrt(bnorm), normInf_,
+                                            std::sqrt(xx), std::sqrt(bnorm)));
+    return s;
   }
 
   /// One Krylov solve of A x = b with the current hierarchy, judged on the true residual. While
@@ -558,6 +670,8 @@ private:
     const int cap = canStrengthen()
                         ? std::min(options_.maxIterations, options_.escalationIterations)
                         : options_.maxIterations;
+    if (coarse_)
+      return iterateTwoLevel(b, x, bnorm, cap);
     if (pcg_)
       HYPRE_PCGSetMaxIter(pcg_, cap);
     else
@@ -706,6 +820,7 @@ private:
       HYPRE_IJVectorDestroy(v);
     rotationVectors_.clear();
     rotations_.clear();
+    coarse_.reset();
     pcg_ = gmres_ = amg_ = nullptr;
     ij_ = nullptr;
     ijb_ = ijx_ = ijr_ = nullptr;
@@ -718,7 +833,12 @@ private:
   MPI_Comm comm_;
   int ranks_ = 1;
   int coarsest_ = 9; ///< the coarsest size in use (grows along the escalation ladder)
-  int variant_ = 2;  ///< interpolation-vector variant in use (0: none; see retried())
+  std::unique_ptr<RigidCoarseSpace> coarse_; ///< LinearSolverOptions::coarseSpace, when built
+  std::string coarseNote_;                   ///< why it was not, for the next solve's note
+  std::string coarseRefusal_;                ///< the last reason, said once
+  DeviceVector cw_, sw_, yw_, qw_;           ///< twoLevel()'s work vectors
+  KrylovWorkspace workspace_;                ///< iterateTwoLevel()'s Krylov vectors
+  int variant_ = 2; ///< interpolation-vector variant in use (0: none; see retried())
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
   HYPRE_ParCSRMatrix parA_ = nullptr;

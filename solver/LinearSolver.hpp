@@ -75,6 +75,12 @@ struct LinearSolverOptions {
   /// the next setup; a solve that fails with a kept hierarchy is redone with a fresh one).
   bool reuseHierarchy = true;
   double reuseIterationGrowth = 2.0;
+  /// A second level around the BoomerAMG V-cycle: the rigid-body modes of small node aggregates
+  /// with their Galerkin operator factorized (solver/RigidCoarseSpace.hpp), applied by the
+  /// balancing method in mixcon's CG (GMRES where not symmetric). For slender parts, whose
+  /// bending the classical hierarchy loses (docs/performance.md); one rank, at most 200,000
+  /// coarse unknowns. Off by default: 2 more products with A and 2 coarse solves per iteration.
+  bool coarseSpace = false;
 };
 
 /// Every solver also accepts a solution at the accuracy floor of floating point: normwise

@@ -427,6 +427,22 @@ TEST(SolidProblem, AmgSmootherKey) {
             std::string::npos);
 }
 
+// solver: {coarse_space: rigid_body} adds the rigid-body coarse space (off by default); an
+// unknown value is refused with file:line.
+TEST(SolidProblem, CoarseSpaceKey) {
+  const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
+  EXPECT_FALSE(parseProblem(amg, "solid.yaml", "").solver.coarseSpace);
+  EXPECT_TRUE(parseProblem(replaceText(amg, "type: amg", "type: amg, coarse_space: rigid_body"),
+                           "solid.yaml", "")
+                  .solver.coarseSpace);
+  EXPECT_FALSE(
+      parseProblem(replaceText(amg, "type: amg", "type: amg, coarse_space: none"), "solid.yaml", "")
+          .solver.coarseSpace);
+  EXPECT_NE(
+      refusal(replaceText(amg, "type: amg", "type: amg, coarse_space: yes")).find("solid.yaml:"),
+      std::string::npos);
+}
+
 // smoother: chebyshev on NAFEMS LE10 (displacement model, Hex20) and the 3D mixed model's Lame
 // sphere (Hex8), where hypre 2.26's Lanczos (CG) eigenvalue estimate never returned
 // (hypre_LINPACKcgtql1 looping in the AMG setup: a coarse operator with an empty row, which the
