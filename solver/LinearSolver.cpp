@@ -3,6 +3,7 @@
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/RigidCoarseSpace.hpp>
+#include <solver/RigidRotation.hpp>
 #include <solver/Rules.hpp>
 
 #include <Eigen/SparseCholesky>
@@ -764,19 +765,15 @@ private:
     for (LocalIndex k = 0; k < nn; ++k)
       for (int i = 0; i < dim; ++i)
         centroid[i] += x(k, i) / nn;
-    const int count = dim == 2 ? 1 : 3;
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     std::vector<double> values(dofs_.numOwned());
-    for (int r = 0; r < count; ++r) {
-      // rotation about axis a (2D: z): component b gets -(x_c - c_c), component c gets x_b - c_b
-      const int a = dim == 2 ? 2 : r, b = (a + 1) % 3, c = (a + 2) % 3;
-      std::fill(values.begin(), values.end(), 0.0);
+    for (int r = 0; r < rigidRotations(dim); ++r) {
       for (LocalIndex k = 0; k < nn; ++k) {
-        const auto at = [&](int i) { return i < dim ? x(k, i) - centroid[i] : 0.0; };
-        if (b < dim)
-          values[dim * k + b] = -at(c);
-        if (c < dim)
-          values[dim * k + c] = at(b);
+        double p[3] = {0.0, 0.0, 0.0};
+        for (int i = 0; i < dim; ++i)
+          p[i] = x(k, i) - centroid[i];
+        for (int c = 0; c < dim; ++c)
+          values[dim * k + c] = rigidRotation(dim, r, c, p);
       }
       HYPRE_IJVector v = nullptr;
       check(HYPRE_IJVectorCreate(comm_, lo, hi, &v), "IJVectorCreate");

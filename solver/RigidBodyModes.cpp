@@ -2,6 +2,7 @@
 // rigid-body mode of every body (a small dense eigenproblem per body). Its own translation unit:
 // Eigen stays out of the ones with device code (ctest repo.eigen_host_only).
 #include <solver/ModelBase.hpp>
+#include <solver/RigidRotation.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -17,7 +18,7 @@ void ModelBase::checkRigidBodyModes(const std::vector<int> &constrained) const {
   // Bodies: the nodes connected through elements (a node in no element is refused by
   // validateMesh).
   const int dim = mesh_.dim();
-  const int numModes = dim == 2 ? 3 : 6; // translations, then rotations
+  const int numModes = dim + rigidRotations(dim); // translations, then rotations
   const LocalIndex nn = mesh_.numNodes();
   const std::vector<LocalIndex> bodyOf = connectedComponents(mesh_);
   // Per body, the rigid-body modes in coordinates p centred on the body and scaled by its size:
@@ -58,14 +59,8 @@ void ModelBase::checkRigidBodyModes(const std::vector<int> &constrained) const {
       if (constrained.at(dofs_.dof(n, c))) {
         Eigen::VectorXd row = Eigen::VectorXd::Zero(numModes);
         row(c) = 1.0;
-        if (dim == 2) {
-          row(2) = c == 0 ? -p[1] : p[0];
-        } else {
-          // Component c of e_k x p for k = 0, 1, 2.
-          row(3) = c == 0 ? 0.0 : (c == 1 ? -p[2] : p[1]);
-          row(4) = c == 0 ? p[2] : (c == 1 ? 0.0 : -p[0]);
-          row(5) = c == 0 ? -p[1] : (c == 1 ? p[0] : 0.0);
-        }
+        for (int r = 0; r < rigidRotations(dim); ++r)
+          row(dim + r) = rigidRotation(dim, r, c, p);
         b.gram += row * row.transpose();
         b.any[c] = true;
       }

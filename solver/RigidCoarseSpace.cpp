@@ -1,6 +1,7 @@
 // RigidCoarseSpace: aggregates, the smoothed rigid-body prolongator and its Galerkin operator.
 #include <core/Transfer.hpp>
 #include <solver/RigidCoarseSpace.hpp>
+#include <solver/RigidRotation.hpp>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -101,7 +102,7 @@ RigidCoarseSpace::RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
 
   // The tentative prolongator: per aggregate, its free unknowns' rigid-body modes about its
   // centroid (translations; rotations: 2D about z, 3D about x, y, z), orthonormalized.
-  const int modes = dim == 2 ? 3 : 6;
+  const int modes = dim + rigidRotations(dim);
   std::vector<Eigen::Triplet<double>> t;
   for (const auto &m : members) {
     double c[3] = {0.0, 0.0, 0.0};
@@ -121,13 +122,8 @@ RigidCoarseSpace::RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
       const int d = rows[r] % dim;
       const double p[3] = {x(k, 0) - c[0], x(k, 1) - c[1], dim == 3 ? x(k, 2) - c[2] : 0.0};
       b(r, d) = 1.0;
-      for (int axis = 0; axis < modes - dim; ++axis) { // rotation about `axis` (2D: z)
-        const int a0 = dim == 2 ? 2 : axis, u = (a0 + 1) % 3, v = (a0 + 2) % 3;
-        if (d == u)
-          b(r, dim + axis) = -p[v];
-        else if (d == v)
-          b(r, dim + axis) = p[u];
-      }
+      for (int rot = 0; rot < rigidRotations(dim); ++rot)
+        b(r, dim + rot) = rigidRotation(dim, rot, d, p);
     }
     for (int j = 0; j < modes; ++j) { // modified Gram-Schmidt, dependent modes dropped
       const double before = b.col(j).norm();
