@@ -700,10 +700,10 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     displacementModel->setup(p.solver, comm);
   }
   if (log) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "mixcon: assembly %.3f s, solver setup %.3f s (%s)\n",
-                  model.assemblySeconds(), model.solverSetupSeconds(), model.solverName().c_str());
-    *log << buf;
+    char seconds[96]; // the solver's name apart: it can be longer than any fixed buffer
+    std::snprintf(seconds, sizeof seconds, "mixcon: assembly %.3f s, solver setup %.3f s (",
+                  model.assemblySeconds(), model.solverSetupSeconds());
+    *log << seconds << model.solverName() << ")\n";
   }
   const double setupCharged = model.assemblySeconds() + model.solverSetupSeconds();
   const int nsteps = static_cast<int>(p.loadFactors.size());

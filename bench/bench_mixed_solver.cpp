@@ -8,7 +8,8 @@
 //   exact a       - flexible CG on the matrix-free consistent-M S_a (inner CG on M), AMG(S_a,L)
 //   exact-kd a    - same, AMG built on Kd instead (`preconditioner: auto`, method schur)
 //   block-triangular a - flexible GMRES on the whole saddle point, block-triangular
-//                   preconditioner (AMG(Kd), CG on M to 1e-2): `method: block_triangular`
+//                   preconditioner (AMG(Kd), CG on M to 1e-2 or tighter): `method:
+//                   block_triangular`
 //   lumped-block-triangular a - the same with lumped M (AMG(S_a,L), M~ = M_L)
 //   block-triangular-schur a - consistent M, block-triangular with AMG(S_a,L) for S~
 //                   (`method: block_triangular, preconditioner: lumped_schur`); Quad4 only (on

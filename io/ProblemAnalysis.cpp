@@ -164,7 +164,8 @@ void readSolver(const YamlItem &top, Problem &p) {
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
                    "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
-                   "coarsest_size", "smoother", "reuse_hierarchy", "print_level", "jacobian"});
+                   "coarsest_size", "smoother", "reuse_hierarchy", "print_level", "jacobian",
+                   "coarse_space"});
     }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)

@@ -28,8 +28,12 @@ struct SaddlePointSystem {
   LinearMap schurPreconditioner;
   /// w = C v: the stress rows' displacement block (v displacements, w stresses).
   LinearMap coupling;
-  /// z = M~^-1 w on the stresses (a loose solve with M); returns its inner iterations.
-  std::function<long(const ConstDeviceVector &w, const DeviceVector &z)> stressSolve;
+  /// z = M~^-1 w on the stresses: a solve with M to the relative `tolerance` that
+  /// blockTriangularSolve asks for (stressSolveTolerance); returns its inner iterations.
+  std::function<long(const ConstDeviceVector &w, const DeviceVector &z, double tolerance)>
+      stressSolve;
+  /// The loosest relative tolerance of stressSolve (`stress_block_tolerance`).
+  double stressTolerance = 1e-2;
   /// Constrained unknowns, of all unknowns and of the displacements (the stresses never are).
   Kokkos::View<const int *, DeviceSpace> constrained, constrainedDisplacement;
   /// D_c: the preconditioner matrix's diagonal on constrained rows (all unknowns, 0 elsewhere).
@@ -44,6 +48,25 @@ struct SaddlePointSystem {
 double blockTriangularScale(const ConstDeviceVector &diagonalSchur,
                             const ConstDeviceVector &diagonalStress);
 
+/// The relative tolerance of the solve with M inside the preconditioner, for a preconditioner input
+/// whose displacement part has the norm `displacementResidual` and whose stress solve's right-hand
+/// side w = C S~^-1 r_u - r_tau / s has the norm `stressRhs`, with s the stress-row scale:
+/// min(`loosest`, kStressToleranceMargin displacementResidual / (s stressRhs)), at least
+/// kTightestStressTolerance.
+/// Why: the solve's error e enters the displacement rows as B e. On a slender part a bending
+/// displacement has stresses (L/h)^2 times larger than the forces that they leave, so a relative
+/// error tau of M^-1 w perturbs those rows by about tau s ||w||, which is (L/h)^2 times ||r_u||:
+/// with a fixed 1e-2 the flexible GMRES stalled near a residual of 1 on the Quad8 strip of
+/// L/h = 1000 (docs/performance.md, issue 20 section 6). On compact parts the ratio is near 1 and
+/// the loosest tolerance is kept.
+double stressSolveTolerance(double loosest, double displacementResidual, double stressRhs,
+                            double stressRowScale);
+/// Measured on the Quad8 strips (L/h = 10, 100, 1000): 0.1, 0.01 and 0.001 gave the same outer
+/// iterations, 1 gave 2.1-2.3x as many at L/h = 1000; on the compact 4 x 1 strip at 1e6 unknowns
+/// 0.1 cost 4 % (Quad4) and 7 % (Quad8) more inner iterations per application, no outer ones.
+inline constexpr double kStressToleranceMargin = 0.1;
+inline constexpr double kTightestStressTolerance = 1e-12;
+
 /// A Krylov solve's figures as the mixed models report them: its iterations, residual and
 /// convergence, `setupSeconds`, and the seconds since `start` as the solve time.
 LinearSolveStats statsOf(const KrylovStats &ks, std::chrono::steady_clock::time_point start,
@@ -51,10 +74,12 @@ LinearSolveStats statsOf(const KrylovStats &ks, std::chrono::steady_clock::time_
 
 /// z = M^-1 w by CG from z = 0 to the relative `tolerance` (at most 2000 iterations), `apply`
 /// the product with the SPD stress block M and `precondition` its preconditioner; returns the
-/// iterations. Throws std::runtime_error, naming `who`, when the CG does not converge.
+/// iterations. Throws std::runtime_error, naming `who`, when the CG misses the relative
+/// residual max(tolerance, `acceptable`) (the preconditioner's loosest tolerance where
+/// stressSolveTolerance asked for a tighter one).
 long stressBlockSolve(const LinearMap &apply, const LinearMap &precondition,
                       const ConstDeviceVector &w, const DeviceVector &z, double tolerance,
-                      KrylovWorkspace &workspace, const std::string &who);
+                      KrylovWorkspace &workspace, const std::string &who, double acceptable = 0.0);
 
 /// Solves J x = f with x = target on the constrained unknowns (all unknowns per node; f's
 /// constrained entries are ignored), starting from x = 0: flexible GMRES (options.method is

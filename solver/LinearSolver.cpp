@@ -871,6 +871,12 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
   return std::make_unique<HypreAmgSolver>(options, dofs, comm);
 }
 
+std::string coarseSpacePhrase(const LinearSolver *solver) {
+  const std::string name = solver ? solver->name() : std::string();
+  const std::size_t at = name.find("a rigid-body coarse space");
+  return at == std::string::npos ? std::string() : " with " + name.substr(at);
+}
+
 void appendNote(std::string &note, const std::string &more) {
   if (!note.empty())
     note += "; ";

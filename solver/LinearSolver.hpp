@@ -149,6 +149,11 @@ public:
 std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &options,
                                                const DofMap &dofs, MPI_Comm comm);
 
+/// " with a rigid-body coarse space" (" of N unknowns" once built) when `solver`, which may be
+/// null, has or asks for one (LinearSolverOptions::coarseSpace), else "": for the names of the
+/// mixed models, which use its V-cycle through precondition().
+std::string coarseSpacePhrase(const LinearSolver *solver);
+
 /// Appends `more` to a LinearSolveStats::note, "; "-separated.
 void appendNote(std::string &note, const std::string &more);
 

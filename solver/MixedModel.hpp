@@ -11,7 +11,8 @@
 //            V-cycle on the assembled lumped S_a (or on Kd): with lumped M the operator is that
 //            assembled matrix; with consistent M it is applied matrix-free with an inner CG on M;
 //            method BlockTriangular: flexible GMRES on the whole saddle point, right
-//            preconditioned by [S~ 0; K12^T -M~] (the same V-cycle, a loose CG on M;
+//            preconditioned by [S~ 0; K12^T -M~] (the same V-cycle, a loose CG on M,
+//            tighter on slender parts;
 //            solver/BlockTriangular.hpp).
 // K12, K12^T and M are applied through the assembled node-block operators or element by element
 // (partial assembly or fully matrix-free, kernels/MixedMatrixFree.hpp; MixedOptions::operators).
@@ -110,8 +111,9 @@ private:
   void setupDirect();
   void setupBlockTriangular();
   /// s = M^-1 r to `tolerance` (consistent M: inner CG; lumped: nodal blocks); returns the
-  /// inner iterations.
-  long solveCompliance(const ConstDeviceVector &r, const DeviceVector &s, double tolerance);
+  /// inner iterations. Throws when the CG misses max(tolerance, `acceptable`).
+  long solveCompliance(const ConstDeviceVector &r, const DeviceVector &s, double tolerance,
+                       double acceptable = 0.0);
   LinearSolveStats solveDirect(double loadFactor);
   LinearSolveStats solveSchur(double loadFactor);
   LinearSolveStats solveBlockTriangular(double loadFactor);

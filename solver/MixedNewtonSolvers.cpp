@@ -47,7 +47,8 @@ void NonlinearMixedModel::setupSchurPreconditioner() {
   solverSetupSeconds_ += seconds(start);
 }
 
-long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, double tolerance) {
+long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, double tolerance,
+                                           double acceptable) {
   // M z = w with M = -J_tau,tau, extracted from J once per tangent (setupSchurPreconditioner;
   // a product with it reads 9/25 of J), CG preconditioned by the inverses of M's kStress x kStress
   // nodal blocks (the stress components coupled at a node: anisotropic compliances).
@@ -57,7 +58,8 @@ long NonlinearMixedModel::solveStressBlock(const ConstVec &w, const Vec &z, doub
   const LinearMap jacobi = [&](const ConstDeviceVector &a, const DeviceVector &y) {
     applyNodalBlocks(Exec(), stressBlockInverse_, a, y);
   };
-  return stressBlockSolve(apply, jacobi, w, z, tolerance, stressWork_, "nonlinear mixed model");
+  return stressBlockSolve(apply, jacobi, w, z, tolerance, stressWork_, "nonlinear mixed model",
+                          acceptable);
 }
 
 LinearSolveStats NonlinearMixedModel::solveSchur() {
@@ -160,10 +162,10 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   system.coupling = [&](const ConstDeviceVector &v, const DeviceVector &w) {
     multiply(Exec(), couplingBlock_, v, w);
   };
-  const double precTol = mixedOptions_.preconditionerTolerance;
-  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) {
-    return solveStressBlock(w, z, precTol);
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z, double tolerance) {
+    return solveStressBlock(w, z, tolerance, mixedOptions_.preconditionerTolerance);
   };
+  system.stressTolerance = mixedOptions_.preconditionerTolerance;
   system.constrained = constrained5_;
   system.constrainedDisplacement = isConstrained_;
   system.constrainedDiagonal = precDiag5_;

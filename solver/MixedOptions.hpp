@@ -25,8 +25,8 @@ enum class MixedOperatorForm { Auto, Assembled, PartialAssembly, MatrixFree };
 ///                     inner CG on M (consistent M) or the assembled S_a,L (lumped M);
 ///   BlockTriangular - flexible GMRES on the whole saddle point [A B; K12^T -M] (stress rows
 ///                     divided by 1 - a), right preconditioned by [S~ 0; K12^T -M~]: one BoomerAMG
-///                     V-cycle for S~ and a loose CG on M for M~ (solver/BlockTriangular.hpp, the
-///                     nonlinear model's method).
+///                     V-cycle for S~ and a loose CG on M for M~ (tighter on slender parts)
+///                     (solver/BlockTriangular.hpp, the nonlinear model's method).
 /// Auto (measured, docs/performance.md): block-triangular for consistent M, Schur for lumped M
 /// (resolveLinearMethod, solver/MixedModel.hpp).
 enum class MixedLinearMethod { Auto, Schur, BlockTriangular };

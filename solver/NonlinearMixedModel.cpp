@@ -110,13 +110,15 @@ std::string NonlinearMixedModel::solverName() const {
     o << (solver_ ? solver_->name() : std::string("none"));
   else if (mixedOptions_.method == MixedNewtonSolver::Schur)
     o << "flexible GMRES on the Schur complement (inner block-Jacobi CG on the stress block), one "
-         "BoomerAMG V-cycle on K^L of the current configuration";
+         "BoomerAMG V-cycle on K^L of the current configuration"
+      << coarseSpacePhrase(solver_.get());
   else
     o << "flexible GMRES(" << mixedOptions_.restart << ") on the Jacobian"
       << (matrixFree_ ? " (applied matrix-free, not assembled)" : "")
       << ", block-triangular preconditioner: one BoomerAMG V-cycle on K^L of the "
-         "current configuration, block-Jacobi CG on the stress block to "
-      << mixedOptions_.preconditionerTolerance;
+         "current configuration"
+      << coarseSpacePhrase(solver_.get()) << ", block-Jacobi CG on the stress block to "
+      << mixedOptions_.preconditionerTolerance << " or tighter";
   return o.str();
 }
 

@@ -105,10 +105,11 @@ private:
   Kokkos::View<double *, Memory> precDiag5_; ///< D_c on 5 unknowns per node
   CsrMatrix<Memory> couplingBlock_;          ///< C = J_tau,u (solveBlockTriangular)
   KrylovWorkspace stressWork_, outerWork_;   ///< kept between solves (solver: amg)
-  /// z = M^-1 w on the stress block of the Jacobian (nodal block-Jacobi CG); returns the CG
-  /// iterations.
+  /// z = M^-1 w on the stress block of the Jacobian (nodal block-Jacobi CG) to `tolerance`,
+  /// accepted at `acceptable` (stressBlockSolve); returns the CG iterations.
   long solveStressBlock(const Kokkos::View<const double *, Memory> &w,
-                        const Kokkos::View<double *, Memory> &z, double tolerance);
+                        const Kokkos::View<double *, Memory> &z, double tolerance,
+                        double acceptable = 0.0);
   CsrMatrix<Memory> precMatrix_;
   Kokkos::View<double *, Memory> precDiag_;
   CsrMatrix<Memory> stressBlock_; ///< M = -J_tau,tau (solver: amg)

@@ -7,6 +7,7 @@
 #include <kernels/Material.hpp>
 
 #include <chrono>
+#include <sstream>
 #include <stdexcept>
 
 namespace mixcon {
@@ -267,10 +268,11 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
     amg_->precondition(r, y);
   };
   system.coupling = jacobian_.coupling;
-  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z) {
-    return stressBlockSolve(jacobian_.stressBlock, jacobi, w, z, preconditionerTolerance_,
-                            stressWork_, "3D mixed model");
+  system.stressSolve = [&](const ConstDeviceVector &w, const DeviceVector &z, double tolerance) {
+    return stressBlockSolve(jacobian_.stressBlock, jacobi, w, z, tolerance, stressWork_,
+                            "3D mixed model", preconditionerTolerance_);
   };
+  system.stressTolerance = preconditionerTolerance_;
   system.constrained = flags9;
   system.constrainedDisplacement = flags3;
   system.constrainedDiagonal = diag9_;
@@ -286,11 +288,13 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
 }
 
 std::string SolidMixedSolve::name() const {
-  return "flexible GMRES(" + std::to_string(restart_) + ") on the " +
-         (assembled_ ? "assembled Jacobian"
-                     : "Jacobian applied matrix-free (C and M by partial assembly)") +
-         ", block-triangular preconditioner: one BoomerAMG V-cycle on K^L (" + amg_->name() +
-         "), block-Jacobi CG on the stress block to " + std::to_string(preconditionerTolerance_);
+  std::ostringstream s;
+  s << "flexible GMRES(" << restart_ << ") on the "
+    << (assembled_ ? "assembled Jacobian"
+                   : "Jacobian applied matrix-free (C and M by partial assembly)")
+    << ", block-triangular preconditioner: one BoomerAMG V-cycle on K^L (" << amg_->name()
+    << "), block-Jacobi CG on the stress block to " << preconditionerTolerance_ << " or tighter";
+  return s.str();
 }
 
 } // namespace mixcon

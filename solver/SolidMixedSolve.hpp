@@ -2,12 +2,13 @@
 // displacements, then the 6 Voigt stresses), `solver: amg`: flexible GMRES right-preconditioned
 // by the block lower-triangular [S~ 0; C -M~] (solver/BlockTriangular.hpp, as the 2D models),
 // with S~^-1 one BoomerAMG V-cycle on K^L (3 functions per node, the rigid-body modes of the node
-// positions as interpolation vectors) and M~^-1 a loose CG on M preconditioned by its nodal 6 x 6
-// blocks. J is either assembled (its blocks C and M extracted) or never stored
-// (SolidMixedMatrixFree, `solver: {jacobian: matrix_free}`): J applied at the quadrature points,
-// C and M by partial assembly; only K^L, its AMG hierarchy and per-point and per-node data are
-// kept. Shared by SolidMixedModel (K^L and J of the reference configuration, once) and
-// SolidNonlinearMixedModel (of the current configuration, at every tangent). Layer: solver.
+// positions as interpolation vectors) and M~^-1 a loose CG on M (tighter on slender parts)
+// preconditioned by its nodal 6 x 6 blocks. J is either assembled (its blocks C and M extracted) or
+// never stored (SolidMixedMatrixFree, `solver: {jacobian: matrix_free}`): J applied at the
+// quadrature points, C and M by partial assembly; only K^L, its AMG hierarchy and per-point and
+// per-node data are kept. Shared by SolidMixedModel (K^L and J of the reference configuration,
+// once) and SolidNonlinearMixedModel (of the current configuration, at every tangent). Layer:
+// solver.
 #pragma once
 
 #include <solver/Krylov.hpp>

@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <string>
 
 using namespace mixcon;
@@ -441,6 +442,50 @@ TEST(SolidProblem, CoarseSpaceKey) {
   EXPECT_NE(
       refusal(replaceText(amg, "type: amg", "type: amg, coarse_space: yes")).find("solid.yaml:"),
       std::string::npos);
+}
+
+// The 3D mixed model takes solver: {coarse_space: rigid_body} too: its V-cycle on K^L inside the
+// block-triangular GMRES gets the coarse space. On a Hex8 bar of L/h = 40 (2 x 2 elements through
+// the section) 196 GMRES iterations became 57 (measured with mixcon run). The start-up line names
+// it, whole: it was cut at 199 characters, without its line end, before.
+TEST(SolidProblem, MixedModelTakesTheCoarseSpace) {
+  const std::string bar = R"(mesh:
+  generator: {type: box, size: [40, 1, 1], divisions: [80, 2, 2], element: hex8}
+model: {formulation: mixed, stabilization: 0.05}
+materials:
+  - {region: body, type: isotropic, E: 1.0e4, nu: 0.3}
+boundary_conditions:
+  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
+loads:
+  - {boundary: ymax, traction: [0, -1.0e-3, 0]}
+solver: {type: amg, max_iterations: 1000, direct_fallback: false}
+)";
+  test::ScratchDir dir("mixed_coarse_space");
+  int iterations[2] = {0, 0};
+  for (int coarse = 0; coarse < 2; ++coarse) {
+    const Problem p = parseProblem(
+        coarse ? replaceText(bar, "type: amg", "type: amg, coarse_space: rigid_body") : bar,
+        "bar.yaml", "");
+    std::ostringstream log;
+    RunOptions o;
+    o.outputDirectory = (dir.path() / std::to_string(coarse)).string();
+    o.log = &log;
+    const RunResult r = runAnalysis(p, o, MPI_COMM_WORLD);
+    EXPECT_TRUE(r.converged) << log.str();
+    ASSERT_EQ(r.steps.size(), 1u);
+    iterations[coarse] = r.steps[0].linearIterations;
+    const std::string text = log.str();
+    const std::size_t setup = text.find("solver setup");
+    ASSERT_NE(setup, std::string::npos) << text;
+    const std::size_t end = text.find('\n', setup);
+    ASSERT_NE(end, std::string::npos) << text;
+    const std::string line = text.substr(setup, end - setup);
+    const std::string ending = "CG on the stress block to 0.01 or tighter)";
+    ASSERT_GT(line.size(), ending.size()) << line;
+    EXPECT_EQ(line.substr(line.size() - ending.size()), ending) << line;
+    EXPECT_EQ(line.find("rigid-body coarse space of ") != std::string::npos, coarse == 1) << line;
+  }
+  EXPECT_LT(2 * iterations[1], iterations[0]);
 }
 
 // smoother: chebyshev on NAFEMS LE10 (displacement model, Hex20) and the 3D mixed model's Lame
