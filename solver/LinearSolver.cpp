@@ -92,9 +92,6 @@ double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
 /// it at every V-cycle; larger ones (the escalation ladder) by the inverse formed at setup (relax
 /// type 199): 1.1 s against 27 s per load step of the L/h = 100 cantilever with 4000.
 constexpr int kGaussEliminationSize = 100;
-/// The largest rigid-body coarse space (LinearSolverOptions::coarseSpace) factorized: as the
-/// direct fall back's limit; its sparse LDL^T is about as costly per unknown.
-constexpr long kMaxCoarseSpace = 200000;
 
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
 
@@ -582,8 +579,8 @@ private:
                static_cast<int>(positions_.extent(1)) == dofs_.dofsPerNode))
       why = "it needs the node positions of 2 or 3 displacement unknowns per node";
     else {
-      auto c = std::make_unique<RigidCoarseSpace>(matrix_, positions_, kMaxCoarseSpace,
-                                                  options_.symmetric);
+      auto c = std::make_unique<RigidCoarseSpace>(
+          matrix_, positions_, rigidCoarseSpaceLimit(dofs_.dofsPerNode), options_.symmetric);
       if (c->ok())
         coarse_ = std::move(c);
       else

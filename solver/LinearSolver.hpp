@@ -78,8 +78,9 @@ struct LinearSolverOptions {
   /// A second level around the BoomerAMG V-cycle: the rigid-body modes of small node aggregates
   /// with their Galerkin operator factorized (solver/RigidCoarseSpace.hpp), applied by the
   /// balancing method in mixcon's CG (GMRES where not symmetric). For slender parts, whose
-  /// bending the classical hierarchy loses (docs/performance.md); one rank, at most 200,000
-  /// coarse unknowns. Off by default: 2 more products with A and 2 coarse solves per iteration.
+  /// bending the classical hierarchy loses (docs/performance.md); one rank, at most
+  /// rigidCoarseSpaceLimit() coarse unknowns (2D 200,000, 3D 30,000). Off by default: 2 more
+  /// products with A and 2 coarse solves per iteration.
   bool coarseSpace = false;
 };
 

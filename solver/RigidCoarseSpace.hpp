@@ -27,6 +27,13 @@ namespace mixcon {
 std::vector<int> aggregateNodes(const std::vector<Offset> &rowOffsets,
                                 const std::vector<LocalIndex> &columns);
 
+/// The largest rigid-body coarse space worth factorizing in `dim` (2 or 3) dimensions: its
+/// LDL^T fills as a 2D or a 3D finite-element matrix does. Measured on compact meshes
+/// (docs/performance.md, issue 20 section 6): 2D, 193,548 coarse unknowns in a 16 s setup (a Quad4
+/// square of 760 x 760); 3D, 16,464 and 29,478 in 16 and 62 s (the Hex8 cubes N = 40 and 48),
+/// growing as the square of the size: 200,000 would have taken about 45 minutes.
+inline long rigidCoarseSpaceLimit(int dim) { return dim == 3 ? 30000 : 200000; }
+
 class RigidCoarseSpace {
 public:
   /// The coarse space of the matrix `a` (interleaved unknowns, `dofsPerNode` = the positions'

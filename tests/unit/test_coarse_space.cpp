@@ -371,6 +371,27 @@ TEST(BlockTriangular, StressSolveToleranceFollowsTheBendingRatio) {
   EXPECT_DOUBLE_EQ(stressSolveTolerance(1e-2, 1.0, std::nan(""), 1.0), 1e-2);
 }
 
+// 3D coarse spaces stop at rigidCoarseSpaceLimit(3) = 30,000 unknowns: their LDL^T grows as the
+// square of the size (62 s of setup for 29,478 on the cube N = 48, docs/performance.md issue 20
+// section 6; 200,000, the old limit, would have taken about 45 minutes). The cube N = 52 would
+// have 34,992 (18^3 aggregates of 6 modes); it is refused before anything is factorized.
+TEST(CoarseSpace, ThreeDimensionalSpacesStopAtTheirMeasuredLimit) {
+  const Mesh mesh = boxMesh(1.0, 1.0, 1.0, 52, 52, 52, ElementType::Hex8);
+  LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0),
+                                std::vector<SolidMatrix>{IsotropicMaterial{1e4, 0.3}.stiffness()});
+  const CsrMatrix<Memory> a = model.assembleStiffness();
+  Kokkos::View<double **, Memory> positions("positions", mesh.numNodes(), 3);
+  auto hp = Kokkos::create_mirror_view(positions);
+  for (LocalIndex k = 0; k < mesh.numNodes(); ++k)
+    for (int c = 0; c < 3; ++c)
+      hp(k, c) = mesh.coordinate(k, c);
+  Kokkos::deep_copy(positions, hp);
+  const RigidCoarseSpace space(a, positions, rigidCoarseSpaceLimit(3));
+  EXPECT_FALSE(space.ok());
+  EXPECT_NE(space.why().find("34992 unknowns, more than 30000"), std::string::npos) << space.why();
+  EXPECT_EQ(rigidCoarseSpaceLimit(2), 200000);
+}
+
 // Where it cannot be built (two unknowns per node but no positions: a scalar problem, or more
 // coarse unknowns than allowed) the solve goes on without it and says why.
 TEST(CoarseSpace, RefusedWithAReason) {
