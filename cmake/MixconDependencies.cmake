@@ -15,6 +15,9 @@ else()
   set(MIXCON_HYPRE_LIBRARY "${HYPRE_LIBRARY}")
 endif()
 message(STATUS "mixcon: hypre ${MIXCON_HYPRE_DIR}${MIXCON_HYPRE_LIBRARY}")
+# SuiteSparse's CHOLMOD and UMFPACK: the direct solver, the coarse space's factorization
+# (solver/SparseDirect.hpp); private to the library.
+find_package(SuiteSparseDirect REQUIRED)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 # Eigen is host-only in mixcon (ctest repo.eigen_host_only): without this, nvcc (the CUDA build
 # compiles every source as CUDA) would annotate Eigen __host__ __device__ and warn about it.

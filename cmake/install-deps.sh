@@ -7,7 +7,8 @@ set -euo pipefail
 packages=(
   build-essential cmake git ca-certificates pkg-config patch
   libeigen3-dev libhypre-dev libopenmpi-dev openmpi-bin libhdf5-dev
-  libbenchmark-dev libgtest-dev libyaml-cpp-dev libcli11-dev libmetis-dev
+  libbenchmark-dev libgtest-dev libyaml-cpp-dev libcli11-dev libmetis-dev libsuitesparse-dev
+  libopenblas0-serial
   python3-matplotlib python3-h5py python3-numpy
 )
 

@@ -1,4 +1,5 @@
-// Dense and sparse direct solves on the host (Eigen behind a plain interface), for the small
+// Dense and sparse direct solves on the host (Eigen's dense LU and SuiteSparse's UMFPACK behind a
+// plain interface), for the small
 // systems of the force-driven obstacles and the mixed model's direct saddle-point solve. Eigen
 // stays in HostAlgebra.cpp, out of every translation unit with device code (ctest
 // repo.eigen_host_only): under nvcc it would be compiled as device code too.
@@ -23,7 +24,7 @@ struct SparseEntry {
   double value;
 };
 
-/// Sparse LU (Eigen::SparseLU, COLAMD ordering) of an n x n matrix given by its entries.
+/// Sparse LU (UMFPACK, solver/SparseDirect.hpp) of an n x n matrix given by its entries.
 class HostSparseLu {
 public:
   HostSparseLu();

@@ -1,14 +1,12 @@
-// hypre (IJ -> ParCSR, PCG + BoomerAMG) and Eigen (SimplicialLDLT) implementations.
+// hypre (IJ -> ParCSR, PCG + BoomerAMG) and SuiteSparse (CHOLMOD, UMFPACK) implementations.
 #include <core/Transfer.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/RigidCoarseSpace.hpp>
 #include <solver/RigidRotation.hpp>
 #include <solver/Rules.hpp>
+#include <solver/SparseDirect.hpp>
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
 #include <_hypre_parcsr_ls.h> // SetSmoothInterpVectors, SetInterpRefine (not in HYPRE_parcsr_ls.h)
@@ -112,8 +110,9 @@ private:
 
 class DirectSolver final : public LinearSolver {
 public:
-  DirectSolver(MPI_Comm comm, bool symmetric, double tolerance)
-      : symmetric_(symmetric), tolerance_(tolerance) {
+  DirectSolver(MPI_Comm comm, const LinearSolverOptions &o)
+      : symmetric_(o.symmetric), saddle_(o.indefinite), indefinite_(o.indefinite),
+        tolerance_(o.tolerance) {
     int size = 1;
     MPI_Comm_size(comm, &size);
     if (size != 1)
@@ -121,35 +120,39 @@ public:
   }
 
   void setup(const CsrMatrix<DeviceSpace> &a) override {
-    // Every copy this file makes is for a host library (Eigen, hypre): each entry point of the
-    // LinearSolver interface that can copy counts them as staging (core/Transfer.hpp).
+    // Every copy this file makes is for a host library (SuiteSparse, hypre): each entry point of
+    // the LinearSolver interface that can copy counts them as staging (core/Transfer.hpp).
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
-    // Eigen reads the CSR arrays in place where the memory is host-accessible (as hypre above).
+    // SuiteSparse reads the CSR arrays in place where the memory is host-accessible (as hypre).
     Kokkos::fence();
     const auto ro = hostReadable(a.rowOffsets);
     const auto co = hostReadable(a.columns);
     const auto va = hostReadable(a.values);
-    std::vector<Eigen::Triplet<double>> t;
-    t.reserve(co.extent(0));
-    for (LocalIndex i = 0; i < a.numRows; ++i)
-      for (Offset k = ro(i); k < ro(i + 1); ++k)
-        if (va(k) != 0.0)
-          t.emplace_back(i, co(k), va(k));
+    const HostCsr csr{a.numRows, ro.data(), co.data(), va.data()};
     normInf_ = rowSumNorm(a);
-    matrix_.resize(a.numRows, a.numColumns);
-    matrix_.setFromTriplets(t.begin(), t.end());
-    // LDL^T reads one triangle only: a nonsymmetric matrix goes to LU directly.
-    if (symmetric_)
-      ldlt_.compute(matrix_);
-    useLu_ = !symmetric_ || ldlt_.info() != Eigen::Success;
-    if (!useLu_ && singularPivot(ldlt_.vectorD()))
-      throw std::runtime_error(kSingular);
-    if (useLu_) { // not symmetric positive definite: fall back to LU
-      lu_.compute(matrix_);
-      if (lu_.info() != Eigen::Success)
-        throw std::runtime_error(kSingular);
+    // Cholesky reads one triangle: a nonsymmetric matrix goes to LU directly, and so does a
+    // symmetric one that is not positive definite (a pivot <= 0), then and in the later setups
+    // (a saddle point stays indefinite; each switch of method analyses the pattern anew). A
+    // matrix said to be nonsymmetric (the exact tangent) that is symmetric to round-off (linear
+    // kinematics, frictionless contact) takes the Cholesky too: half the work of the LU.
+    const bool symmetric = symmetric_ || SparseDirect::isSymmetric(csr, kSymmetryTolerance,
+                                                                   kSymmetryTolerance * normInf_);
+    SparseDirect::Outcome outcome = SparseDirect::Outcome::NotPositiveDefinite;
+    if (symmetric && !indefinite_) {
+      outcome = factors_.factor(SparseDirect::Method::Cholesky, csr);
+      indefinite_ = outcome == SparseDirect::Outcome::NotPositiveDefinite;
     }
+    if (outcome == SparseDirect::Outcome::NotPositiveDefinite)
+      outcome = factors_.factor(SparseDirect::Method::Lu, csr);
+    // An exactly zero pivot, or one at round-off relative to the largest: in the Cholesky, or
+    // in the LU of a matrix the caller said is symmetric positive definite (a free rigid-body
+    // mode can leave a pivot of either sign at round-off level).
+    const bool cholesky = factors_.method() == SparseDirect::Method::Cholesky;
+    if (outcome != SparseDirect::Outcome::Factored ||
+        ((cholesky || (symmetric_ && !saddle_)) && !(factors_.pivotRatio() > kSingularPivot)))
+      throw std::runtime_error(kSingular);
+    factored_ = true;
     setupSeconds_ = seconds(start);
   }
 
@@ -159,40 +162,47 @@ public:
     const auto start = std::chrono::steady_clock::now();
     Kokkos::fence(); // b may come from a kernel still running
     const auto hb = hostReadable(b);
-    Eigen::Map<const Eigen::VectorXd> eb(hb.data(), hb.extent(0));
-    const auto factorSolve = [&](const Eigen::VectorXd &r) {
-      return useLu_ ? Eigen::VectorXd(lu_.solve(r)) : Eigen::VectorXd(ldlt_.solve(r));
-    };
+    const std::size_t n = hb.extent(0);
     LinearSolveStats s;
-    const double bn = eb.norm();
-    Eigen::VectorXd ex = Eigen::VectorXd::Zero(eb.size());
+    double bn = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+      bn += hb(i) * hb(i);
+    bn = std::sqrt(bn);
+    std::vector<double> hx(n, 0.0), r(n), correction(n), rc(n);
+    double xn = 0.0;
     if (bn > 0.0) { // b = 0: x = 0, exactly
-      ex = factorSolve(eb);
+      factors_.solve(hb.data(), hx.data());
       // Iterative refinement with the same factorization while the true residual misses the
       // tolerance (ill-conditioned slender systems)
-      Eigen::VectorXd r = eb - matrix_ * ex;
-      s.relativeResidual = r.norm() / bn;
+      double rn = factors_.residual(hb.data(), hx.data(), r.data());
+      s.relativeResidual = rn / bn;
       for (int k = 0; k < kRefinements && s.relativeResidual > tolerance_; ++k) {
-        const Eigen::VectorXd corrected = ex + factorSolve(r);
-        const Eigen::VectorXd rc = eb - matrix_ * corrected;
-        if (!(rc.norm() < r.norm()))
+        factors_.solve(r.data(), correction.data());
+        for (std::size_t i = 0; i < n; ++i)
+          correction[i] += hx[i];
+        const double cn = factors_.residual(hb.data(), correction.data(), rc.data());
+        if (!(cn < rn))
           break;
-        ex = corrected;
-        r = rc;
-        s.relativeResidual = r.norm() / bn;
+        hx.swap(correction);
+        r.swap(rc);
+        rn = cn;
+        s.relativeResidual = rn / bn;
       }
+      for (double v : hx)
+        xn += v * v;
     }
     if constexpr (kHostAccessible<DeviceSpace>) {
-      Eigen::Map<Eigen::VectorXd>(x.data(), x.extent(0)) = ex;
+      std::copy(hx.begin(), hx.end(), x.data());
     } else {
-      auto hx = hostMirror(x);
-      for (LocalIndex i = 0; i < static_cast<LocalIndex>(ex.size()); ++i)
-        hx(i) = ex(i);
-      copyToDevice(x, hx);
+      auto hxm = hostMirror(x);
+      for (std::size_t i = 0; i < n; ++i)
+        hxm(i) = hx[i];
+      copyToDevice(x, hxm);
     }
-    s.converged = bn == 0.0 || trueResidualConverged(
-                                   s.relativeResidual, ex.squaredNorm(), tolerance_, true, 100.0,
-                                   backwardError(s.relativeResidual * bn, normInf_, ex.norm(), bn));
+    s.converged =
+        bn == 0.0 ||
+        trueResidualConverged(s.relativeResidual, xn, tolerance_, true, 100.0,
+                              backwardError(s.relativeResidual * bn, normInf_, std::sqrt(xn), bn));
     s.iterations = 1;
     s.solveSeconds = seconds(start);
     s.setupSeconds = setupSeconds_;
@@ -205,25 +215,24 @@ public:
   }
 
   std::string name() const override {
-    return useLu_ || !symmetric_ ? "direct (Eigen SparseLU)" : "direct (Eigen SimplicialLDLT)";
+    // Before the first setup: the method a symmetric (nonsymmetric) matrix starts with.
+    const auto method = factored_    ? factors_.method()
+                        : symmetric_ ? SparseDirect::Method::Cholesky
+                                     : SparseDirect::Method::Lu;
+    return std::string("direct (") + SparseDirect::name(method) + ")";
   }
   double setupSeconds() const override { return setupSeconds_; }
 
 private:
-  Eigen::SparseMatrix<double> matrix_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
-  /// A pivot of LDL^T at rounding level relative to the largest: the matrix is singular to
-  /// working precision. Measured min/max |pivot|: 9e-16 for the Lame quarter annulus left free to
-  /// translate in x (test_singular), 2.5e-13 for a clamped Quad8 strip at L/h = 10000 (3.6e-11
-  /// at L/h = 1000), so 1e-14 separates them.
-  static bool singularPivot(const Eigen::VectorXd &d) {
-    const double largest = d.cwiseAbs().maxCoeff();
-    for (Eigen::Index i = 0; i < d.size(); ++i)
-      if (!std::isfinite(d(i)) || std::fabs(d(i)) <= 1e-14 * largest)
-        return true;
-    return false;
-  }
+  SparseDirect factors_;
+  /// A pivot at rounding level relative to the largest: the matrix is singular to working
+  /// precision. Measured min/max |pivot| (with Eigen's LDL^T, before SuiteSparse): 9e-16 for the
+  /// Lame quarter annulus left free to translate in x (test_singular), 2.5e-13 for a clamped
+  /// Quad8 strip at L/h = 10000 (3.6e-11 at L/h = 1000), so 1e-14 separates them.
+  static constexpr double kSingularPivot = 1e-14;
+  /// |a_ij - a_ji| below this times the larger of the two (or times the matrix's norm) is
+  /// round-off: such a matrix is factored by Cholesky (its error is corrected by the refinement).
+  static constexpr double kSymmetryTolerance = 1e-12;
   static constexpr const char *kSingular =
       "direct solver: the stiffness matrix is singular (a zero pivot): the displacement "
       "conditions probably leave a rigid-body mode free (a translation or a rotation of a body "
@@ -232,8 +241,10 @@ private:
   static constexpr int kRefinements = 3;
   double normInf_ = 0.0; ///< row-sum norm of the matrix (backward error)
   bool symmetric_ = true;
+  bool saddle_ = false; ///< LinearSolverOptions::indefinite
+  bool factored_ = false;
+  bool indefinite_ = false; ///< said so, or the Cholesky met a pivot <= 0: LU from then on
   double tolerance_ = 1e-8;
-  bool useLu_ = false;
   double setupSeconds_ = 0.0;
 };
 
@@ -359,7 +370,7 @@ public:
       return true;
     }
     if (directFallbackAllowed()) {
-      auto direct = std::make_unique<DirectSolver>(comm_, options_.symmetric, options_.tolerance);
+      auto direct = std::make_unique<DirectSolver>(comm_, options_);
       try {
         direct->setup(matrix_);
       } catch (const std::runtime_error &e) { // singular: the AMG's answer stands, with why
@@ -610,7 +621,8 @@ private:
     axpby(-1.0, sw_, 1.0, z);
   }
 
-  /// z = C r on the host (Eigen): the views' own memory where the host can read it.
+  /// z = C r on the host (solver/RigidCoarseSpace.cpp): the views' own memory where the host can
+  /// read it.
   void coarseApply(const ConstDeviceVector &r, const DeviceVector &z) {
     Kokkos::fence();
     if constexpr (kHostAccessible<DeviceSpace>) {
@@ -864,7 +876,7 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
     throw std::invalid_argument("linear solver: max_iterations " + *why + " (got " +
                                 std::to_string(options.maxIterations) + ")");
   if (options.type == LinearSolverType::Direct)
-    return std::make_unique<DirectSolver>(comm, options.symmetric, options.tolerance);
+    return std::make_unique<DirectSolver>(comm, options);
   return std::make_unique<HypreAmgSolver>(options, dofs, comm);
 }
 

@@ -1,6 +1,7 @@
 // Linear solvers for assembled systems: hypre BoomerAMG-preconditioned CG on a ParCSR matrix built
 // through the IJ interface with global row numbering (ownership ranges from the DofMap), and a
-// direct sparse Cholesky (Eigen) for small problems and as the reference in tests. Data flow:
+// direct sparse Cholesky or LU (SuiteSparse, solver/SparseDirect.hpp) for small and medium
+// problems and as the reference in tests. Data flow:
 // kernels -> solver (this) -> contact -> io.
 #pragma once
 
@@ -46,8 +47,12 @@ struct LinearSolverOptions {
   bool nodalCoarsening = false;
   int printLevel = 0; ///< hypre's own print level
   /// false for a nonsymmetric matrix (the exact tangent of the geometrically nonlinear
-  /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of LDL^T.
+  /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of Cholesky
+  /// (unless the direct solver finds the matrix symmetric to round-off).
   bool symmetric = true;
+  /// A symmetric but indefinite matrix (a saddle point: the mixed models): the direct solver
+  /// takes the LU from the start instead of trying the Cholesky on a matrix it finds symmetric.
+  bool indefinite = false;
   int gmresRestart = 50;
   /// BoomerAMG interpolation fitted to the rigid-body rotations of the node positions given by
   /// setNearNullSpace() (hypre's systems AMG with interpolation vectors, nodal coarsening), so

@@ -99,7 +99,7 @@ std::string MixedModel::solverName() const {
   const char *amg = options_.preconditioner == SchurPreconditioner::LumpedSchur ? "S_a,L" : "Kd";
   const std::string coarse = coarseSpacePhrase(amg_.get());
   if (options_.linear.type == LinearSolverType::Direct) {
-    s << "direct saddle-point LU (Eigen)";
+    s << "direct saddle-point LU (UMFPACK)";
   } else if (method_ == MixedLinearMethod::BlockTriangular) {
     s << "flexible GMRES on the saddle point, block-triangular preconditioner (BoomerAMG(" << amg
       << ")" << coarse << ", ";

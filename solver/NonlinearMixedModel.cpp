@@ -83,6 +83,7 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   jacobianDirect_.reset();
   if (options.type == LinearSolverType::Direct) {
     linearOptions_.symmetric = false; // indefinite (Incremental) or nonsymmetric (Current): LU
+    linearOptions_.indefinite = true;
     solver_ = makeLinearSolver(linearOptions_, DofMap::serial(nn, kMixed), comm);
   } else {
     // Schur complement on the displacements, BoomerAMG on K^L of the current configuration.
@@ -146,6 +147,7 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
     LinearSolverOptions o = linearOptions_;
     o.type = LinearSolverType::Direct;
     o.symmetric = false;
+    o.indefinite = true;
     jacobianDirect_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kMixed), comm_);
     appendNote(note, "the iterative solve did not converge (relative residual " +
                          std::to_string(s.relativeResidual) +

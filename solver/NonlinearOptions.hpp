@@ -66,8 +66,10 @@ enum class MixedNewtonSolver {
 /// docs/performance.md).
 inline constexpr int kSolidMixedRestart = 100;
 /// The largest 3D mixed system the block-triangular solve falls back to the direct LU for (its
-/// fill grows fast: 3.3 s for 9,801 unknowns, 185 s and 11 GB for 54,873, docs/performance.md).
-inline constexpr long kSolidMixedDirectFallback = 30000;
+/// fill grows fast: with UMFPACK 62 s and 3.7 GiB for the Lame sphere's 54,873 unknowns; Eigen's
+/// sparse LU before took 185 s and 10.7 GiB there, and the bound was 30,000; docs/performance.md
+/// issue 20 section 7).
+inline constexpr long kSolidMixedDirectFallback = 55000;
 
 struct MixedNewtonSolverOptions {
   MixedNewtonSolver method = MixedNewtonSolver::BlockTriangular;

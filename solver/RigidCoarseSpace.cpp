@@ -2,11 +2,10 @@
 #include <core/Transfer.hpp>
 #include <solver/RigidCoarseSpace.hpp>
 #include <solver/RigidRotation.hpp>
+#include <solver/SparseDirect.hpp>
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
@@ -56,16 +55,13 @@ std::vector<int> aggregateNodes(const std::vector<Offset> &rowOffsets,
 
 struct RigidCoarseSpace::Factors {
   RowMatrix p;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt; ///< symmetric A
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;         ///< otherwise (an exact tangent)
-  bool symmetric = true;
+  SparseDirect coarse; ///< Cholesky of P^T A P for a symmetric A, LU otherwise (an exact tangent)
 };
 
 RigidCoarseSpace::RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
                                    const Kokkos::View<const double **, DeviceSpace> &positions,
                                    long maxSize, bool symmetric)
     : factors_(std::make_unique<Factors>()) {
-  factors_->symmetric = symmetric;
   const int dim = static_cast<int>(positions.extent(1));
   const LocalIndex nodes = static_cast<LocalIndex>(positions.extent(0));
   const LocalIndex n = a.numRows;
@@ -172,17 +168,16 @@ RigidCoarseSpace::RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
   const RowMatrix ap = scale.asDiagonal() * (am * pt);
   factors_->p = pt - ap;
   factors_->p.prune(0.0);
-  Eigen::SparseMatrix<double> ac = factors_->p.transpose() * (am * factors_->p);
+  RowMatrix ac = factors_->p.transpose() * (am * factors_->p);
+  ac.makeCompressed();
   bool singular = size_ == 0;
-  if (symmetric && !singular) {
-    factors_->ldlt.compute(ac);
-    const auto &d = factors_->ldlt.vectorD(); // a zero (or sign-changing) pivot: not definite
-    singular = factors_->ldlt.info() != Eigen::Success ||
-               !(d.minCoeff() > 1e-14 * d.cwiseAbs().maxCoeff());
-  } else if (!singular) {
-    ac.makeCompressed();
-    factors_->lu.compute(ac);
-    singular = factors_->lu.info() != Eigen::Success;
+  if (!singular) {
+    const std::vector<Offset> acRows(ac.outerIndexPtr(), ac.outerIndexPtr() + size_ + 1);
+    const HostCsr csr{size_, acRows.data(), ac.innerIndexPtr(), ac.valuePtr()};
+    const auto method = symmetric ? SparseDirect::Method::Cholesky : SparseDirect::Method::Lu;
+    // Symmetric: a pivot <= 0 or at round-off relative to the largest is not definite.
+    singular = factors_->coarse.factor(method, csr) != SparseDirect::Outcome::Factored ||
+               (symmetric && !(factors_->coarse.pivotRatio() > 1e-14));
   }
   if (singular)
     why_ = symmetric ? "the rigid-body coarse operator is not positive definite (a part without "
@@ -196,8 +191,8 @@ void RigidCoarseSpace::apply(const double *r, double *z) const {
   const auto n = factors_->p.rows();
   const Eigen::Map<const Eigen::VectorXd> er(r, n);
   const Eigen::VectorXd pr = factors_->p.transpose() * er;
-  const Eigen::VectorXd c = factors_->symmetric ? Eigen::VectorXd(factors_->ldlt.solve(pr))
-                                                : Eigen::VectorXd(factors_->lu.solve(pr));
+  Eigen::VectorXd c(pr.size());
+  factors_->coarse.solve(pr.data(), c.data());
   Eigen::Map<Eigen::VectorXd>(z, n) = factors_->p * c;
 }
 

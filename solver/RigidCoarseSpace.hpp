@@ -6,9 +6,9 @@
 // which is symmetric positive definite for SPD A and B. On a strip the classical hierarchy
 // cannot represent bending at lengths between its coarsest level and the elements; the
 // aggregates' rotations do (docs/performance.md, "A rigid-body coarse space"). Host-side
-// (Eigen), one rank; the matrix is the constrained one of the solver (identity-like rows of
-// prescribed unknowns, which the coarse space leaves alone).
-// Data flow: solver.
+// (Eigen products, SuiteSparse factorization), one rank; the matrix is the constrained one of the
+// solver (identity-like rows of prescribed unknowns, which the coarse space leaves alone). Data
+// flow: solver.
 #pragma once
 
 #include <solver/LinearSolver.hpp> // DeviceSpace
@@ -28,18 +28,19 @@ std::vector<int> aggregateNodes(const std::vector<Offset> &rowOffsets,
                                 const std::vector<LocalIndex> &columns);
 
 /// The largest rigid-body coarse space worth factorizing in `dim` (2 or 3) dimensions: its
-/// LDL^T fills as a 2D or a 3D finite-element matrix does. Measured on compact meshes
-/// (docs/performance.md, issue 20 section 6): 2D, 193,548 coarse unknowns in a 16 s setup (a Quad4
-/// square of 760 x 760); 3D, 16,464 and 29,478 in 16 and 62 s (the Hex8 cubes N = 40 and 48),
-/// growing as the square of the size: 200,000 would have taken about 45 minutes.
-inline long rigidCoarseSpaceLimit(int dim) { return dim == 3 ? 30000 : 200000; }
+/// Cholesky (CHOLMOD, solver/SparseDirect.hpp) fills as a 2D or a 3D finite-element matrix does.
+/// Measured on compact meshes (docs/performance.md, issue 20 section 7): 2D, 193,548 coarse
+/// unknowns in a 19-21 s setup (a Quad4 square of 760 x 760; 334,668: 40 s); 3D, 29,478, 41,154
+/// and 63,888 in 17, 30 and 41 s (the Hex8 cubes N = 48, 56 and 64; with Eigen's simplicial
+/// LDL^T before, 29,478 took 62-104 s).
+inline long rigidCoarseSpaceLimit(int dim) { return dim == 3 ? 64000 : 200000; }
 
 class RigidCoarseSpace {
 public:
   /// The coarse space of the matrix `a` (interleaved unknowns, `dofsPerNode` = the positions'
-  /// columns, 2 or 3) on the nodes at `positions`; its operator factorized by LDL^T where `a` is
-  /// symmetric, by LU where not. ok() false, with why(), where it cannot be built (a singular or,
-  /// symmetric, indefinite coarse operator; more than `maxSize` coarse unknowns).
+  /// columns, 2 or 3) on the nodes at `positions`; its operator factorized by Cholesky where `a`
+  /// is symmetric, by LU where not. ok() false, with why(), where it cannot be built (a singular
+  /// or, symmetric, indefinite coarse operator; more than `maxSize` coarse unknowns).
   RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
                    const Kokkos::View<const double **, DeviceSpace> &positions, long maxSize,
                    bool symmetric = true);

@@ -140,12 +140,14 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
 }
 
 void SolidMixedModel::setupDirect() {
-  // Symmetric but indefinite: Eigen's supernodal LU (measured 3.3 s against 13.0 s for the
-  // simplicial LDL^T on the 9,801 unknowns of examples/lame_sphere.yaml as Hex20 mixed), which
-  // also takes a = 0, whose zero displacement block has no LDL^T without pivoting.
+  // Symmetric but indefinite: the LU (UMFPACK; Eigen's supernodal LU before it measured 3.3 s
+  // against 13.0 s for the simplicial LDL^T on the 9,801 unknowns of examples/lame_sphere.yaml
+  // as Hex20 mixed), which also takes a = 0, whose zero displacement block has no LDL^T
+  // without pivoting.
   LinearSolverOptions o = options_;
   o.type = LinearSolverType::Direct;
   o.symmetric = false;
+  o.indefinite = true;
   solver_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kUnknowns), comm_);
   // The constrained system of load factor 1 (F on the displacement rows, the prescribed values
   // g), factorized once: loads and prescribed values scale with the load factor, so its

@@ -74,6 +74,7 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   Kokkos::deep_copy(committed_, x_);
   linearOptions_ = options;
   linearOptions_.symmetric = false; // the exact Jacobian of the current form is not symmetric
+  linearOptions_.indefinite = true; // and a saddle point (symmetric in the reference state)
   comm_ = comm;
   solver_.reset();
   iterative_.reset();

@@ -378,18 +378,19 @@ TEST(BlockTriangular, StressSolveToleranceFollowsTheBendingRatio) {
   EXPECT_DOUBLE_EQ(stressSolveTolerance(1e-2, 1.0, std::nan(""), 1.0), 1e-2);
 }
 
-// 3D coarse spaces stop at rigidCoarseSpaceLimit(3) = 30,000 unknowns: their LDL^T grows as the
-// square of the size (62 s of setup for 29,478 on the cube N = 48, docs/performance.md issue 20
-// section 6; 200,000, the old limit, would have taken about 45 minutes). The cube N = 52 would
-// have 34,992 (18^3 aggregates of 6 modes); it is refused before anything is factorized.
+// 3D coarse spaces stop at rigidCoarseSpaceLimit(3) = 64,000 unknowns: their Cholesky grows as
+// the square of the size on compact meshes (CHOLMOD: 17 s of setup for 29,478 on the cube
+// N = 48, 41 s for 63,888 on N = 64; docs/performance.md issue 20 section 7). A plate of
+// 330 x 330 x 1 Hex8 has 73,926 (111^2 aggregates of 3 x 3 x 2 nodes, 6 modes each, fewer elements
+// than the cube N = 67 that would exceed it); it is refused before anything is factorized.
 TEST(CoarseSpace, ThreeDimensionalSpacesStopAtTheirMeasuredLimit) {
-  const Mesh mesh = boxMesh(1.0, 1.0, 1.0, 52, 52, 52, ElementType::Hex8);
+  const Mesh mesh = boxMesh(1.0, 1.0, 0.01, 330, 330, 1, ElementType::Hex8);
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0),
                                 std::vector<SolidMatrix>{IsotropicMaterial{1e4, 0.3}.stiffness()});
   const RigidCoarseSpace space(model.assembleStiffness(), nodePositions(mesh),
                                rigidCoarseSpaceLimit(3));
   EXPECT_FALSE(space.ok());
-  EXPECT_NE(space.why().find("34992 unknowns, more than 30000"), std::string::npos) << space.why();
+  EXPECT_NE(space.why().find("73926 unknowns, more than 64000"), std::string::npos) << space.why();
   EXPECT_EQ(rigidCoarseSpaceLimit(2), 200000);
 }
 

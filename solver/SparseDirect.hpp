@@ -1,0 +1,72 @@
+// Sparse direct factorizations on the host with SuiteSparse: CHOLMOD's Cholesky (supernodal
+// where the factor is dense enough, the choice CHOLMOD makes) for symmetric positive definite
+// matrices and UMFPACK's LU for any square one. Behind a plain interface: SuiteSparse's headers
+// stay in SparseDirect.cpp. Host memory and host code only (never called from a kernel). Data
+// flow: the direct solver (LinearSolver.cpp), the rigid-body coarse space (RigidCoarseSpace.cpp)
+// and HostSparseLu (HostAlgebra.cpp) -> SparseDirect -> SuiteSparse.
+#pragma once
+
+#include <core/Compat.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace mixcon {
+
+/// A square matrix in compressed rows on the host (0-based; columns within a row in any order,
+/// no duplicates), borrowed for the duration of one call.
+struct HostCsr {
+  std::int64_t size = 0;
+  const Offset *rowOffsets = nullptr; ///< size + 1
+  const LocalIndex *columns = nullptr;
+  const double *values = nullptr;
+};
+
+class SparseDirect {
+public:
+  enum class Method { Cholesky, Lu };
+  enum class Outcome {
+    Factored,
+    NotPositiveDefinite, ///< Cholesky only: a pivot was not positive (indefinite or singular)
+    Singular             ///< LU only: an exactly zero pivot
+  };
+
+  SparseDirect();
+  ~SparseDirect();
+  SparseDirect(const SparseDirect &) = delete;
+  SparseDirect &operator=(const SparseDirect &) = delete;
+
+  /// Factors `a` (copied). Cholesky reads one triangle of it (give the whole symmetric matrix:
+  /// residual() multiplies with every entry given). The fill-
+  /// reducing ordering and symbolic analysis are kept and reused by the next factor() with the
+  /// same method and the same pattern (a Newton or contact correction), only the numbers are
+  /// factored again. Throws std::runtime_error when SuiteSparse fails otherwise (out of memory).
+  Outcome factor(Method method, const HostCsr &a);
+  /// x = A^-1 b for the last matrix factored (b and x `size` long, distinct). Not reentrant:
+  /// the solves share one workspace (one thread at a time per SparseDirect).
+  void solve(const double *b, double *x) const;
+  /// r = b - A x with the last matrix factored; returns ||r||_2.
+  double residual(const double *b, const double *x, double *r) const;
+  /// The smallest pivot magnitude over the largest of the last factorization: Cholesky
+  /// (min L_ii / max L_ii)^2 (min |D_ii| / max |D_ii| for its LDL^T form), LU UMFPACK's
+  /// min |U_ii| / max |U_ii|. Near round-off: singular to working precision.
+  double pivotRatio() const;
+  Method method() const { return method_; }
+  /// How many factorizations reused the kept analysis (for the notes and tests).
+  int analysisReuses() const { return reuses_; }
+  /// "CHOLMOD Cholesky" or "UMFPACK LU".
+  static const char *name(Method method);
+  /// Whether `a` is symmetric to round-off: every |a_ij - a_ji| at most `relative` times the
+  /// larger of the two, or at most `absolute` (an absent entry counts as 0). Stops at the first
+  /// pair that is not; binary search in rows whose columns are sorted.
+  static bool isSymmetric(const HostCsr &a, double relative, double absolute);
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  Method method_ = Method::Cholesky;
+  int reuses_ = 0;
+};
+
+} // namespace mixcon
