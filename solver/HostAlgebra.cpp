@@ -38,32 +38,18 @@ bool HostSparseLu::factor(std::int64_t n, const std::vector<SparseEntry> &entrie
   Eigen::SparseMatrix<double, Eigen::RowMajor> matrix(n, n);
   matrix.setFromTriplets(t.begin(), t.end()); // sums duplicates
   matrix.makeCompressed();
-  const std::vector<Offset> rows(matrix.outerIndexPtr(), matrix.outerIndexPtr() + n + 1);
+  std::vector<Offset> rows;
   impl_->n = n;
-  return impl_->lu.factor(SparseDirect::Method::Lu,
-                          HostCsr{n, rows.data(), matrix.innerIndexPtr(), matrix.valuePtr()}) ==
+  return impl_->lu.factor(SparseDirect::Method::Lu, hostCsr(matrix, rows)) ==
          SparseDirect::Outcome::Factored;
 }
 
 double HostSparseLu::solve(const std::vector<double> &b, std::vector<double> &x) const {
   x.assign(b.size(), 0.0);
-  impl_->lu.solve(b.data(), x.data());
-  std::vector<double> r(b.size()), dx(b.size()), xc(b.size()), rc(b.size());
-  double rn = impl_->lu.residual(b.data(), x.data(), r.data());
   const double bn = Eigen::Map<const Eigen::VectorXd>(b.data(), impl_->n).norm();
   // Iterative refinement with the same factors while it gains (UMFPACK's own is off,
   // solver/SparseDirect.cpp): at most two steps.
-  for (int step = 0; step < 2 && rn > 1e-14 * bn; ++step) {
-    impl_->lu.solve(r.data(), dx.data());
-    for (std::size_t i = 0; i < x.size(); ++i)
-      xc[i] = x[i] + dx[i];
-    const double cn = impl_->lu.residual(b.data(), xc.data(), rc.data());
-    if (!(cn < rn))
-      break;
-    x.swap(xc);
-    r.swap(rc);
-    rn = cn;
-  }
+  const double rn = impl_->lu.solveRefined(b.data(), x.data(), 2, 1e-14 * bn);
   return bn > 0 ? rn / bn : 0.0;
 }
 

@@ -168,26 +168,13 @@ public:
     for (std::size_t i = 0; i < n; ++i)
       bn += hb(i) * hb(i);
     bn = std::sqrt(bn);
-    std::vector<double> hx(n, 0.0), r(n), correction(n), rc(n);
+    std::vector<double> hx(n, 0.0);
     double xn = 0.0;
     if (bn > 0.0) { // b = 0: x = 0, exactly
-      factors_.solve(hb.data(), hx.data());
       // Iterative refinement with the same factorization while the true residual misses the
       // tolerance (ill-conditioned slender systems)
-      double rn = factors_.residual(hb.data(), hx.data(), r.data());
-      s.relativeResidual = rn / bn;
-      for (int k = 0; k < kRefinements && s.relativeResidual > tolerance_; ++k) {
-        factors_.solve(r.data(), correction.data());
-        for (std::size_t i = 0; i < n; ++i)
-          correction[i] += hx[i];
-        const double cn = factors_.residual(hb.data(), correction.data(), rc.data());
-        if (!(cn < rn))
-          break;
-        hx.swap(correction);
-        r.swap(rc);
-        rn = cn;
-        s.relativeResidual = rn / bn;
-      }
+      s.relativeResidual =
+          factors_.solveRefined(hb.data(), hx.data(), kRefinements, tolerance_ * bn) / bn;
       for (double v : hx)
         xn += v * v;
     }

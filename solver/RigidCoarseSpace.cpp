@@ -172,8 +172,8 @@ RigidCoarseSpace::RigidCoarseSpace(const CsrMatrix<DeviceSpace> &a,
   ac.makeCompressed();
   bool singular = size_ == 0;
   if (!singular) {
-    const std::vector<Offset> acRows(ac.outerIndexPtr(), ac.outerIndexPtr() + size_ + 1);
-    const HostCsr csr{size_, acRows.data(), ac.innerIndexPtr(), ac.valuePtr()};
+    std::vector<Offset> acRows;
+    const HostCsr csr = hostCsr(ac, acRows);
     const auto method = symmetric ? SparseDirect::Method::Cholesky : SparseDirect::Method::Lu;
     // Symmetric: a pivot <= 0 or at round-off relative to the largest is not definite.
     singular = factors_->coarse.factor(method, csr) != SparseDirect::Outcome::Factored ||

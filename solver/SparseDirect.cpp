@@ -2,7 +2,11 @@
 #include <solver/SparseDirect.hpp>
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <umfpack.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +19,59 @@ namespace mixcon {
 
 namespace {
 using Long = SuiteSparse_long;
+
+/// OpenBLAS's own threads held to one while SuiteSparse runs, then given back. mixcon links
+/// whichever libblas.so.3 Debian's alternatives name, and they prefer OpenBLAS's pthread
+/// (priority 100) and OpenMP (95) builds to the serial one (90) cmake/install-deps.sh installs:
+/// a machine where another package brought one of them gives CHOLMOD and UMFPACK a threaded
+/// BLAS, which starts its threads for every dense update of a front or supernode beside
+/// mixcon's OpenMP threads (measured in docs/performance.md, issue 20, section 7). The calls
+/// are looked up at run time (absent: another BLAS, nothing done). OpenBLAS's OpenMP build
+/// takes its count from omp_set_num_threads, which openblas_set_num_threads calls: the
+/// caller's OpenMP count is restored as well.
+class SequentialBlas {
+public:
+  SequentialBlas() {
+    const Api &api = blas();
+    if (!api.get || !api.set)
+      return;
+    saved_ = api.get();
+    if (saved_ > 1) {
+#ifdef _OPENMP
+      openmp_ = omp_get_max_threads();
+#endif
+      api.set(1);
+    }
+  }
+  ~SequentialBlas() {
+    if (saved_ > 1) {
+      blas().set(saved_);
+#ifdef _OPENMP
+      omp_set_num_threads(openmp_);
+#endif
+    }
+  }
+  SequentialBlas(const SequentialBlas &) = delete;
+  SequentialBlas &operator=(const SequentialBlas &) = delete;
+
+  struct Api {
+    int (*get)() = nullptr;
+    void (*set)(int) = nullptr;
+  };
+  static const Api &blas() {
+    static const Api api = [] {
+      Api a;
+      a.get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+      a.set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+      return a;
+    }();
+    return api;
+  }
+
+private:
+  int saved_ = 0;
+  int openmp_ = 1;
+};
 } // namespace
 
 /// The matrix as compressed rows, kept for the solves (UMFPACK's iterative refinement reads it)
@@ -122,7 +179,12 @@ bool SparseDirect::isSymmetric(const HostCsr &a, double relative, double absolut
   return true;
 }
 
+bool SparseDirect::controlsBlasThreads() {
+  return SequentialBlas::blas().get && SequentialBlas::blas().set;
+}
+
 SparseDirect::Outcome SparseDirect::factor(Method method, const HostCsr &a) {
+  const SequentialBlas sequential;
   Impl &m = *impl_;
   const Long nnz = a.size > 0 ? static_cast<Long>(a.rowOffsets[a.size]) : 0;
   bool same =
@@ -228,6 +290,7 @@ SparseDirect::Outcome SparseDirect::factor(Method method, const HostCsr &a) {
 }
 
 void SparseDirect::solve(const double *b, double *x) const {
+  const SequentialBlas sequential;
   Impl &m = *impl_;
   if (method_ == Method::Lu) {
     // The matrix UMFPACK holds is A^T: its transposed solve is A x = b.
@@ -264,6 +327,25 @@ double SparseDirect::residual(const double *b, const double *x, double *r) const
     sum += ri * ri;
   }
   return std::sqrt(sum);
+}
+
+double SparseDirect::solveRefined(const double *b, double *x, int steps, double target) const {
+  const auto n = static_cast<std::size_t>(impl_->n);
+  solve(b, x);
+  std::vector<double> r(n), dx(n), xc(n), rc(n);
+  double rn = residual(b, x, r.data());
+  for (int step = 0; step < steps && rn > target; ++step) {
+    solve(r.data(), dx.data());
+    for (std::size_t i = 0; i < n; ++i)
+      xc[i] = x[i] + dx[i];
+    const double cn = residual(b, xc.data(), rc.data());
+    if (!(cn < rn))
+      break;
+    std::copy(xc.begin(), xc.end(), x);
+    r.swap(rc);
+    rn = cn;
+  }
+  return rn;
 }
 
 double SparseDirect::pivotRatio() const {

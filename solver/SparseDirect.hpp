@@ -23,6 +23,16 @@ struct HostCsr {
   const double *values = nullptr;
 };
 
+/// A compressed row-major matrix with int row offsets (an Eigen::SparseMatrix<double,
+/// Eigen::RowMajor> after makeCompressed(): anything with rows(), outerIndexPtr(),
+/// innerIndexPtr() and valuePtr()) as a HostCsr: the offsets are widened to Offset in `rows`,
+/// which, like `m`, must outlive the result.
+template <class RowMajorSparse>
+HostCsr hostCsr(const RowMajorSparse &m, std::vector<Offset> &rows) {
+  rows.assign(m.outerIndexPtr(), m.outerIndexPtr() + m.rows() + 1);
+  return HostCsr{static_cast<std::int64_t>(m.rows()), rows.data(), m.innerIndexPtr(), m.valuePtr()};
+}
+
 class SparseDirect {
 public:
   enum class Method { Cholesky, Lu };
@@ -48,6 +58,10 @@ public:
   void solve(const double *b, double *x) const;
   /// r = b - A x with the last matrix factored; returns ||r||_2.
   double residual(const double *b, const double *x, double *r) const;
+  /// x = A^-1 b, then up to `steps` steps of iterative refinement with the same factors while
+  /// ||b - A x||_2 > `target`, each kept only if it lowers that residual. Returns ||b - A x||_2
+  /// of the x returned. Not reentrant, as solve().
+  double solveRefined(const double *b, double *x, int steps, double target) const;
   /// The smallest pivot magnitude over the largest of the last factorization: Cholesky
   /// (min L_ii / max L_ii)^2 (min |D_ii| / max |D_ii| for its LDL^T form), LU UMFPACK's
   /// min |U_ii| / max |U_ii|. Near round-off: singular to working precision.
@@ -55,6 +69,9 @@ public:
   Method method() const { return method_; }
   /// How many factorizations reused the kept analysis (for the notes and tests).
   int analysisReuses() const { return reuses_; }
+  /// Whether the BLAS SuiteSparse calls is an OpenBLAS whose threads factor() and solve() hold
+  /// to one for their duration (and restore after), see SparseDirect.cpp.
+  static bool controlsBlasThreads();
   /// "CHOLMOD Cholesky" or "UMFPACK LU".
   static const char *name(Method method);
   /// Whether `a` is symmetric to round-off: every |a_ij - a_ji| at most `relative` times the

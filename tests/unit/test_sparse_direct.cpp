@@ -7,7 +7,13 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace mixcon {
@@ -102,6 +108,54 @@ TEST(SparseDirect, LuOfANonsymmetricMatrixMatchesTheDenseReference) {
   EXPECT_NEAR(rn, ref.norm(), 1e-14);
   EXPECT_NEAR(r[17], ref(17), 1e-14);
   EXPECT_STREQ(SparseDirect::name(f.method()), "UMFPACK LU");
+}
+
+// solveRefined: no step is the plain solve; with steps, the residual it returns is that of the x
+// it returns, never above the plain solve's, and x is still the dense reference's.
+TEST(SparseDirect, RefinedSolveReturnsTheResidualOfItsSolution) {
+  const TestMatrix a = grid(25, 0.5, 0.4);
+  SparseDirect f;
+  ASSERT_EQ(f.factor(SparseDirect::Method::Lu, a.csr()), SparseDirect::Outcome::Factored);
+  const auto b = rightHandSide(625);
+  std::vector<double> plain(625), x0(625), x3(625), r(625);
+  f.solve(b.data(), plain.data());
+  const double r0 = f.solveRefined(b.data(), x0.data(), 0, 0.0);
+  EXPECT_EQ(x0, plain);
+  EXPECT_EQ(r0, f.residual(b.data(), plain.data(), r.data()));
+  const double r3 = f.solveRefined(b.data(), x3.data(), 3, 0.0);
+  EXPECT_EQ(r3, f.residual(b.data(), x3.data(), r.data()));
+  EXPECT_LE(r3, r0);
+  EXPECT_LT(errorAgainstDense(a, b, x3), 1e-12);
+}
+
+// A threaded OpenBLAS is held to one thread inside factor() and solve() and given its count
+// back, and the caller's OpenMP thread count is left as it was (OpenBLAS's OpenMP build sets
+// it). Run here with Debian's serial, pthread and OpenMP OpenBLAS builds selected in turn.
+TEST(SparseDirect, BlasAndOpenMpThreadCountsAreGivenBack) {
+  using Get = int (*)();
+  const auto get = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  EXPECT_EQ(SparseDirect::controlsBlasThreads(), get != nullptr);
+  const int blasBefore = get ? get() : 0;
+#ifdef _OPENMP
+  const int openmpBefore = omp_get_max_threads();
+#endif
+  std::printf("  BLAS threads: %d (%s)\n", blasBefore,
+              get ? "OpenBLAS" : "not OpenBLAS, not controlled");
+  const TestMatrix a = grid(20, 0.0, 0.0);
+  SparseDirect f;
+  ASSERT_EQ(f.factor(SparseDirect::Method::Cholesky, a.csr()), SparseDirect::Outcome::Factored);
+  const auto b = rightHandSide(400);
+  std::vector<double> x(400);
+  f.solve(b.data(), x.data());
+  ASSERT_EQ(f.factor(SparseDirect::Method::Lu, a.csr()), SparseDirect::Outcome::Factored);
+  f.solve(b.data(), x.data());
+  EXPECT_LT(errorAgainstDense(a, b, x), 1e-12);
+  if (get) {
+    EXPECT_EQ(get(), blasBefore);
+  }
+#ifdef _OPENMP
+  EXPECT_EQ(omp_get_max_threads(), openmpBefore);
+#endif
 }
 
 TEST(SparseDirect, CholeskyRefusesAnIndefiniteMatrixWhichLuSolves) {
