@@ -25,8 +25,9 @@ using Long = SuiteSparse_long;
 /// (priority 100) and OpenMP (95) builds to the serial one (90) cmake/install-deps.sh installs:
 /// a machine where another package brought one of them gives CHOLMOD and UMFPACK a threaded
 /// BLAS, which starts its threads for every dense update of a front or supernode beside
-/// mixcon's OpenMP threads (measured in docs/performance.md, issue 20, section 7). The calls
-/// are looked up at run time (absent: another BLAS, nothing done). OpenBLAS's OpenMP build
+/// mixcon's OpenMP threads. A safeguard: measured (docs/performance.md, issue 20, section 7a)
+/// within the noise for the pthread build, 10-15 % for the OpenMP build beside another run. The
+/// calls are looked up at run time (absent: another BLAS, nothing done). OpenBLAS's OpenMP build
 /// takes its count from omp_set_num_threads, which openblas_set_num_threads calls: the
 /// caller's OpenMP count is restored as well.
 class SequentialBlas {
