@@ -22,6 +22,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <string>
+#include <vector>
 
 using namespace mixcon;
 using Memory = Kokkos::DefaultExecutionSpace::memory_space;
@@ -293,19 +295,35 @@ void assembleCsr(benchmark::State &state) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3D: Hex8 (issue 17).
+// 3D (issue 17): Hex8 against a plain host reference; Hex20, Tet4 and Tet10 against the
+// properties every K^L has (symmetry, the six rigid-body modes in its null space).
 
 struct SolidSetup {
   Mesh mesh;
   ElementData<Memory, 3> data;
 };
 
-/// The unit cube of n^3 Hex8 elements with every node moved by up to 0.15 h in each direction
-/// (fixed seed: general, non-affine elements), one rotated orthotropic material (a full 6 x 6
-/// [C]: the kernel does the same arithmetic for any [C]).
-SolidSetup makeSolidSetup(int n) {
+/// `nodes` of a 3D benchmark's first argument: 8 (Hex8), 20 (Hex20), 4 (Tet4), 10 (Tet10).
+ElementType solidTypeOf(const benchmark::State &state) {
+  switch (state.range(0)) {
+  case 20:
+    return ElementType::Hex20;
+  case 4:
+    return ElementType::Tet4;
+  case 10:
+    return ElementType::Tet10;
+  default:
+    return ElementType::Hex8;
+  }
+}
+
+/// The unit cube of n^3 cells (Hex8 or Hex20 elements, or 6 tetrahedra per cell) with every node
+/// moved by up to 0.15 h in each direction (fixed seed: general, non-affine elements), one
+/// rotated orthotropic material (a full 6 x 6 [C]: the kernel does the same arithmetic for any
+/// [C]).
+SolidSetup makeSolidSetup(int n, ElementType type = ElementType::Hex8) {
   SolidSetup s;
-  s.mesh = boxMesh(1.0, 1.0, 1.0, n, n, n, ElementType::Hex8);
+  s.mesh = boxMesh(1.0, 1.0, 1.0, n, n, n, type);
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> shift(-0.15 / n, 0.15 / n);
   for (double &x : s.mesh.coordinates)
@@ -393,30 +411,84 @@ template <class View> double solidMismatch(const SolidSetup &s, const View &ke) 
 /// every node (18 entries of 6: one product, two shear terms of 2, the factor f: 108n) and the
 /// 3 x 3 blocks B_a^T (f D B_b) for a <= b (9 entries of 6: one product, two shear terms, the
 /// accumulation: 54 per block, n(n+1)/2 blocks). Shape functions and the mirror copy are not
-/// counted: a lower bound. Hex8: 3,116 per point, 24,928 per element.
+/// counted: a lower bound. Hex8: 3,116 per point, 24,928 per element. The same loops serve
+/// Hex20, Tet4 and Tet10 with their n and rule.
 constexpr double solidStiffnessFlops(int n, int quadraturePoints) {
   return quadraturePoints * (27.0 * n * n + 168.0 * n + 44.0);
+}
+
+/// Largest violation, over the first, a middle and the last element, of two properties every
+/// K^L has: symmetry (|K - K^T| / max |K|) and the six rigid-body modes in its null space
+/// (|K r| / (max |K| |r|) for the three translations and the three rotations about the element's
+/// first node). The check of the elements without a plain host reference here (Hex20, Tet4,
+/// Tet10; tests/unit compares them with references): a scrambled layout or a missing term fails it.
+template <class View> double solidPropertyViolation(const Mesh &mesh, const View &ke) {
+  const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
+  const LocalIndex ne = mesh.numElements();
+  const int nn = static_cast<int>(h.extent(1)) / 3;
+  double worst = 0.0;
+  for (const LocalIndex e : {LocalIndex(0), ne / 2, ne - 1}) {
+    double scale = 0.0, diff = 0.0;
+    for (int i = 0; i < 3 * nn; ++i)
+      for (int j = 0; j < 3 * nn; ++j) {
+        scale = std::max(scale, std::abs(h(e, i, j)));
+        diff = std::max(diff, std::abs(h(e, i, j) - h(e, j, i)));
+      }
+    for (int mode = 0; mode < 6; ++mode) {
+      std::vector<double> r(3 * nn);
+      double rmax = 0.0;
+      for (int a = 0; a < nn; ++a) {
+        double d[3];
+        for (int i = 0; i < 3; ++i)
+          d[i] = mesh.coordinate(mesh.node(e, a), i) - mesh.coordinate(mesh.node(e, 0), i);
+        for (int i = 0; i < 3; ++i) {
+          // Translation along `mode`, or the rotation about axis mode - 3: (e_k x d)_i.
+          const int k = mode - 3;
+          r[3 * a + i] = mode < 3 ? (i == mode ? 1.0 : 0.0)
+                                  : (i == (k + 1) % 3   ? -d[(k + 2) % 3]
+                                     : i == (k + 2) % 3 ? d[(k + 1) % 3]
+                                                        : 0.0);
+          rmax = std::max(rmax, std::abs(r[3 * a + i]));
+        }
+      }
+      for (int i = 0; i < 3 * nn; ++i) {
+        double kr = 0.0;
+        for (int j = 0; j < 3 * nn; ++j)
+          kr += h(e, i, j) * r[j];
+        diff = std::max(diff, std::abs(kr) / rmax);
+      }
+    }
+    worst = std::max(worst, diff / scale);
+  }
+  return worst;
 }
 
 template <class Exec> void solidElementMatrices(benchmark::State &state) {
   if (!baselineCanRun<Exec>(state))
     return;
-  const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
-  constexpr int nd = 3 * Hex8::kNumNodes;
-  const LocalIndex ne = s.mesh.numElements();
-  Kokkos::View<double ***, Memory> ke("ke", ne, nd, nd);
-  const auto law = linearElasticLaw(s.data);
-  computeElementStiffness<Hex8>(Exec(), s.data.mesh, s.data.thickness, law, ke);
-  Exec().fence();
-  if (const double m = solidMismatch(s, ke); !(m < 1e-12)) {
-    state.SkipWithError(
-        ("Hex8 K^L differs from the host reference by " + std::to_string(m) + " (relative)")
-            .c_str());
-    return;
-  }
-  timeElementMatrices<Exec>(
-      state, ne, nd * nd * 8.0, solidStiffnessFlops(Hex8::kNumNodes, Hex8::kNumQp),
-      [&] { computeElementStiffness<Hex8>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
+  const ElementType type = solidTypeOf(state);
+  const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)), type);
+  dispatchSolidElement(type, "this 3D benchmark", [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int nd = 3 * Elem::kNumNodes;
+    const LocalIndex ne = s.mesh.numElements();
+    Kokkos::View<double ***, Memory> ke("ke", ne, nd, nd);
+    const auto law = linearElasticLaw(s.data);
+    computeElementStiffness<Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke);
+    Exec().fence();
+    const bool hex8 = type == ElementType::Hex8;
+    const double m = hex8 ? solidMismatch(s, ke) : solidPropertyViolation(s.mesh, ke);
+    if (!(m < (hex8 ? 1e-12 : 1e-9))) {
+      state.SkipWithError((std::string(hex8 ? "Hex8 K^L differs from the host reference by "
+                                            : "K^L breaks symmetry or a rigid-body mode by ") +
+                           std::to_string(m) + " (relative)")
+                              .c_str());
+      return;
+    }
+    timeElementMatrices<Exec>(
+        state, ne, nd * nd * 8.0, solidStiffnessFlops(Elem::kNumNodes, Elem::kNumQp),
+        [&] { computeElementStiffness<Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
+  });
 }
 
 /// The plain host reference above, one element after another on one thread.
@@ -508,6 +580,15 @@ std::vector<int64_t> planeSizes() {
 std::vector<int64_t> solidSizes() {
   return kLarge ? std::vector<int64_t>{16, 32, 48, 96} : std::vector<int64_t>{16, 32, 48};
 }
+/// Hex20 (3.6 kB of matrix per element), Tet4 (6 per cell) and Tet10 (6 per cell, 0.9 kB each):
+/// the large size about 4-6 GB of element matrices.
+std::vector<int64_t> solidSizesOf(int nodes) {
+  const int64_t large = nodes == 20 ? 48 : nodes == 4 ? 96 : 48;
+  std::vector<int64_t> n{8, 16, 32};
+  if (kLarge)
+    n.push_back(large);
+  return n;
+}
 
 } // namespace linear_stiffness_bench
 using namespace linear_stiffness_bench;
@@ -562,10 +643,19 @@ BENCHMARK(assembleCsr)
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-// 3D (issue 17): `nodes` is 8 (Hex8), n the divisions of the cube (n^3 elements).
+// 3D (issue 17): `nodes` is 8 (Hex8), 20 (Hex20), 4 (Tet4) or 10 (Tet10), n the divisions of
+// the cube (n^3 hexahedra, 6 n^3 tetrahedra).
 BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
     ->Name("KL3D/elementMatrices/threads")
     ->ArgsProduct({{8}, solidSizes()})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
+    ->Name("KL3D/elementMatrices/threads")
+    ->ArgsProduct({{20}, solidSizesOf(20)})
+    ->ArgsProduct({{4}, solidSizesOf(4)})
+    ->ArgsProduct({{10}, solidSizesOf(10)})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

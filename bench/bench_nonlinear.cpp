@@ -346,14 +346,19 @@ BENCHMARK(newtonIteration)
     ->Unit(benchmark::kMillisecond);
 
 // The 1e6-element step (n = 1000) only with MIXCON_BENCH_FULL=1 (bench/report --full): about
-// a minute and several GB.
+// a minute and several GB. MIXCON_BENCH_NEWTON_N=n adds an n x n mesh (the largest step that
+// fits a GPU: bench/gpu/measure.sh newton-large).
 const bool kFull = std::getenv("MIXCON_BENCH_FULL") != nullptr;
+std::vector<int64_t> newtonStepSizes() {
+  std::vector<int64_t> n =
+      kFull ? std::vector<int64_t>{128, 256, 1000} : std::vector<int64_t>{128, 256};
+  if (const char *extra = std::getenv("MIXCON_BENCH_NEWTON_N"))
+    n.push_back(std::atoll(extra));
+  return n;
+}
 BENCHMARK(mixedNewtonStep)
     ->Name("NL/mixed/newtonStep")
-    ->ArgsProduct({{4},
-                   kFull ? std::vector<int64_t>{128, 256, 1000} : std::vector<int64_t>{128, 256},
-                   {0, 5},
-                   {0, 1}})
+    ->ArgsProduct({{4}, newtonStepSizes(), {0, 5}, {0, 1}})
     ->ArgNames({"nodes", "n", "a_percent", "schur"})
     ->UseManualTime()
     ->Iterations(1)

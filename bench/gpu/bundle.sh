@@ -38,6 +38,8 @@ for spec in "$@"; do
   copy_libs "$stage/$name/lib" "${own[@]}"
   copy_libs "$stage/sys/lib" "${sys[@]}"
 done
+# GNU time (glibc only) for the runs' peak memory: the GPU machine has none.
+mkdir -p "$stage/sys/bin" && cp /usr/bin/time "$stage/sys/bin/time"
 # Open MPI 4 (Debian layout, relocated by OPAL_PREFIX): plugins, their libraries, help texts.
 ompi=/usr/lib/x86_64-linux-gnu/openmpi/lib/openmpi3
 mkdir -p "$stage/ompi/lib/x86_64-linux-gnu/openmpi/lib" "$stage/ompi/share"

@@ -3,7 +3,12 @@
 # bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
 # build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
-#   STAGES: any of machine tests sanitizer kernels kernels-large newton operators search cube
+#   STAGES: any of machine tests sanitizer kernels kernels-large newton newton-large operators
+#           search cube mixed3d
+# Sizes: CUBE_SIZES (default 100), NEWTON_LARGE_N (the 2D mixed step, default 2000),
+# MIXED3D_RUNS (element:N pairs of the 3D mixed Newton increment, default hex8:48).
+# Each mixcon run is timed by the bundle's GNU time (peak host memory), with the GPU's memory in
+# use sampled every 0.2 s (nvidia-smi) beside it: OUT/NAME.gpumem, its largest value in MiB.
 set -u
 bundle=$1; out=$2; stages=${3:-machine tests kernels kernels-large newton operators search cube}
 dir=/tmp/mixcon-bundle
@@ -22,6 +27,51 @@ run() { # variant name timeout command...
   ( source "$dir/env.sh" "$v"; cd /tmp && timeout "$t" "$@" ) > "$out/$n.log" 2>&1
   echo "$n: rc=$? $(tail -1 "$out/$n.log" | cut -c1-150)"
 }
+timed_run() { # variant name timeout command...: run, with wall time, peak host and GPU memory
+  local n=$2 start
+  nvidia-smi --query-gpu=memory.used --format=csv,noheader,nounits -lms 200 > "$out/$n.gpumem" \
+    2>/dev/null &
+  local sampler=$!
+  start=$(date +%s%N)
+  run "$1" "$n" "$3" "$dir/sys/bin/time" -v "${@:4}"
+  kill $sampler 2>/dev/null
+  echo "wall_ms $(( ($(date +%s%N) - start) / 1000000 ))" >> "$out/$n.log"
+  echo "$n: wall $(tail -1 "$out/$n.log" | cut -d' ' -f2) ms, peak host" \
+    "$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$out/$n.log") kB, peak GPU" \
+    "$(sort -n "$out/$n.gpumem" | tail -1) MiB"
+}
+cube_yaml() { # N FILE: bench/cube_hex8.py's problem
+  cat > "$2" <<YAML
+title: unit cube $1^3 Hex8 (bench/cube_hex8.py)
+mesh:
+  generator: {type: box, size: [1, 1, 1], divisions: [$1, $1, $1]}
+materials:
+  - {region: body, type: isotropic, E: 1.0, nu: 0.3}
+boundary_conditions:
+  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
+loads:
+  - {boundary: xmax, traction: [0, -1e-3, 0]}
+solver: {type: amg, tolerance: 1e-8}
+output: {directory: $(dirname "$2")/out, hdf5: false}
+YAML
+}
+mixed3d_yaml() { # ELEMENT N FILE: bench/mixed3d_newton.py's problem and its default solver keys
+  cat > "$3" <<YAML
+title: One Newton increment of the 3D mixed model, cube $2^3 $1 (bench/mixed3d_newton.py)
+mesh:
+  generator: {type: box, size: [1, 1, 1], divisions: [$2, $2, $2], element: $1}
+model: {formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05}
+materials:
+  - {region: body, type: isotropic, E: 1000, nu: 0.3}
+boundary_conditions:
+  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
+loads:
+  - {boundary: xmax, traction: [0, 0, -20]}
+steps: {increments: 1}
+solver: {type: amg, aggressive_levels: 1, interpolation_max_elements: 4}
+output: {directory: $(dirname "$3")/out, hdf5: false}
+YAML
+}
 bench() { # variant name timeout program filter [args]
   local v=$1 n=$2 t=$3 p=$4 f=$5; shift 5
   run "$v" "$n" "$t" "$p" --benchmark_filter="$f" --benchmark_out="$out/$n.json" \
@@ -32,26 +82,32 @@ for s in $stages; do case $s in
 machine)
   bench cuda machine-cuda 60 mixcon_bench_machine .
   bench omp machine-omp 60 mixcon_bench_machine . ;;
-tests)
-  run cuda unit-cuda 420 mixcon_unit_tests --gtest_output=xml:"$out/unit-cuda.xml"
-  run cuda validation-cuda 300 mixcon_validation_tests --gtest_output=xml:"$out/validation-cuda.xml" ;;
+tests) # the two programs side by side (one GPU, 8 host threads each)
+  OMP_NUM_THREADS=$(( $(nproc) / 2 )) run cuda unit-cuda ${TEST_TIMEOUT:-420} mixcon_unit_tests \
+    --gtest_output=xml:"$out/unit-cuda.xml" &
+  OMP_NUM_THREADS=$(( $(nproc) / 2 )) run cuda validation-cuda ${TEST_TIMEOUT:-420} \
+    mixcon_validation_tests --gtest_output=xml:"$out/validation-cuda.xml"
+  wait ;;
 sanitizer) # compute-sanitizer's memcheck and racecheck on the element-kernel tests
   san=$(command -v compute-sanitizer || ls /usr/local/cuda*/bin/compute-sanitizer 2>/dev/null | head -1)
   for tool in memcheck racecheck; do
     run cuda sanitizer-$tool 150 "$san" --tool $tool --error-exitcode 3 mixcon_unit_tests \
-      --gtest_filter='*ElementDriver*:*KernelTest*:Hex8*:SolidModel*:SolidLoads*:MixedMatrixFree*:SegmentSearch*'
+      --gtest_filter='*ElementDriver*:*KernelTest*:Hex8*:SolidModel*:SolidLoads*:MixedMatrixFree*:SegmentSearch*:SolidMixedMatrixFree*:SolidNonlinear*:SolidReportTangent*'
   done ;;
 kernels)
   bench cuda kernels-cuda 240 mixcon_bench_linear_stiffness 'threads'
   bench omp kernels-omp 240 mixcon_bench_linear_stiffness 'threads' ;;
 kernels-large) # the ~1e6-element sizes on the CPU too, for the side-by-side figure
   MIXCON_BENCH_FULL=1 bench omp kernels-large-omp 200 mixcon_bench_linear_stiffness \
-    'elementMatrices/threads.*(n:1024|n:96)' ;;
+    'elementMatrices/threads.*(n:1024|n:96|nodes:(20|10)/n:48)' ;;
 newton) # one Newton step of the 2D mixed model on 1e6 Quad4 elements (MIXCON_BENCH_FULL)
   for v in cuda omp; do
     MIXCON_BENCH_FULL=1 bench $v newton-$v 200 mixcon_bench_nonlinear \
       'newtonStep/nodes:4/n:1000/a_percent:5/schur:0/'
   done ;;
+newton-large) # the same step on the largest mesh of this run (NEWTON_LARGE_N, on the GPU)
+  MIXCON_BENCH_NEWTON_N=${NEWTON_LARGE_N:-2000} MIXCON_BENCH_FULL=1 bench cuda newton-large-cuda \
+    500 mixcon_bench_nonlinear "newtonStep/nodes:4/n:${NEWTON_LARGE_N:-2000}/a_percent:5/schur:0/" ;;
 operators) # the mixed Jacobian product: matrix-free against CSR SpMV, 1e5 elements
   for v in cuda omp; do
     bench $v operators-$v 120 mixcon_bench_mixed_jacobian 'JX/(matrixFree|csr)/nodes:./n:316'
@@ -62,24 +118,17 @@ search) # the node-to-segment grid: build and query, 1e6 and 1e7 segments
   done ;;
 cube)
   for n in ${CUBE_SIZES:-100}; do
-    mkdir -p /tmp/cube$n
-    cat > /tmp/cube$n/cube.yaml <<YAML
-title: unit cube $n^3 Hex8 (bench/cube_hex8.py)
-mesh:
-  generator: {type: box, size: [1, 1, 1], divisions: [$n, $n, $n]}
-materials:
-  - {region: body, type: isotropic, E: 1.0, nu: 0.3}
-boundary_conditions:
-  - {boundary: xmin, ux: 0, uy: 0, uz: 0}
-loads:
-  - {boundary: xmax, traction: [0, -1e-3, 0]}
-solver: {type: amg, tolerance: 1e-8}
-output: {directory: /tmp/cube$n/out, hdf5: false}
-YAML
-    for v in cuda omp; do
-      start=$(date +%s%N)
-      run $v cube$n-$v 300 mixcon run /tmp/cube$n/cube.yaml
-      echo "wall_ms $(( ($(date +%s%N) - start) / 1000000 ))" >> "$out/cube$n-$v.log"
+    mkdir -p /tmp/cube$n && cube_yaml $n /tmp/cube$n/cube.yaml
+    for v in ${CUBE_VARIANTS:-cuda omp}; do
+      timed_run $v cube$n-$v 400 mixcon run /tmp/cube$n/cube.yaml
+    done
+  done ;;
+mixed3d) # one Newton increment of the 3D mixed model
+  for r in ${MIXED3D_RUNS:-hex8:48}; do
+    e=${r%%:*} n=${r#*:}
+    mkdir -p /tmp/m3d-$e-$n && mixed3d_yaml $e $n /tmp/m3d-$e-$n/problem.yaml
+    for v in ${MIXED3D_VARIANTS:-cuda omp}; do
+      timed_run $v mixed3d-$e-$n-$v 400 mixcon run /tmp/m3d-$e-$n/problem.yaml -v
     done
   done ;;
 esac; done
