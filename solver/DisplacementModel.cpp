@@ -48,8 +48,9 @@ LinearSolveStats LinearDisplacementModel::solve(double loadFactor) {
 std::vector<double> LinearDisplacementModel::nodalStressHost() const {
   return dispatchElement(mesh_.elementType, [&](auto elem) {
     using Elem = decltype(elem);
-    constexpr int kStress = Voigt<Elem::kDim>::kSize;
-    Kokkos::View<double *[kStress], Memory> s("mixcon::model::nodalStress", mesh_.numNodes());
+    // The extent from Elem, not a local constant (nvcc 13, docs/gpu.md).
+    Kokkos::View<double * [Voigt<Elem::kDim>::kSize], Memory> s("mixcon::model::nodalStress",
+                                                                mesh_.numNodes());
     const Kokkos::View<const double *, Memory> u(u_);
     if constexpr (Elem::kDim == 2)
       nodalStressRecovery<Elem>(Exec(), data_, u, s);

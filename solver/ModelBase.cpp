@@ -81,10 +81,11 @@ void addBodyForceOf(const ElementData<Memory, Elem::kDim> &data, const F &f,
   using Exec = Kokkos::DefaultExecutionSpace;
   constexpr int dim = Elem::kDim;
   const LocalIndex ne = data.material.extent(0);
-  Kokkos::View<double **[dim], Memory> xq("mixcon::model::qpCoordinates", ne, Elem::kNumQp);
+  Kokkos::View<double * * [Elem::kDim], Memory> xq("mixcon::model::qpCoordinates", ne,
+                                                   Elem::kNumQp); // extents from Elem (docs/gpu.md)
   quadraturePointCoordinates<Elem>(Exec(), data.mesh, xq);
   auto hx = copyToHost(xq);
-  Kokkos::View<double **[dim], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
+  Kokkos::View<double * * [Elem::kDim], Memory> fq("mixcon::model::qpBodyForce", ne, Elem::kNumQp);
   auto hf = hostMirror(fq);
   for (LocalIndex e = 0; e < ne; ++e)
     for (int q = 0; q < Elem::kNumQp; ++q) {
@@ -96,7 +97,8 @@ void addBodyForceOf(const ElementData<Memory, Elem::kDim> &data, const F &f,
         hf(e, q, i) = v[i];
     }
   copyToDevice(fq, hf);
-  assembleBodyForce<Elem>(Exec(), data, Kokkos::View<const double **[dim], Memory>(fq), load);
+  assembleBodyForce<Elem>(Exec(), data, Kokkos::View<const double * * [Elem::kDim], Memory>(fq),
+                          load);
 }
 } // namespace
 

@@ -113,13 +113,17 @@ double NonlinearDisplacementModel::evaluate(double lambda, bool tangent) {
 template <class Elem> void NonlinearDisplacementModel::assembleReportTangent() {
   // K^L + K^sigma of Eq. (24)-(25) on the current configuration x = X + u, with tau the Cauchy
   // stress of the Almansi law at the quadrature points.
+  // View extents spelled from Elem, not from the local kDim: nvcc 13 gave xq the extent of the
+  // view before it (kDim * kDim) when both came from local constants, so the host launched a
+  // kernel the device code did not have ("invalid resource handle", docs/gpu.md).
   constexpr int kDim = Elem::kDim;
   const LocalIndex ne = mesh_.numElements();
-  Kokkos::View<double * * [Voigt<kDim>::kSize], Memory> tau("mixcon::nonlinear::qpCauchy", ne,
-                                                            Elem::kNumQp);
-  Kokkos::View<double * * [kDim * kDim], Memory> grad("mixcon::nonlinear::qpGradient", ne,
-                                                      Elem::kNumQp);
-  Kokkos::View<double **[kDim], Memory> xq("mixcon::nonlinear::qpCurrent", ne, Elem::kNumQp);
+  Kokkos::View<double * * [Voigt<Elem::kDim>::kSize], Memory> tau("mixcon::nonlinear::qpCauchy", ne,
+                                                                  Elem::kNumQp);
+  Kokkos::View<double * * [Elem::kDim * Elem::kDim], Memory> grad("mixcon::nonlinear::qpGradient",
+                                                                  ne, Elem::kNumQp);
+  Kokkos::View<double * * [Elem::kDim], Memory> xq("mixcon::nonlinear::qpCurrent", ne,
+                                                   Elem::kNumQp);
   almansiGaussPointStress<Elem>(Exec(), elementData<kDim>(), ConstVec(u_), tau, grad, xq);
   if constexpr (kDim == 2) {
     ElementData<Memory> current = data_;
