@@ -13,6 +13,7 @@
 #include <kernels/MixedElasticity.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/LinearSolver.hpp>
+#include <solver/RigidRotation.hpp>
 #include <support/Reference.hpp>
 
 #include <benchmark/benchmark.h>
@@ -442,12 +443,8 @@ template <class View> double solidPropertyViolation(const Mesh &mesh, const View
         for (int i = 0; i < 3; ++i)
           d[i] = mesh.coordinate(mesh.node(e, a), i) - mesh.coordinate(mesh.node(e, 0), i);
         for (int i = 0; i < 3; ++i) {
-          // Translation along `mode`, or the rotation about axis mode - 3: (e_k x d)_i.
-          const int k = mode - 3;
-          r[3 * a + i] = mode < 3 ? (i == mode ? 1.0 : 0.0)
-                                  : (i == (k + 1) % 3   ? -d[(k + 2) % 3]
-                                     : i == (k + 2) % 3 ? d[(k + 1) % 3]
-                                                        : 0.0);
+          // Translation along `mode`, or the rotation about axis mode - 3.
+          r[3 * a + i] = mode < 3 ? (i == mode ? 1.0 : 0.0) : rigidRotation(3, mode - 3, i, d);
           rmax = std::max(rmax, std::abs(r[3 * a + i]));
         }
       }
@@ -583,10 +580,9 @@ std::vector<int64_t> solidSizes() {
 /// Hex20 (3.6 kB of matrix per element), Tet4 (6 per cell) and Tet10 (6 per cell, 0.9 kB each):
 /// the large size about 4-6 GB of element matrices.
 std::vector<int64_t> solidSizesOf(int nodes) {
-  const int64_t large = nodes == 20 ? 48 : nodes == 4 ? 96 : 48;
   std::vector<int64_t> n{8, 16, 32};
   if (kLarge)
-    n.push_back(large);
+    n.push_back(nodes == 4 ? 96 : 48);
   return n;
 }
 
