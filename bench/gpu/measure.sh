@@ -5,7 +5,8 @@
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
 #   STAGES: any of machine tests sanitizer kernels kernels-large newton newton-large operators
 #           search cube mixed3d
-# Sizes: CUBE_SIZES (default 100), NEWTON_LARGE_N (the 2D mixed step, default 2000),
+# Sizes: CUBE_SIZES (default 100), NEWTON_LARGE_N (the 2D mixed step, default 2000; its builds:
+# NEWTON_LARGE_VARIANTS, default cuda),
 # MIXED3D_RUNS (element:N pairs of the 3D mixed Newton increment, default hex8:48).
 # DEADLINE (seconds since the epoch), if set, cuts every run's time limit to end before it.
 # Each mixcon run is timed by the bundle's GNU time (peak host memory), with the GPU's memory in
@@ -116,9 +117,14 @@ newton) # one Newton step of the 2D mixed model on 1e6 Quad4 elements (MIXCON_BE
     MIXCON_BENCH_FULL=1 bench $v newton-$v 200 mixcon_bench_nonlinear \
       'newtonStep/nodes:4/n:1000/a_percent:5/schur:0/'
   done ;;
-newton-large) # the same step on the largest mesh of this run (NEWTON_LARGE_N, on the GPU)
-  MIXCON_BENCH_NEWTON_N=${NEWTON_LARGE_N:-2000} MIXCON_BENCH_FULL=1 bench cuda newton-large-cuda \
-    500 mixcon_bench_nonlinear "newtonStep/nodes:4/n:${NEWTON_LARGE_N:-2000}/a_percent:5/schur:0/" ;;
+newton-large) # the same step on the largest mesh of this run (NEWTON_LARGE_N), timed as a run
+  # (peak host and GPU memory) in each of NEWTON_LARGE_VARIANTS (default: the GPU only)
+  for v in ${NEWTON_LARGE_VARIANTS:-cuda}; do
+    n=${NEWTON_LARGE_N:-2000}
+    MIXCON_BENCH_NEWTON_N=$n MIXCON_BENCH_FULL=1 timed_run $v newton-large-$n-$v 500 \
+      mixcon_bench_nonlinear --benchmark_filter="newtonStep/nodes:4/n:$n/a_percent:5/schur:0/" \
+      --benchmark_out="$out/newton-large-$n-$v.json" --benchmark_out_format=json
+  done ;;
 operators) # the mixed Jacobian product: matrix-free against CSR SpMV, 1e5 elements
   for v in cuda omp; do
     bench $v operators-$v 120 mixcon_bench_mixed_jacobian 'JX/(matrixFree|csr)/nodes:./n:316'
