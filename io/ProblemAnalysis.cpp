@@ -283,10 +283,12 @@ void readSolver(const YamlItem &top, Problem &p) {
     if (s.has("coarsest_size"))
       p.solver.coarsestSize = count("coarsest_size", 1);
     if (s.has("smoother")) {
-      const std::string v = s["smoother"].choice({"l1_gauss_seidel", "l1_jacobi", "chebyshev"});
-      p.solver.smoother = v == "l1_jacobi"   ? AmgSmoother::L1Jacobi
-                          : v == "chebyshev" ? AmgSmoother::Chebyshev
-                                             : AmgSmoother::L1GaussSeidel;
+      const std::string v =
+          s["smoother"].choice({"auto", "l1_gauss_seidel", "l1_jacobi", "chebyshev"});
+      p.solver.smoother = v == "l1_jacobi"         ? AmgSmoother::L1Jacobi
+                          : v == "chebyshev"       ? AmgSmoother::Chebyshev
+                          : v == "l1_gauss_seidel" ? AmgSmoother::L1GaussSeidel
+                                                   : AmgSmoother::Automatic;
     }
     if (s.has("reuse_hierarchy"))
       p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();

@@ -387,6 +387,7 @@ public:
     std::string n = coarse ? (options_.symmetric ? "CG + BoomerAMG" : "GMRES + BoomerAMG")
                     : options_.symmetric ? "hypre PCG + BoomerAMG"
                                          : "hypre GMRES + BoomerAMG";
+    n += " (" + smootherName(options_.smoother) + ")";
     if (!rotations_.empty() || willUseRotations())
       n += " with rigid-body modes";
     if (coarse_)
@@ -510,14 +511,15 @@ private:
     HYPRE_BoomerAMGSetInterpType(amg_, 6);   // extended+i
     HYPRE_BoomerAMGSetPMaxElmts(amg_, options_.interpolationMaxElements);
     HYPRE_BoomerAMGSetStrongThreshold(amg_, options_.strongThreshold);
-    HYPRE_BoomerAMGSetRelaxType(amg_, options_.smoother == AmgSmoother::L1Jacobi    ? 18
-                                      : options_.smoother == AmgSmoother::Chebyshev ? 16
-                                                                                    : 8);
+    const AmgSmoother smoother = resolvedSmoother(options_.smoother);
+    HYPRE_BoomerAMGSetRelaxType(amg_, smoother == AmgSmoother::L1Jacobi    ? 18
+                                      : smoother == AmgSmoother::Chebyshev ? 16
+                                                                           : 8);
     // Chebyshev's eigenvalue bound: hypre's Lanczos (CG) estimate, 10 steps per level, where
     // the loaded hypre has mixcon's fix of it; otherwise Gershgorin's discs, looser but safe (the
     // unfixed estimate never returned on NAFEMS LE10 and the 3D mixed model's Lame sphere:
     // docs/performance.md 3b).
-    if (options_.smoother == AmgSmoother::Chebyshev)
+    if (smoother == AmgSmoother::Chebyshev)
       HYPRE_BoomerAMGSetChebyEigEst(amg_, detail::hypreChebyshevEstimateIsSafe() ? 10 : 0);
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
@@ -914,6 +916,27 @@ bool detail::hypreChebyshevEstimateIsSafe() {
   }();
   return safe;
 #endif
+}
+
+AmgSmoother resolvedSmoother(AmgSmoother smoother) {
+  if (smoother != AmgSmoother::Automatic)
+    return smoother;
+#if defined(HYPRE_USING_OPENMP) || defined(HYPRE_USING_GPU)
+  return AmgSmoother::Chebyshev;
+#else
+  return AmgSmoother::L1GaussSeidel;
+#endif
+}
+
+std::string smootherName(AmgSmoother smoother) {
+  switch (resolvedSmoother(smoother)) {
+  case AmgSmoother::L1Jacobi:
+    return "l1-Jacobi";
+  case AmgSmoother::Chebyshev:
+    return "Chebyshev";
+  default:
+    return "l1-Gauss-Seidel";
+  }
 }
 
 std::string hypreVersion() {

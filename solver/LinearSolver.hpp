@@ -22,11 +22,13 @@ enum class LinearSolverType { Amg, Direct };
 
 /// BoomerAMG's smoother on every level but the coarsest (hypre's relax types 8, 18, 16): the
 /// l1-scaled symmetric hybrid Gauss-Seidel (DESIGN-NOTES section 3), l1-Jacobi, or Chebyshev of
-/// order 2 (the last two: only matrix-vector products, no sweep order).
-enum class AmgSmoother { L1GaussSeidel, L1Jacobi, Chebyshev };
+/// order 2 (the last two: only matrix-vector products, no sweep order). Automatic picks, from
+/// the hypre mixcon runs on, the one whose result does not depend on hypre's thread count
+/// (resolvedSmoother).
+enum class AmgSmoother { Automatic, L1GaussSeidel, L1Jacobi, Chebyshev };
 
-/// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, l1-GS) with the interpolation
-/// truncation measured for mixcon's operators.
+/// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, l1-GS; Chebyshev with a threaded
+/// hypre: resolvedSmoother) with the interpolation truncation measured for mixcon's operators.
 struct LinearSolverOptions {
   LinearSolverType type = LinearSolverType::Amg;
   /// Relative residual ||b - A x|| / ||b|| (two-norm). Every solve checks it on the true residual
@@ -36,7 +38,7 @@ struct LinearSolverOptions {
   int maxIterations = 1000; ///< at least 1; makeLinearSolver throws std::invalid_argument
 
   double strongThreshold = 0.5; ///< BoomerAMG strength threshold
-  AmgSmoother smoother = AmgSmoother::L1GaussSeidel;
+  AmgSmoother smoother = AmgSmoother::Automatic;
   int aggressiveLevels = 0; ///< BoomerAMG levels of aggressive coarsening
   /// Interpolation truncation (PMaxElmts); 0 keeps all entries. 0 measured best for both the
   /// displacement model and the mixed preconditioners (docs/mixed-model.md); 4 is hypre's usual.
@@ -173,6 +175,18 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
 
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();
+
+/// The smoother that AmgSmoother::Automatic stands for; any other is returned as is. Hybrid
+/// Gauss-Seidel is Gauss-Seidel within each of hypre's threads and Jacobi between them, so with
+/// a threaded (OpenMP or GPU) hypre its convergence depends on the thread count: the slender
+/// strip of L/h = 100 took 30, 44, 101 and 130 PCG iterations with 1, 4, 8 and 16 threads,
+/// Chebyshev 31-35 with any (docs/performance.md, "The threaded hypre with more threads").
+/// Automatic is therefore Chebyshev with a threaded hypre and l1-Gauss-Seidel (a true Gauss-
+/// Seidel there) with a sequential one: chosen by the build, never by the thread count.
+AmgSmoother resolvedSmoother(AmgSmoother smoother);
+
+/// "l1-Gauss-Seidel", "l1-Jacobi" or "Chebyshev" (Automatic resolved first).
+std::string smootherName(AmgSmoother smoother);
 
 namespace detail {
 /// Whether the loaded libHYPRE has cmake/patches/hypre-2.26.0-chebyshev-estimate.patch (the

@@ -412,10 +412,19 @@ TEST(SolidProblem, MatrixFreeJacobianOfThe3DMixedModels) {
   EXPECT_NE(refusal(amg).find("jacobian applies to"), std::string::npos);
 }
 
-// solver: {smoother: ...} selects BoomerAMG's smoother; an unknown one is refused with file:line.
+// solver: {smoother: ...} selects BoomerAMG's smoother (default auto); an unknown one is refused
+// with file:line.
 TEST(SolidProblem, AmgSmootherKey) {
   const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
-  EXPECT_EQ(parseProblem(amg, "solid.yaml", "").solver.smoother, AmgSmoother::L1GaussSeidel);
+  EXPECT_EQ(parseProblem(amg, "solid.yaml", "").solver.smoother, AmgSmoother::Automatic);
+  EXPECT_EQ(parseProblem(replaceText(amg, "type: amg", "type: amg, smoother: l1_gauss_seidel"),
+                         "solid.yaml", "")
+                .solver.smoother,
+            AmgSmoother::L1GaussSeidel);
+  EXPECT_EQ(
+      parseProblem(replaceText(amg, "type: amg", "type: amg, smoother: auto"), "solid.yaml", "")
+          .solver.smoother,
+      AmgSmoother::Automatic);
   EXPECT_EQ(parseProblem(replaceText(amg, "type: amg", "type: amg, smoother: chebyshev"),
                          "solid.yaml", "")
                 .solver.smoother,

@@ -12,8 +12,7 @@ using namespace mixcon;
 namespace {
 /// A clamped, distorted, anisotropic strip under a tip load and a body force.
 std::vector<double> solveStrip(ElementType type, LinearSolverType solver, LinearSolveStats &stats,
-                               const Mesh &mesh,
-                               AmgSmoother smoother = AmgSmoother::L1GaussSeidel) {
+                               const Mesh &mesh, AmgSmoother smoother = AmgSmoother::Automatic) {
   const std::vector<PlaneMatrix> mats = {orthotropicStiffness(
       {1.6e6, 1.1e5, 1.1e5, 1.0e5, 0.4, 0.4, 0.4}, PlaneAnalysis::PlaneStress, 0.6)};
   LinearDisplacementModel model(mesh, std::vector<int>(mesh.numElements(), 0), mats, 1.0);
@@ -48,7 +47,9 @@ TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
   EXPECT_TRUE(amg.converged) << amg.relativeResidual;
   EXPECT_TRUE(direct.converged) << direct.relativeResidual;
   EXPECT_GT(amg.iterations, 1);
-  EXPECT_LT(amg.iterations, 100);
+  // The default smoother (Chebyshev with the threaded hypre): 101-127 PCG iterations on Quad8 with
+  // 1-8 threads, l1-Gauss-Seidel 75-109 (2026-11-26; Quad4: 29 and 23-28).
+  EXPECT_LT(amg.iterations, 150);
   double diff = 0, norm = 0;
   for (std::size_t i = 0; i < ua.size(); ++i) {
     diff += (ua[i] - ud[i]) * (ua[i] - ud[i]);
@@ -56,16 +57,18 @@ TEST_P(SolverTest, AmgSolutionEqualsDirectSolution) {
   }
   EXPECT_LT(std::sqrt(diff / norm), 1e-8) << std::sqrt(diff / norm);
   EXPECT_GT(norm, 0.0);
-  // The other BoomerAMG smoothers (solver: {smoother: ...}) reach the same solution.
-  for (AmgSmoother smoother : {AmgSmoother::L1Jacobi, AmgSmoother::Chebyshev}) {
+  // Each BoomerAMG smoother (solver: {smoother: ...}) reaches the same solution.
+  for (AmgSmoother smoother :
+       {AmgSmoother::L1GaussSeidel, AmgSmoother::L1Jacobi, AmgSmoother::Chebyshev}) {
     LinearSolveStats st;
     const auto us = solveStrip(GetParam(), LinearSolverType::Amg, st, mesh, smoother);
     EXPECT_TRUE(st.converged) << st.relativeResidual;
-    EXPECT_LT(st.iterations, 1000); // l1-Jacobi: 227 on Quad8 (the default's bound above: 100)
+    EXPECT_LT(st.iterations, 1000); // l1-Jacobi: 227-235 on Quad8
     double d = 0;
     for (std::size_t i = 0; i < us.size(); ++i)
       d += (us[i] - ud[i]) * (us[i] - ud[i]);
     EXPECT_LT(std::sqrt(d / norm), 1e-8) << static_cast<int>(smoother);
+    RecordProperty(smootherName(smoother), st.iterations);
   }
 }
 

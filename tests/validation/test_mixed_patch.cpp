@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 using namespace mixcon;
 
@@ -59,11 +60,23 @@ TEST_P(MixedPatchTest, ConstantStressIsExactAtEveryNode) {
   model.setup(o, MPI_COMM_WORLD);
   const auto st = model.solve(1.0);
   ASSERT_TRUE(st.converged) << st.relativeResidual;
+  char residual[32];
+  std::snprintf(residual, sizeof residual, "%.3e", st.relativeResidual);
+  RecordProperty("relative_residual", residual);
+  RecordProperty("iterations", st.iterations);
   const auto u = model.displacementHost();
+  // The displacements to 1e-10, or to 100 times the relative residual reached of the largest one
+  // (as the stresses below: the Quad8 a = 0 saddle point stops at 4.5e-9 with the Chebyshev
+  // smoother of the threaded hypre, 2e-10 with l1-Gauss-Seidel; errors 1.0-1.6e-10 of 3e-3).
+  double uMax = 0.0;
+  for (LocalIndex n = 0; n < mesh.numNodes(); ++n)
+    for (double c : test::PatchCase::field(mesh.x(n), mesh.y(n)))
+      uMax = std::max(uMax, std::abs(c));
+  const double uTolerance = std::max(1e-10, 100.0 * st.relativeResidual * uMax);
   for (LocalIndex n = 0; n < mesh.numNodes(); ++n) {
     const auto ue = test::PatchCase::field(mesh.x(n), mesh.y(n));
-    EXPECT_NEAR(u[2 * n], ue[0], 1e-10) << "node " << n;
-    EXPECT_NEAR(u[2 * n + 1], ue[1], 1e-10) << "node " << n;
+    EXPECT_NEAR(u[2 * n], ue[0], uTolerance) << "node " << n;
+    EXPECT_NEAR(u[2 * n + 1], ue[1], uTolerance) << "node " << n;
   }
   // The stresses to 1e-8 of sig_xx, or to 100 times the relative residual the solve reached where
   // that is larger: the iterative solves of the a = 0 saddle points stop at their backward-error
