@@ -79,9 +79,9 @@ solver: {type: amg, aggressive_levels: 1, interpolation_max_elements: 4}
 output: {directory: $(dirname "$3")/out, hdf5: false}
 YAML
 }
-bench() { # variant name timeout program filter [args]
+bench() { # variant name timeout program filter [args]; BENCH_RUN=timed_run: with peak memory
   local v=$1 n=$2 t=$3 p=$4 f=$5; shift 5
-  run "$v" "$n" "$t" "$p" --benchmark_filter="$f" --benchmark_out="$out/$n.json" \
+  ${BENCH_RUN:-run} "$v" "$n" "$t" "$p" --benchmark_filter="$f" --benchmark_out="$out/$n.json" \
     --benchmark_out_format=json --benchmark_min_time=0.2s "$@"
 }
 export OMP_PROC_BIND=spread OMP_PLACES=threads OMP_NUM_THREADS=$(nproc)
@@ -119,11 +119,10 @@ newton) # one Newton step of the 2D mixed model on 1e6 Quad4 elements (MIXCON_BE
   done ;;
 newton-large) # the same step on the largest mesh of this run (NEWTON_LARGE_N), timed as a run
   # (peak host and GPU memory) in each of NEWTON_LARGE_VARIANTS (default: the GPU only)
+  n=${NEWTON_LARGE_N:-2000}
   for v in ${NEWTON_LARGE_VARIANTS:-cuda}; do
-    n=${NEWTON_LARGE_N:-2000}
-    MIXCON_BENCH_NEWTON_N=$n MIXCON_BENCH_FULL=1 timed_run $v newton-large-$n-$v 500 \
-      mixcon_bench_nonlinear --benchmark_filter="newtonStep/nodes:4/n:$n/a_percent:5/schur:0/" \
-      --benchmark_out="$out/newton-large-$n-$v.json" --benchmark_out_format=json
+    MIXCON_BENCH_NEWTON_N=$n MIXCON_BENCH_FULL=1 BENCH_RUN=timed_run bench $v newton-large-$n-$v \
+      500 mixcon_bench_nonlinear "newtonStep/nodes:4/n:$n/a_percent:5/schur:0/"
   done ;;
 operators) # the mixed Jacobian product: matrix-free against CSR SpMV, 1e5 elements
   for v in cuda omp; do
