@@ -320,6 +320,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   if (mixed && p.mesh.dim() == 3) {
     auto m = std::make_unique<SolidNonlinearMixedModel>(p.mesh, elementMaterial, solidStiffness,
                                                         p.model.mixed.stabilization);
+    m->setForm(p.model.mixedForm);
+    m->setStressUpdate(p.model.stressUpdate);
     m->setIterativeSolver(p.model.mixedNewton);
     owner = std::move(m);
   } else if (mixed) {

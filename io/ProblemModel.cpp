@@ -27,12 +27,8 @@ ModelSpec readModel(const YamlItem &m, ElementType meshElement) {
   if (spatialDimension(meshElement) == 3) {
     // 3D runs so far: the displacement model, linear or geometrically nonlinear, and the mixed
     // model (hexahedra and tetrahedra) with its stabilization, linear or geometrically nonlinear
-    // in the current form (issue 17).
+    // in either form (issue 17).
     if (s.formulation == Formulation::Mixed) {
-      if (m.has("mixed_form") && m["mixed_form"].choice({"current", "incremental"}) != "current")
-        m["mixed_form"].fail("the geometrically nonlinear 3D mixed model has the current form "
-                             "only so far (the incremental form's push-forward of the stress "
-                             "increments is 2D)");
       for (const char *key : {"compliance", "stress_element", "operators"})
         if (m.has(key))
           m[key].fail(std::string(key) + " applies to the 2D mixed model's iterative solvers; "

@@ -599,132 +599,133 @@ LocalIndex assembleMixedIncrement(const ExecSpace &exec, const MixedElementData<
 }
 
 /// Right-hand side of the L2 projection of the pushed-forward stress onto the nodal stress space
-/// of the new configuration c2: b(3 k + c) = t int_c2 psi_k tau2_c da = t int_c1 psi_k
-/// (F Sigma F^T)_c dA (the Jacobian J of tau2 = F Sigma F^T / J cancels against da = J dA), with
-/// Sigma = tau + S interpolated and F = I + du/dX1 at the quadrature points of c1 (d.mesh).
+/// of the new configuration c2 (2D and 3D): b(nv k + c) = t int_c2 psi_k tau2_c da = t int_c1
+/// psi_k (F Sigma F^T)_c dA (the Jacobian J of tau2 = F Sigma F^T / J cancels against da = J dA),
+/// with Sigma = tau + S interpolated and F = I + du/dX1 at the points of MixedRule<Elem> (the rule
+/// of M) on c1 (mesh). nv = Voigt<Dim>::kSize stresses per node in tau and b; x holds the mixed
+/// unknowns (LayoutOf<Elem>: displacements, then the stress increments S).
 template <class Elem, class ExecSpace, class MemorySpace>
-void pushForwardProjectionLoad(const ExecSpace &exec, const ElementData<MemorySpace> &d,
+void pushForwardProjectionLoad(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                               double thickness,
                                const Kokkos::View<const double *, MemorySpace> &tau,
                                const Kokkos::View<const double *, MemorySpace> &x,
                                const Kokkos::View<double *, MemorySpace> &b) {
+  using L = LayoutOf<Elem>;
+  using Rule = MixedRule<Elem>;
   Kokkos::parallel_for(
       "mixcon::kernels::pushForwardProjectionLoad",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, d.mesh.connectivity.extent(0)),
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double xe[n][2], ue[n][2], be[n][3] = {};
-        detail::gatherCoordinates<Elem>(d.mesh, e, xe);
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nv = L::kNumStresses;
+        constexpr int nu = L::kMixedUnknowns, so = L::kStressOffset;
+        double xe[n][dim], ue[n][dim], be[n][nv] = {};
+        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
         LocalIndex nodes[n];
         for (int a = 0; a < n; ++a) {
-          nodes[a] = d.mesh.connectivity(e, a);
-          ue[a][0] = x(5 * nodes[a]);
-          ue[a][1] = x(5 * nodes[a] + 1);
+          nodes[a] = mesh.connectivity(e, a);
+          for (int i = 0; i < dim; ++i)
+            ue[a][i] = x(nu * nodes[a] + i);
         }
-        for (int q = 0; q < Elem::kNumQp; ++q) {
-          double xi, eta, w, sh[n], dn[n][2], g[n][2], h[2][2];
-          Elem::quadraturePoint(q, xi, eta, w);
-          Elem::shape(xi, eta, sh, dn);
-          const double jw = d.thickness * w * physicalGradients<Elem>(xe, dn, g);
-          detail::nodalGradient<n>(ue, g, h);
-          const double f[2][2] = {{1.0 + h[0][0], h[0][1]}, {h[1][0], 1.0 + h[1][1]}};
-          double sv[3] = {};
+        for (int q = 0; q < Rule::kNumQp; ++q) {
+          double sh[n], dn[n][dim], g[n][dim];
+          const double w = detail::referencePoint<Rule>(q, sh, dn);
+          const double jw = thickness * w * detail::pointGeometry<Elem>(xe, dn, g);
+          Mat<dim, dim> f = detail::displacementGradient<Elem>(ue, g);
+          for (int i = 0; i < dim; ++i)
+            f.m[i][i] += 1.0;
+          Vector<nv> sv{};
           for (int a = 0; a < n; ++a)
-            for (int c = 0; c < 3; ++c)
-              sv[c] += sh[a] * (tau(3 * nodes[a] + c) + x(5 * nodes[a] + 2 + c));
-          const double sig[2][2] = {{sv[0], sv[2]}, {sv[2], sv[1]}};
-          double k[2][2];
-          for (int i = 0; i < 2; ++i)
-            for (int l = 0; l < 2; ++l) {
-              double v = 0.0;
-              for (int p = 0; p < 2; ++p)
-                for (int r = 0; r < 2; ++r)
-                  v += f[i][p] * sig[p][r] * f[l][r];
-              k[i][l] = v;
-            }
-          for (int a = 0; a < n; ++a) {
-            be[a][0] += jw * sh[a] * k[0][0];
-            be[a][1] += jw * sh[a] * k[1][1];
-            be[a][2] += jw * sh[a] * k[0][1];
-          }
+            for (int c = 0; c < nv; ++c)
+              sv.v[c] += sh[a] * (tau(nv * nodes[a] + c) + x(nu * nodes[a] + so + c));
+          const Vector<nv> k = stressToVoigt<dim>(matmulNT(matmul(f, voigtToStress<dim>(sv)), f));
+          for (int a = 0; a < n; ++a)
+            for (int c = 0; c < nv; ++c)
+              be[a][c] += jw * sh[a] * k.v[c];
         }
         for (int a = 0; a < n; ++a)
-          for (int c = 0; c < 3; ++c)
-            Kokkos::atomic_add(&b(3 * nodes[a] + c), be[a][c]);
+          for (int c = 0; c < nv; ++c)
+            Kokkos::atomic_add(&b(nv * nodes[a] + c), be[a][c]);
       });
 }
 
 /// Adds the scalar consistent mass t int psi_a psi_b da of every element into `a` (1 dof per
-/// node, pattern expandGraph(graph, 1)).
+/// node, pattern expandGraph(graph, 1)), on MixedRule<Elem> (exact for the mass of tetrahedra).
 template <class Elem, class ExecSpace, class MemorySpace, class Map>
-void assembleScalarMass(const ExecSpace &exec, const MeshView<MemorySpace> &mesh, double thickness,
-                        const Map &map, const CsrMatrix<MemorySpace> &a) {
+void assembleScalarMass(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                        double thickness, const Map &map, const CsrMatrix<MemorySpace> &a) {
+  using Rule = MixedRule<Elem>;
   Kokkos::parallel_for(
       "mixcon::kernels::assembleScalarMass",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, mesh.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double gx[n][n], gy[n][n], m[n][n];
-        mixedIntegrals<Elem>(mesh, e, thickness, gx, gy, m);
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+        double xe[n][dim], m[n][n] = {};
+        detail::gatherElementCoordinates<Elem>(mesh, e, xe);
+        for (int q = 0; q < Rule::kNumQp; ++q) {
+          double sh[n], dn[n][dim], g[n][dim];
+          const double w = detail::referencePoint<Rule>(q, sh, dn);
+          const double jw = thickness * w * detail::pointGeometry<Elem>(xe, dn, g);
+          for (int p = 0; p < n; ++p)
+            for (int r = 0; r < n; ++r)
+              m[p][r] += jw * sh[p] * sh[r];
+        }
         scatterBlockMatrix<1, Elem>(a, map, mesh, e, m);
       });
 }
 
-/// Push-forward of the nodal stresses at the end of a mixed increment (Eq. (9), (5b)):
-/// tau <- F (tau + S) F^T / det F with F = I + du/dX1 averaged over the elements sharing each
-/// node (each element's gradient evaluated at the node). x holds (u, v, Sxx, Syy, Sxy) per node.
+/// Push-forward of the nodal stresses at the end of a mixed increment (Eq. (9), (5b)), 2D and
+/// 3D: tau <- F (tau + S) F^T / det F with F = I + du/dX1 averaged over the elements sharing each
+/// node (each element's gradient evaluated at the node). x holds the mixed unknowns
+/// (LayoutOf<Elem>), tau Voigt<Dim>::kSize stresses per node.
 template <class Elem, class ExecSpace, class MemorySpace>
-void pushForwardNodalStress(const ExecSpace &exec, const MeshView<MemorySpace> &m,
+void pushForwardNodalStress(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &m,
                             const Kokkos::View<const double *, MemorySpace> &x,
                             const Kokkos::View<double *, MemorySpace> &tau) {
+  using L = LayoutOf<Elem>;
   const LocalIndex nn = m.coordinates.extent(0);
-  Kokkos::View<double *[5], MemorySpace> acc("mixcon::kernels::nodalDeformationGradient", nn);
+  // Per node: the summed gradients (row by row) and the number of elements.
+  Kokkos::View<double *[Elem::kDim * Elem::kDim + 1], MemorySpace> acc(
+      "mixcon::kernels::nodalDeformationGradient", nn);
   Kokkos::parallel_for(
       "mixcon::kernels::nodalDeformationGradient",
       Kokkos::RangePolicy<ExecSpace>(exec, 0, m.connectivity.extent(0)),
       KOKKOS_LAMBDA(LocalIndex e) {
-        constexpr int n = Elem::kNumNodes;
-        double xe[n][2], ue[n][2];
-        detail::gatherCoordinates<Elem>(m, e, xe);
+        constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nu = L::kMixedUnknowns;
+        double xe[n][dim], ue[n][dim];
+        detail::gatherElementCoordinates<Elem>(m, e, xe);
+        for (int a = 0; a < n; ++a)
+          for (int i = 0; i < dim; ++i)
+            ue[a][i] = x(nu * m.connectivity(e, a) + i);
         for (int a = 0; a < n; ++a) {
+          double xi[dim], sh[n], dn[n][dim], g[n][dim];
+          Elem::nodeNatural(a, xi);
+          Elem::shape(xi, sh, dn);
+          detail::pointGeometry<Elem>(xe, dn, g);
+          const Mat<dim, dim> h = detail::displacementGradient<Elem>(ue, g);
           const LocalIndex k = m.connectivity(e, a);
-          ue[a][0] = x(5 * k);
-          ue[a][1] = x(5 * k + 1);
-        }
-        for (int a = 0; a < n; ++a) {
-          double xi, eta, sh[n], dn[n][2], g[n][2], h[2][2];
-          Elem::nodeNatural(a, xi, eta);
-          Elem::shape(xi, eta, sh, dn);
-          physicalGradients<Elem>(xe, dn, g);
-          detail::nodalGradient<n>(ue, g, h);
-          const LocalIndex k = m.connectivity(e, a);
-          Kokkos::atomic_add(&acc(k, 0), h[0][0]);
-          Kokkos::atomic_add(&acc(k, 1), h[0][1]);
-          Kokkos::atomic_add(&acc(k, 2), h[1][0]);
-          Kokkos::atomic_add(&acc(k, 3), h[1][1]);
-          Kokkos::atomic_add(&acc(k, 4), 1.0);
+          for (int i = 0; i < dim; ++i)
+            for (int j = 0; j < dim; ++j)
+              Kokkos::atomic_add(&acc(k, dim * i + j), h.m[i][j]);
+          Kokkos::atomic_add(&acc(k, dim * dim), 1.0);
         }
       });
   Kokkos::parallel_for(
       "mixcon::kernels::pushForwardNodalStress", Kokkos::RangePolicy<ExecSpace>(exec, 0, nn),
       KOKKOS_LAMBDA(LocalIndex k) {
-        const double c = acc(k, 4) > 0.0 ? 1.0 / acc(k, 4) : 0.0;
-        const double f[2][2] = {{1.0 + c * acc(k, 0), c * acc(k, 1)},
-                                {c * acc(k, 2), 1.0 + c * acc(k, 3)}};
-        const double j = f[0][0] * f[1][1] - f[0][1] * f[1][0];
-        const double s[2][2] = {{tau(3 * k) + x(5 * k + 2), tau(3 * k + 2) + x(5 * k + 4)},
-                                {tau(3 * k + 2) + x(5 * k + 4), tau(3 * k + 1) + x(5 * k + 3)}};
-        double t[2][2];
-        for (int i = 0; i < 2; ++i)
-          for (int l = 0; l < 2; ++l) {
-            double v = 0.0;
-            for (int p = 0; p < 2; ++p)
-              for (int q = 0; q < 2; ++q)
-                v += f[i][p] * s[p][q] * f[l][q];
-            t[i][l] = v / j;
-          }
-        tau(3 * k) = t[0][0];
-        tau(3 * k + 1) = t[1][1];
-        tau(3 * k + 2) = t[0][1];
+        constexpr int dim = Elem::kDim, nv = L::kNumStresses;
+        constexpr int nu = L::kMixedUnknowns, so = L::kStressOffset;
+        const double c = acc(k, dim * dim) > 0.0 ? 1.0 / acc(k, dim * dim) : 0.0;
+        Mat<dim, dim> f{};
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            f.m[i][j] = (i == j ? 1.0 : 0.0) + c * acc(k, dim * i + j);
+        const double j = determinant(f);
+        Vector<nv> sv{};
+        for (int v = 0; v < nv; ++v)
+          sv.v[v] = tau(nv * k + v) + x(nu * k + so + v);
+        const Vector<nv> t = stressToVoigt<dim>(matmulNT(matmul(f, voigtToStress<dim>(sv)), f));
+        for (int v = 0; v < nv; ++v)
+          tau(nv * k + v) = t.v[v] / j;
       });
 }
 

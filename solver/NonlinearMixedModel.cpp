@@ -295,7 +295,8 @@ void NonlinearMixedModel::commit() {
     dispatchPlaneElement(
         mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
           using Elem = decltype(elem);
-          pushForwardProjectionLoad<Elem>(Exec(), current_, ConstVec(tau_), ConstVec(x_), load);
+          pushForwardProjectionLoad<Elem>(Exec(), current_.mesh, current_.thickness, ConstVec(tau_),
+                                          ConstVec(x_), load);
         });
   } else {
     dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model",
@@ -324,27 +325,7 @@ void NonlinearMixedModel::projectStress(const Vec &load) {
         using Elem = decltype(elem);
         assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
       });
-  const LocalIndex nn = mesh_.numNodes();
-  Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
-      t("mixcon::nonlinear::projected", nn);
-  fieldDiagonal(mass_, 1, 0, 1, diag, 1.0);
-  const LinearMap apply = [&](const ConstDeviceVector &x, const DeviceVector &y) {
-    multiply(Exec(), mass_, x, y);
-  };
-  const LinearMap jacobi = [&](const ConstDeviceVector &x, const DeviceVector &y) {
-    divide(x, diag, y);
-  };
-  KrylovOptions o;
-  o.tolerance = 1e-13;
-  o.maxIterations = 500;
-  for (int c = 0; c < kStress; ++c) {
-    gather(load, kStress, c, 1, b);
-    gather(tau_, kStress, c, 1, t); // the previous stress as the initial guess
-    const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
-    if (!s.converged)
-      throw std::runtime_error("mixed stress update: the mass projection did not converge");
-    scatter<double>(t, kStress, c, 1, tau_, false);
-  }
+  detail::projectNodalComponents(mass_, ConstVec(load), kStress, tau_);
 }
 
 void NonlinearMixedModel::rollback() {
@@ -357,22 +338,14 @@ void NonlinearMixedModel::rollback() {
 
 // Form Current: the committed unknowns (total displacement and nodal Cauchy stress). Form
 // Incremental: the total displacement, the stress tau and the configuration c1 carried from
-// increment to increment (c1 is saved itself: X + u differs from it by rounding).
+// increment to increment (detail::saveIncrementalState).
 void NonlinearMixedModel::saveCommitted(Checkpoint &state) const {
   if (form_ == MixedForm::Current) {
     state.putScalar("model/formulation", 1.0);
     state.put("model/unknowns", toHost(committedState_));
     return;
   }
-  state.putScalar("model/formulation", 2.0);
-  state.put("model/displacement", toHost(committed_));
-  state.put("model/stress", toHost(tau_));
-  const auto c = copyToHost(current_.mesh.coordinates);
-  std::vector<double> rows(kDisp * c.extent(0)); // node by node, whatever the view's layout
-  for (std::size_t i = 0; i < c.extent(0); ++i)
-    for (int d = 0; d < kDisp; ++d)
-      rows[kDisp * i + d] = c(i, d);
-  state.put("model/configuration", std::move(rows));
+  detail::saveIncrementalState(state, committed_, tau_, current_.mesh.coordinates);
 }
 
 void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
@@ -380,15 +353,7 @@ void NonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
     detail::checkFormulation(state, 1.0);
     fromHost(state.get("model/unknowns", committedState_.extent(0)), committedState_);
   } else {
-    detail::checkFormulation(state, 2.0);
-    fromHost(state.get("model/displacement", committed_.extent(0)), committed_);
-    fromHost(state.get("model/stress", tau_.extent(0)), tau_);
-    const auto &rows = state.get("model/configuration", current_.mesh.coordinates.size());
-    auto c = hostMirror(current_.mesh.coordinates);
-    for (std::size_t i = 0; i < c.extent(0); ++i)
-      for (int d = 0; d < kDisp; ++d)
-        c(i, d) = rows[kDisp * i + d];
-    copyToDevice(current_.mesh.coordinates, c);
+    detail::restoreIncrementalState(state, committed_, tau_, current_.mesh.coordinates);
   }
   rollback();
 }

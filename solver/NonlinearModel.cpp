@@ -278,6 +278,59 @@ void checkFormulation(const Checkpoint &state, double expected) {
     throw std::runtime_error("the saved state is of " + name(saved) + ", this problem uses " +
                              name(expected));
 }
+
+void saveIncrementalState(Checkpoint &state, const ConstVec &displacement, const ConstVec &tau,
+                          const Kokkos::View<const double **, Memory> &configuration) {
+  state.putScalar("model/formulation", 2.0);
+  state.put("model/displacement", ModelBase::toHost(displacement));
+  state.put("model/stress", ModelBase::toHost(tau));
+  const auto c = copyToHost(configuration);
+  const std::size_t dim = c.extent(1);
+  std::vector<double> rows(dim * c.extent(0));
+  for (std::size_t i = 0; i < c.extent(0); ++i)
+    for (std::size_t d = 0; d < dim; ++d)
+      rows[dim * i + d] = c(i, d);
+  state.put("model/configuration", std::move(rows));
+}
+
+void restoreIncrementalState(const Checkpoint &state, const Vec &displacement, const Vec &tau,
+                             const Kokkos::View<double **, Memory> &configuration) {
+  checkFormulation(state, 2.0);
+  ModelBase::fromHost(state.get("model/displacement", displacement.extent(0)), displacement);
+  ModelBase::fromHost(state.get("model/stress", tau.extent(0)), tau);
+  const auto &rows = state.get("model/configuration", configuration.size());
+  auto c = hostMirror(configuration);
+  const std::size_t dim = c.extent(1);
+  for (std::size_t i = 0; i < c.extent(0); ++i)
+    for (std::size_t d = 0; d < dim; ++d)
+      c(i, d) = rows[dim * i + d];
+  copyToDevice(configuration, c);
+}
+
+void projectNodalComponents(const CsrMatrix<Memory> &mass, const ConstVec &load, int components,
+                            const Vec &field) {
+  const LocalIndex nn = mass.numRows;
+  Vec diag("mixcon::nonlinear::massDiagonal", nn), b("mixcon::nonlinear::projectionRhs", nn),
+      t("mixcon::nonlinear::projected", nn);
+  fieldDiagonal(mass, 1, 0, 1, diag, 1.0);
+  const LinearMap apply = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    multiply(Exec(), mass, x, y);
+  };
+  const LinearMap jacobi = [&](const ConstDeviceVector &x, const DeviceVector &y) {
+    divide(x, diag, y);
+  };
+  KrylovOptions o;
+  o.tolerance = 1e-13;
+  o.maxIterations = 500;
+  for (int c = 0; c < components; ++c) {
+    gather(load, components, c, 1, b);
+    gather(field, components, c, 1, t); // the previous values as the initial guess
+    const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
+    if (!s.converged)
+      throw std::runtime_error("mixed stress update: the mass projection did not converge");
+    scatter<double>(t, components, c, 1, field, false);
+  }
+}
 } // namespace detail
 
 } // namespace mixcon

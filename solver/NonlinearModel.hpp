@@ -198,6 +198,25 @@ namespace detail {
 /// Refuses a saved state of another formulation (0 displacement, 1 and 2 the mixed model's forms
 /// Current and Incremental), naming both (std::runtime_error).
 void checkFormulation(const Checkpoint &state, double expected);
+/// The state of a mixed model's incremental form in a checkpoint (formulation 2, 2D and 3D): the
+/// total displacement, the nodal stress tau and the configuration c1 (saved itself: X + u differs
+/// from it by rounding; node by node, whatever the view's layout).
+void saveIncrementalState(Checkpoint &state,
+                          const Kokkos::View<const double *, DeviceSpace> &displacement,
+                          const Kokkos::View<const double *, DeviceSpace> &tau,
+                          const Kokkos::View<const double **, DeviceSpace> &configuration);
+/// Reads what saveIncrementalState wrote into views of the same sizes.
+void restoreIncrementalState(const Checkpoint &state,
+                             const Kokkos::View<double *, DeviceSpace> &displacement,
+                             const Kokkos::View<double *, DeviceSpace> &tau,
+                             const Kokkos::View<double **, DeviceSpace> &configuration);
+/// field <- mass^-1 load for `components` interleaved values per node (mass: a scalar matrix,
+/// one row per node), component by component by Jacobi-CG to 1e-13 from field's values: the L2
+/// projection of the incremental form's stress update. std::runtime_error when a component does
+/// not converge.
+void projectNodalComponents(const CsrMatrix<DeviceSpace> &mass,
+                            const Kokkos::View<const double *, DeviceSpace> &load, int components,
+                            const Kokkos::View<double *, DeviceSpace> &field);
 } // namespace detail
 
 } // namespace mixcon

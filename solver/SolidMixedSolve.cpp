@@ -91,13 +91,14 @@ void applyStressBlocks(const Kokkos::View<const SolidMatrix *, DeviceSpace> &inv
 
 SolidMixedMatrixFree::SolidMixedMatrixFree(const Mesh &mesh, const ElementData<Memory, 3> &solid,
                                            const Kokkos::View<SolidMatrix *, Memory> &compliance,
-                                           double stabilization, bool currentForm)
+                                           double stabilization, bool currentForm,
+                                           const ConstVec &prestress)
     : type_(mesh.elementType), solid_(solid), compliance_(compliance),
-      stabilization_(stabilization), current_(currentForm) {
+      stabilization_(stabilization), current_(currentForm), tau_(prestress) {
   const std::size_t nn = mesh.numNodes(), ne = mesh.numElements();
   colors_ = mixedElementColors<Memory>(mesh, kDefaultMixedScatter<Exec>);
   x_ = Vec("mixcon::mixed3d::matrixFreeState", kUnknowns * nn);
-  if (!current_)
+  if (!current_ && tau_.extent(0) == 0)
     tau_ = Vec("mixcon::mixed3d::zeroPrestress", kStresses * nn);
   const int points = dispatchSolidElement(
       type_, "the 3D mixed model", [](auto elem) { return MixedRule<decltype(elem)>::kNumQp; });
@@ -132,7 +133,7 @@ void SolidMixedMatrixFree::update(const Kokkos::View<const double *, Memory> &x)
 
 void SolidMixedMatrixFree::applyJacobian(const ConstVec &v, const Vec &y) const {
   dispatch([&](auto rule, const auto &law) {
-    applyMixedJacobian<decltype(rule)>(Exec(), solid_.mesh, 1.0, law, ConstVec(x_), ConstVec(tau_),
+    applyMixedJacobian<decltype(rule)>(Exec(), solid_.mesh, 1.0, law, ConstVec(x_), tau_,
                                        v, y, colors_);
   });
 }

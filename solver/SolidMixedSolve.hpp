@@ -53,15 +53,19 @@ struct SolidMixedOperators {
 /// on host spaces, with atomics on devices. Stored: the state (9 doubles per node), the point
 /// matrices and the nodal blocks; nothing per node pair. The incremental law at x = 0 (no
 /// prestress) is the linear model's operator (SolidMixedModel), the current law the
-/// geometrically nonlinear model's exact Jacobian (SolidNonlinearMixedModel).
+/// geometrically nonlinear model's exact Jacobian (SolidNonlinearMixedModel), the incremental law
+/// with a prestress on c1 the Jacobian of that model's incremental form.
 class SolidMixedMatrixFree {
 public:
   using Memory = DeviceSpace;
-  /// `solid`: the mesh and materials; compliance: D = C^-1 per material; a: the stabilization;
-  /// currentForm: MixedCurrentLaw (else MixedIncrementLaw without prestress).
+  /// `solid`: the mesh and materials (for the incremental law: the configuration c1, whose
+  /// coordinates may move in place between update() calls); compliance: D = C^-1 per material;
+  /// a: the stabilization; currentForm: MixedCurrentLaw, else MixedIncrementLaw with the nodal
+  /// prestress `prestress` (6 per node, kept as a handle: read at every product; empty: zero).
   SolidMixedMatrixFree(const Mesh &mesh, const ElementData<Memory, 3> &solid,
                        const Kokkos::View<SolidMatrix *, Memory> &compliance, double stabilization,
-                       bool currentForm);
+                       bool currentForm,
+                       const Kokkos::View<const double *, Memory> &prestress = {});
   /// The products capture this object: not copied or moved.
   SolidMixedMatrixFree(const SolidMixedMatrixFree &) = delete;
   SolidMixedMatrixFree &operator=(const SolidMixedMatrixFree &) = delete;
@@ -87,7 +91,8 @@ private:
   double stabilization_;
   bool current_;
   MixedElementColors<Memory> colors_;
-  Kokkos::View<double *, Memory> x_, tau_; ///< the state, a zero prestress (incremental law)
+  Kokkos::View<double *, Memory> x_;         ///< the state
+  Kokkos::View<const double *, Memory> tau_; ///< the prestress (incremental law)
   Kokkos::View<double ***, Memory> pointCoupling_, pointMass_; ///< (elements, points, 54 / 36)
   Kokkos::View<SolidMatrix *, Memory> blocks_;
 };

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <type_traits>
 
 namespace mixcon {
 
@@ -44,7 +46,19 @@ SolidNonlinearMixedModel::~SolidNonlinearMixedModel() = default;
 void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   if (contact_)
     throw InputError("nonlinear mixed model: contact is 2D only so far (issue 17)");
+  if (incremental() && small_)
+    throw std::logic_error("nonlinear mixed model: small displacements are solved in the current "
+                           "form (the incremental form updates its configuration)");
   const auto start = std::chrono::steady_clock::now();
+  if (incremental() && tau_.extent(0) == 0) { // c1 starts at the reference configuration
+    const LocalIndex nn = mesh_.numNodes();
+    configuration_ = solid_;
+    configuration_.mesh.coordinates =
+        Kokkos::View<double *[3], Memory>("mixcon::nonlinear3d::configuration", nn);
+    Kokkos::deep_copy(configuration_.mesh.coordinates, solid_.mesh.coordinates);
+    tau_ = Vec("mixcon::nonlinear3d::cauchyStress", kStresses * nn);
+    displacement_ = Vec("mixcon::nonlinear3d::displacement", dim() * nn);
+  }
   graph_ = buildNodeGraph(mesh_);
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
@@ -59,8 +73,9 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   iterative_.reset(); // holds the products of matrixFree_
   matrixFree_.reset();
   if (withoutMatrix)
-    matrixFree_ =
-        std::make_unique<SolidMixedMatrixFree>(mesh_, solid_, compliance_, stabilization_, true);
+    matrixFree_ = std::make_unique<SolidMixedMatrixFree>(
+        mesh_, incremental() ? configuration_ : solid_, compliance_, stabilization_,
+        !incremental(), incremental() ? ConstVec(tau_) : ConstVec());
   const LocalIndex n = kUnknowns * mesh_.numNodes();
   flags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear3d::constrained", n);
   constraintsChanged();
@@ -83,7 +98,7 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   } else {
     positions_ =
         Kokkos::View<double **, Memory>("mixcon::nonlinear3d::positions", mesh_.numNodes(), dim());
-    Kokkos::deep_copy(positions_, referenceCoordinates());
+    Kokkos::deep_copy(positions_, configurationCoordinates());
     iterative_ = std::make_unique<SolidMixedSolve>(
         graph_, options, mixedOptions_.preconditionerTolerance, mixedOptions_.restart, dofs_, comm,
         positions_, matrixFree_ == nullptr);
@@ -93,7 +108,12 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
 
 std::string SolidNonlinearMixedModel::solverName() const {
   std::ostringstream o;
-  o << "mixed current-configuration form (3D), a = " << stabilization_ << ", "
+  o << "mixed "
+    << (incremental() ? std::string("incremental form (3D, stress update ") +
+                            (stressUpdate_ == StressUpdate::Projected ? "projected" : "nodal average") +
+                            ")"
+                      : std::string("current-configuration form (3D)"))
+    << ", a = " << stabilization_ << ", "
     << (solver_      ? solver_->name()
         : iterative_ ? iterative_->name()
                      : std::string("none"));
@@ -109,7 +129,24 @@ void SolidNonlinearMixedModel::setUnknowns(const std::vector<double> &x) {
   updateDisplacement();
 }
 
-void SolidNonlinearMixedModel::updateDisplacement() { gather(x_, kUnknowns, 0, dim(), u_); }
+void SolidNonlinearMixedModel::setPrestress(const std::vector<double> &tau) {
+  if (!incremental() || tau_.extent(0) == 0)
+    throw std::logic_error("nonlinear mixed model: a prestress needs the incremental form, set up");
+  fromHost(tau, tau_);
+}
+
+void SolidNonlinearMixedModel::updateDisplacement() {
+  gather(x_, kUnknowns, 0, dim(), u_);
+  if (incremental() && displacement_.extent(0) == u_.extent(0))
+    axpby(1.0, displacement_, 1.0, u_);
+}
+
+Kokkos::View<const double **, SolidNonlinearMixedModel::Memory>
+SolidNonlinearMixedModel::configurationCoordinates() const {
+  if (incremental() && configuration_.mesh.coordinates.extent(0) > 0)
+    return configuration_.mesh.coordinates;
+  return referenceCoordinates();
+}
 
 double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const auto start = std::chrono::steady_clock::now();
@@ -126,16 +163,24 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   const CsrMatrix<Memory> &a = assembled ? tangent_ : none; // else at the solve
   LocalIndex inverted = -1;
   double fint = 0.0;
+  // Form Incremental: on c1 with the prestress tau, x the increment.
+  const MeshView<Memory, 3> &mesh = incremental() ? configuration_.mesh : solid_.mesh;
   const auto assemble = [&](auto elem) {
     using Elem = decltype(elem);
-    using Law = MixedCurrentLaw<Memory, 3>;
-    const Law law{solid_.material, solid_.stiffness, compliance_, stabilization_};
     // One test node's row block at a time: the whole Hex20 Jacobian (180 x 180) does not fit a
     // thread.
+    const auto rows = [&](const auto &law) {
+      using Law = std::decay_t<decltype(law)>;
+      return assembleNonlinearRows<kUnknowns, Elem>(
+          Exec(), mesh,
+          SolidMixedKernel<Elem, Memory, Law>{mesh, law, tangentState(x_), ConstVec(tau_)}, map_,
+          a, g_);
+    };
     if (assembled || !small_)
-      inverted = assembleNonlinearRows<kUnknowns, Elem>(
-          Exec(), solid_.mesh,
-          SolidMixedKernel<Elem, Memory, Law>{solid_.mesh, law, tangentState(x_), {}}, map_, a, g_);
+      inverted = incremental() ? rows(MixedIncrementLaw<Memory, 3>{solid_.material, solid_.stiffness,
+                                                                   compliance_, stabilization_})
+                               : rows(MixedCurrentLaw<Memory, 3>{solid_.material, solid_.stiffness,
+                                                                 compliance_, stabilization_});
     if (small_) { // g = J0 x
       originTaken_ = true;
       if (matrixFree_)
@@ -147,7 +192,7 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
     subtractLoad(g_, kUnknowns, lambda);
     if (follower_.edges.extent(0) > 0) {
       const auto [pressure, factor] = followerPressureAt(lambda);
-      assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), solid_.mesh, ConstVec(x_),
+      assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), mesh, ConstVec(x_),
                                                     follower_.edges, pressure, factor, map_, a,
                                                     followerForce(g_));
       addFollowerForce(g_, kUnknowns);
@@ -155,7 +200,7 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
   };
   dispatchSolidElement(mesh_.elementType, "the 3D mixed model", assemble);
   return finishEvaluate(lambda, tangent, inverted, fint, g_, kUnknowns, flags_,
-                        referenceCoordinates(), x_, start);
+                        configurationCoordinates(), x_, start);
 }
 
 LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increment) {
@@ -171,10 +216,11 @@ LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increm
                                       strideNorm(u_, 1, 0, 1, {}, 0), kDisplacementScale);
   // Stresses below 1e-8 of the largest modulus count as zero (a rigid motion has none).
   const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
-  const double ds = relativeToHistory(
-      strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
-      std::max(strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0), stressFloor),
-      kStressScale);
+  const double stress = incremental() ? strideNorm(totalStress(), 1, 0, 1, {}, 0)
+                                      : strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0);
+  const double ds =
+      relativeToHistory(strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
+                        std::max(stress, stressFloor), kStressScale);
   increment = std::max(du, ds);
   return s;
 }
@@ -184,8 +230,8 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
     return constrainedSolve(tangent_, fresh_, work_, flags_, g_, target_, rhs_, diag_, *solver_,
                             dx_, solverSetupSeconds_);
   if (fresh_) {
-    // K^L on the current configuration x = X + u (also the AMG's rigid-body modes).
-    movedCoordinates(referenceCoordinates(), tangentState(x_), kUnknowns, positions_);
+    // K^L on the current configuration x = X + u (or c1 + u; also the AMG's rigid-body modes).
+    movedCoordinates(configurationCoordinates(), tangentState(x_), kUnknowns, positions_);
     ElementData<Memory, 3> d = solid_;
     d.mesh.coordinates = positions_;
     iterative_->zeroStiffness();
@@ -232,30 +278,84 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
   return s;
 }
 
-void SolidNonlinearMixedModel::commit() { Kokkos::deep_copy(committed_, x_); }
+void SolidNonlinearMixedModel::commit() {
+  if (incremental())
+    commitIncrement();
+  else
+    Kokkos::deep_copy(committed_, x_);
+}
+
+void SolidNonlinearMixedModel::commitIncrement() {
+  Vec load;
+  dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
+    using Elem = decltype(elem);
+    if (stressUpdate_ == StressUpdate::Projected) {
+      load = Vec("mixcon::nonlinear3d::projectionLoad", tau_.extent(0));
+      pushForwardProjectionLoad<Elem>(Exec(), configuration_.mesh, 1.0, ConstVec(tau_),
+                                      ConstVec(x_), load);
+    } else {
+      pushForwardNodalStress<Elem>(Exec(), configuration_.mesh, ConstVec(x_), tau_);
+    }
+  });
+  movedCoordinates(configuration_.mesh.coordinates, x_, kUnknowns, configuration_.mesh.coordinates);
+  Vec increment("mixcon::nonlinear3d::increment", displacement_.extent(0));
+  gather(x_, kUnknowns, 0, dim(), increment);
+  axpby(1.0, increment, 1.0, displacement_);
+  Kokkos::deep_copy(x_, 0.0);
+  updateDisplacement();
+  if (stressUpdate_ != StressUpdate::Projected)
+    return;
+  // tau <- M(c2)^-1 load: the L2 projection onto the nodal stresses of the new configuration.
+  if (mass_.numRows == 0)
+    mass_ = expandGraph<Memory>(graph_, 1);
+  Kokkos::deep_copy(mass_.values, 0.0);
+  dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
+    assembleScalarMass<decltype(elem)>(Exec(), configuration_.mesh, 1.0, map_, mass_);
+  });
+  detail::projectNodalComponents(mass_, ConstVec(load), kStresses, tau_);
+}
 
 void SolidNonlinearMixedModel::rollback() {
-  Kokkos::deep_copy(x_, committed_);
+  if (incremental())
+    Kokkos::deep_copy(x_, 0.0);
+  else
+    Kokkos::deep_copy(x_, committed_);
   updateDisplacement();
 }
 
-// The committed unknowns (total displacement and nodal Cauchy stress), as the 2D model's current
-// form saves them; the sizes tell a 2D state from a 3D one.
+// Form Current: the committed unknowns (total displacement and nodal Cauchy stress), as the 2D
+// model's current form saves them; the sizes tell a 2D state from a 3D one. Form Incremental: the
+// total displacement, tau and c1, as the 2D model's incremental form (detail::saveIncrementalState).
 void SolidNonlinearMixedModel::saveCommitted(Checkpoint &state) const {
+  if (incremental()) {
+    detail::saveIncrementalState(state, displacement_, tau_, configuration_.mesh.coordinates);
+    return;
+  }
   state.putScalar("model/formulation", 1.0);
   state.put("model/unknowns", toHost(committed_));
 }
 
 void SolidNonlinearMixedModel::restoreCommitted(const Checkpoint &state) {
-  detail::checkFormulation(state, 1.0);
-  fromHost(state.get("model/unknowns", committed_.extent(0)), committed_);
+  if (incremental()) {
+    detail::restoreIncrementalState(state, displacement_, tau_, configuration_.mesh.coordinates);
+  } else {
+    detail::checkFormulation(state, 1.0);
+    fromHost(state.get("model/unknowns", committed_.extent(0)), committed_);
+  }
   rollback();
 }
 
-std::vector<double> SolidNonlinearMixedModel::nodalStressHost() const {
+Kokkos::View<double *, SolidNonlinearMixedModel::Memory>
+SolidNonlinearMixedModel::totalStress() const {
   Vec s("mixcon::nonlinear3d::stress", kStresses * mesh_.numNodes());
   gather(x_, kUnknowns, kStressOffset, kStresses, s);
-  return toHost(s);
+  if (incremental() && tau_.extent(0) == s.extent(0))
+    axpby(1.0, tau_, 1.0, s);
+  return s;
+}
+
+std::vector<double> SolidNonlinearMixedModel::nodalStressHost() const {
+  return toHost(totalStress());
 }
 
 std::vector<double> SolidNonlinearMixedModel::reactionHost(double) const {

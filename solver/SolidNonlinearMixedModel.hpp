@@ -6,7 +6,12 @@
 // SolidMixedKernel with MixedCurrentLaw<Memory, 3>): G_u = int B(x)^T [(1 - a) tau + a C e(u)] da -
 // f_ext, G_S = (1 - a) int psi (e(u) - D tau) da, e the Almansi strain, with the stabilization a
 // (0: the report's model). Path independent, so no stress update between increments; load stepping,
-// cutting, restart and follower face pressures as the displacement model. Solved with the direct
+// cutting, restart and follower face pressures as the displacement model. With
+// setForm(MixedForm::Incremental) the report's literal scheme instead, as the 2D model's form
+// (NonlinearMixedModel): per increment from the last converged configuration c1 with nodal
+// Cauchy stress tau, unknowns the displacement increment and the incremental 2nd Piola-Kirchhoff
+// stress S (MixedIncrementLaw<Memory, 3>), at convergence tau <- F (tau + S) F^T / J (projected or
+// node-averaged, setStressUpdate) and c1 <- c1 + u. Solved with the direct
 // solver (sparse LU) or the block-triangular AMG solve (solver/SolidMixedSolve.hpp). With small
 // displacements (NonlinearModel::setSmallDisplacements) the residual is J0 x - f, J0 the Jacobian
 // at x = 0 (the linear model's operator): the linear 3D mixed model through stages. Data flow:
@@ -40,6 +45,11 @@ public:
   /// GMRES restart, the CG tolerance on M and matrixFreeJacobian of solver: amg (method is not
   /// used); call before setup().
   void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
+  /// The form (Current, the default, or Incremental) and the incremental form's push-forward of
+  /// the stress; call before setup().
+  void setForm(MixedForm f) { form_ = f; }
+  MixedForm form() const { return form_; }
+  void setStressUpdate(StressUpdate u) { stressUpdate_ = u; }
   /// CG iterations on the stress block in the last correction (solver: amg).
   long innerIterations() const;
   double evaluate(double lambda, bool tangent) override;
@@ -51,7 +61,8 @@ public:
   void restoreCommitted(const Checkpoint &state) override;
 
   std::string solverName() const override;
-  /// The nodal Cauchy stress unknowns (6 per node, Voigt<3> order).
+  /// The nodal Cauchy stress (6 per node, Voigt<3> order): the stress unknowns (form Current),
+  /// tau + S (form Incremental).
   std::vector<double> nodalStressHost() const override;
   /// The displacement rows of the last residual (internal minus external force, 3 per node).
   std::vector<double> reactionHost(double loadFactor) const override;
@@ -63,15 +74,25 @@ public:
 
   /// Whether the Jacobian is applied without its matrix (set by setup()).
   bool matrixFree() const { return matrixFree_ != nullptr; }
-  /// Test access: the unknowns (9 per node) and the last Jacobian (empty when matrix-free) and
-  /// residual.
+  /// Test access: the unknowns (9 per node: the total state, or the increment of form
+  /// Incremental), the prestress tau of form Incremental (6 per node; after setup()), and the
+  /// last Jacobian (empty when matrix-free) and residual.
   void setUnknowns(const std::vector<double> &x);
+  void setPrestress(const std::vector<double> &tau);
   const CsrMatrix<Memory> &tangent() const { return tangent_; }
   Kokkos::View<const double *, Memory> residual() const { return g_; }
 
 private:
   static constexpr int kUnknowns = FieldLayout<3>::kMixedUnknowns; // 9
   void updateDisplacement();
+  bool incremental() const { return form_ == MixedForm::Incremental; }
+  /// Where the element kernels integrate: c1 (form Incremental), else the reference geometry.
+  Kokkos::View<const double **, Memory> configurationCoordinates() const;
+  /// The nodal Cauchy stress, 6 per node (see nodalStressHost).
+  Kokkos::View<double *, Memory> totalStress() const;
+  /// Form Incremental: tau pushed forward and c1 moved by the increment, which is added to the
+  /// total displacement and zeroed.
+  void commitIncrement();
   /// The correction by the iterative solve (K^L of the current configuration and the AMG
   /// refreshed with a fresh Jacobian), or by the LU it fell back to.
   LinearSolveStats solveIterative();
@@ -92,6 +113,14 @@ private:
   std::unique_ptr<SolidMixedMatrixFree> matrixFree_;
   std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
   MPI_Comm comm_ = MPI_COMM_SELF;
+  MixedForm form_ = MixedForm::Current;
+  StressUpdate stressUpdate_ = StressUpdate::Projected;
+  /// Form Incremental (allocated by setup()): c1, the last converged configuration (the
+  /// materials of solid_, its own coordinates), the nodal Cauchy stress tau there, the total
+  /// displacement to c1 (3 per node) and the scalar mass of the projected stress update.
+  ElementData<Memory, 3> configuration_;
+  Kokkos::View<double *, Memory> tau_, displacement_;
+  CsrMatrix<Memory> mass_;
 };
 
 } // namespace mixcon

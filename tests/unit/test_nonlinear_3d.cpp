@@ -12,9 +12,11 @@
 // tangent: report (the report's K^L + K^sigma of the current configuration) against a plain host
 // K^L + K^sigma on all four solids, and its Newton path on a Hex20 cantilever against the exact
 // tangent's.
-// The geometrically nonlinear mixed model (current form, all four solids): its Jacobian against
-// finite differences of its residual (a = 0 and 0.1, with the follower face pressure), and a
-// stress-free rigid rotation with no residual.
+// The geometrically nonlinear mixed model (all four solids): the Jacobians of its current and
+// incremental forms against finite differences of their residuals (a = 0 and 0.1, with the
+// follower face pressure), a stress-free rigid rotation with no residual, and the incremental
+// form's push-forward of the nodal stress (both updates) against closed forms: a rigid rotation
+// of a random prestress and a homogeneous increment.
 // The constant-stress (homogeneous finite deformation) patch tests of both models, against the
 // closed-form Cauchy stress, are in tests/validation/test_solid.cpp.
 #include <solver/Nonlinear.hpp>
@@ -358,6 +360,138 @@ TEST_P(SolidNonlinearMixed, RigidRotationWithoutStressHasNoResidual) {
   model->setUnknowns(toStd(mixedState(rotatedBy(s.mesh, obliqueRotation(0.7), 0.0), 50.0)));
   model->evaluate(0.0, false);
   EXPECT_GT(hostVector(model->residual()).cwiseAbs().maxCoeff(), 1e-3);
+}
+
+/// The mixed model's incremental form (the report's literal scheme) on the distorted box of
+/// `type`, set up as makeMixedModel's, with the push-forward `update`.
+std::unique_ptr<SolidNonlinearMixedModel> makeIncrementalModel(const Solid &s, double a,
+                                                               bool follower,
+                                                               StressUpdate update) {
+  auto model = std::make_unique<SolidNonlinearMixedModel>(s.mesh, s.material, s.stiffness, a);
+  model->setForm(MixedForm::Incremental);
+  model->setStressUpdate(update);
+  return loadedModel(std::move(model), s, follower);
+}
+
+/// Voigt (xx, yy, zz, yz, xz, xy) <-> symmetric tensor.
+Eigen::Matrix3d voigtTensor(const Eigen::Ref<const Eigen::VectorXd> &v) {
+  Eigen::Matrix3d t;
+  for (int k = 0; k < 6; ++k)
+    t(Voigt<3>::row(k), Voigt<3>::col(k)) = t(Voigt<3>::col(k), Voigt<3>::row(k)) = v(k);
+  return t;
+}
+
+// The Jacobian of the incremental form (MixedIncrementPoint<3> on c1 with a nodal prestress, row-
+// block assembly, follower face pressure) against central finite differences of its residual, at
+// an increment of finite strain with a 0.3 rad rotation, stress increments and a prestress of the
+// order of the strain times the moduli, a = 0 and 0.1. Without the follower pressure it is
+// symmetric (Eq. (30): [K11(tau + S), K12(u); K12(u)^T, -M]), unlike the current form's.
+TEST_P(SolidNonlinearMixed, IncrementalJacobianIsFiniteDifferenceOfResidual) {
+  const Solid s = makeSolid(GetParam());
+  const Eigen::VectorXd x = mixedState(rotatedBy(s.mesh, obliqueRotation(0.3), 0.03), 50.0);
+  const Eigen::VectorXd tau = 50.0 * randomVector(6 * s.mesh.numNodes(), 13);
+  for (double a : {0.0, 0.1})
+    for (bool follower : {true, false}) {
+      SCOPED_TRACE("a = " + std::to_string(a) + (follower ? ", follower pressure" : ""));
+      const auto model = makeIncrementalModel(s, a, follower, StressUpdate::Projected);
+      model->setPrestress(toStd(tau));
+      model->setUnknowns(toStd(x));
+      ASSERT_TRUE(std::isfinite(model->evaluate(1.0, true)));
+      const Eigen::MatrixXd k = toDense(model->tangent());
+      const Eigen::MatrixXd fd = finiteDifferenceTangent(
+          *model, x,
+          [](SolidNonlinearMixedModel &m, const std::vector<double> &v) { m.setUnknowns(v); });
+      EXPECT_LT(relativeError(k, fd), 1e-6);
+      const double asymmetry = relativeError(k, Eigen::MatrixXd(k.transpose()));
+      if (follower)
+        EXPECT_GT(asymmetry, 1e-8) << "the follower pressure's load stiffness";
+      else
+        EXPECT_LT(asymmetry, 1e-12) << "symmetric";
+    }
+}
+
+// The push-forward at the end of an increment, both updates: a prestress of random nodal values
+// carried through a rigid rotation of 0.7 rad (S = 0) becomes R tau R^T at every node (the L2
+// projection reproduces it: the mass of the rotated configuration is the same), the total
+// displacement is the rotation's, and the configuration moves with the body: the next
+// increment, from zero, has the internal forces of the unrotated body rotated by R.
+TEST_P(SolidNonlinearMixed, IncrementalCommitRotatesThePrestressWithTheBody) {
+  const Solid s = makeSolid(GetParam());
+  const LocalIndex nn = s.mesh.numNodes();
+  const Eigen::Matrix3d r = obliqueRotation(0.7);
+  const Eigen::VectorXd u = rotatedBy(s.mesh, r, 0.0);
+  const Eigen::VectorXd tau = 1e3 * randomVector(6 * nn, 21);
+  for (StressUpdate update : {StressUpdate::Projected, StressUpdate::NodalAverage}) {
+    SCOPED_TRACE(update == StressUpdate::Projected ? "projected" : "nodal average");
+    const auto model = makeIncrementalModel(s, 0.0, false, update);
+    model->setPrestress(toStd(tau));
+    model->setUnknowns(toStd(mixedState(u, 0.0)));
+    model->commit();
+    const auto got = model->nodalStressHost();
+    const auto du = model->displacementHost();
+    ASSERT_EQ(got.size(), 6 * static_cast<std::size_t>(nn));
+    for (LocalIndex k = 0; k < nn; ++k) {
+      const Eigen::Matrix3d expect = r * voigtTensor(tau.segment<6>(6 * k)) * r.transpose();
+      for (int c = 0; c < 6; ++c)
+        ASSERT_NEAR(got[6 * k + c], expect(Voigt<3>::row(c), Voigt<3>::col(c)), 1e-9 * 1e3)
+            << "node " << k << " component " << c;
+      for (int i = 0; i < 3; ++i)
+        ASSERT_NEAR(du[3 * k + i], u(3 * k + i), 1e-14) << "node " << k;
+    }
+    // Internal forces of the prestress (zero increment, no load at lambda = 0): before the
+    // rotation (a model of its own) and after it.
+    const auto unrotated = makeIncrementalModel(s, 0.0, false, update);
+    unrotated->setPrestress(toStd(tau));
+    ASSERT_TRUE(std::isfinite(unrotated->evaluate(0.0, false)));
+    const Eigen::VectorXd g0 = hostVector(unrotated->residual());
+    model->setUnknowns(std::vector<double>(9 * nn, 0.0));
+    ASSERT_TRUE(std::isfinite(model->evaluate(0.0, false)));
+    const Eigen::VectorXd g1 = hostVector(model->residual());
+    const double scale = g0.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 1.0);
+    for (LocalIndex k = 0; k < nn; ++k) {
+      const Eigen::Vector3d expect = r * g0.segment<3>(9 * k);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(g1(9 * k + i), expect(i), 1e-10 * scale) << "node " << k;
+    }
+  }
+}
+
+// A homogeneous increment x = F X1 (8 % strain, 0.4 rad) of a constant prestress tau0 and stress
+// increment S0: both updates give the closed form F (tau0 + S0) F^T / det F at every node.
+TEST_P(SolidNonlinearMixed, IncrementalCommitPushesAHomogeneousStateForward) {
+  const Solid s = makeSolid(GetParam());
+  const LocalIndex nn = s.mesh.numNodes();
+  Eigen::Matrix3d g;
+  g << 0.08, -0.03, 0.05, 0.02, -0.06, 0.04, -0.05, 0.03, 0.07;
+  const Eigen::Matrix3d f = obliqueRotation(0.4) * (Eigen::Matrix3d::Identity() + g);
+  Eigen::Matrix<double, 6, 1> tau0, s0;
+  tau0 << 120.0, -40.0, 75.0, 30.0, -55.0, 18.0;
+  s0 << -20.0, 65.0, 10.0, -12.0, 40.0, 33.0;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(9 * nn), tau(6 * nn);
+  for (LocalIndex k = 0; k < nn; ++k) {
+    const Eigen::Vector3d p(s.mesh.x(k), s.mesh.y(k), s.mesh.z(k));
+    x.segment<3>(9 * k) = f * p - p;
+    x.segment<6>(9 * k + 3) = s0;
+    tau.segment<6>(6 * k) = tau0;
+  }
+  const Eigen::Matrix3d expect =
+      f * voigtTensor(tau0 + s0) * f.transpose() / f.determinant();
+  for (StressUpdate update : {StressUpdate::Projected, StressUpdate::NodalAverage}) {
+    SCOPED_TRACE(update == StressUpdate::Projected ? "projected" : "nodal average");
+    const auto model = makeIncrementalModel(s, 0.0, false, update);
+    model->setPrestress(toStd(tau));
+    model->setUnknowns(toStd(x));
+    const auto before = model->nodalStressHost(); // tau + S during the increment
+    model->commit();
+    const auto got = model->nodalStressHost();
+    for (LocalIndex k = 0; k < nn; ++k)
+      for (int c = 0; c < 6; ++c) {
+        ASSERT_NEAR(before[6 * k + c], tau0(c) + s0(c), 1e-12 * 1e3);
+        ASSERT_NEAR(got[6 * k + c], expect(Voigt<3>::row(c), Voigt<3>::col(c)), 1e-10 * 1e3)
+            << "node " << k << " component " << c;
+      }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Solids, SolidNonlinearMixed,

@@ -1,7 +1,7 @@
 // Restart and crash safety of the results, through the `mixcon` program as a user runs it:
 // a run continued with --restart from an interrupted one gives the uninterrupted run's results
-// (nonlinear displacement model, both forms of the nonlinear mixed model, the 3D mixed model,
-// rigid contact with friction, node-to-segment contact), a run killed with SIGKILL at any moment
+// (nonlinear displacement model, both forms of the nonlinear mixed model in 2D and in 3D, rigid
+// contact with friction, node-to-segment contact), a run killed with SIGKILL at any moment
 // leaves a results.h5 that opens and holds every step it reported, the output folder is locked
 // while a run owns it, and a new run leaves no file of an earlier one behind.
 #include <support/Program.hpp>
@@ -121,6 +121,17 @@ solver: {type: direct}
     {"solid_mixed_current", R"(
 mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
 model: {formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+loads: [{boundary: zmax, traction: [0, 0, -20.0]}]
+steps: {increments: 6, iteration: newton, tolerance: 0.001}
+solver: {type: direct}
+)",
+     false},
+    {"solid_mixed_incremental", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
+model: {formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05,
+        mixed_form: incremental, stress_update: nodal_average}
 materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
 boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
 loads: [{boundary: zmax, traction: [0, 0, -20.0]}]

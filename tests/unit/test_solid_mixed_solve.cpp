@@ -5,9 +5,9 @@
 //  - linear model, a 10 x 1 x 1 cantilever under a tip shear (Hex8 and Hex20, a = 0 and 0.05):
 //    displacements and stresses equal to the direct solve's to 1e-6 of their largest value, in a
 //    bounded number of GMRES iterations;
-//  - geometrically nonlinear model (SolidNonlinearMixedModel), the same cantilever to a tip
-//    deflection of about a fifth of its length in three load steps: the same states as with the
-//    direct solver, step by step;
+//  - geometrically nonlinear model (SolidNonlinearMixedModel: current form on Hex8 and Hex20,
+//    incremental form on Hex8), the same cantilever to a tip deflection of about a fifth of its
+//    length in three load steps: the same states as with the direct solver, step by step;
 //  - the same three runs with the Jacobian applied matrix-free (SolidMixedMatrixFree), and its
 //    products (J v, C v, M z, M's nodal blocks) against the assembled Jacobian's;
 //  - both models fall back to the direct LU, reported, where the iterative solve fails, and keep
@@ -191,13 +191,18 @@ TEST(SolidMixedSolve, LinearCantileverAsTheDirectSolve) {
 }
 
 TEST(SolidMixedSolve, NonlinearCantileverAsTheDirectSolve) {
-  for (ElementType type : {ElementType::Hex8, ElementType::Hex20}) {
+  // The current form on both hexahedra, the incremental form (on c1 with the prestress) on Hex8.
+  for (const auto &[type, form] : {std::pair{ElementType::Hex8, MixedForm::Current},
+                                   std::pair{ElementType::Hex20, MixedForm::Current},
+                                   std::pair{ElementType::Hex8, MixedForm::Incremental}}) {
+    SCOPED_TRACE(form == MixedForm::Current ? "current form" : "incremental form");
     const Mesh mesh = cantileverMesh(type);
     // 0: direct, 1: AMG on the assembled Jacobian, 2: AMG with the Jacobian matrix-free.
     std::vector<double> u[3][3], s[3][3];
     for (int k = 0; k < 3; ++k) {
       SolidNonlinearMixedModel model(mesh, std::vector<int>(mesh.numElements(), 0), kIsotropic,
                                      0.05);
+      model.setForm(form);
       loadCantilever(mesh, model, 0.5); // linear theory: tip deflection 2 (a fifth of L) at 1
       MixedNewtonSolverOptions mo;
       mo.restart = kSolidMixedRestart;
@@ -278,13 +283,14 @@ using Exec = Kokkos::DefaultExecutionSpace;
 template <class Law>
 CsrMatrix<DeviceSpace> assembledJacobian(const Mesh &mesh, const ElementData<DeviceSpace, 3> &d,
                                          const Law &law,
-                                         const Kokkos::View<const double *, DeviceSpace> &x) {
+                                         const Kokkos::View<const double *, DeviceSpace> &x,
+                                         Kokkos::View<const double *, DeviceSpace> tau = {}) {
   const NodeGraph graph = buildNodeGraph(mesh);
   const auto map = elementScatterMap<DeviceSpace>(mesh, graph);
   CsrMatrix<DeviceSpace> j = expandGraph<DeviceSpace>(graph, 9);
   Kokkos::View<double *, DeviceSpace> g("g", 9 * mesh.numNodes());
-  const Kokkos::View<const double *, DeviceSpace> tau(
-      Kokkos::View<double *, DeviceSpace>("tau", 6 * mesh.numNodes()));
+  if (tau.extent(0) == 0)
+    tau = Kokkos::View<double *, DeviceSpace>("tau", 6 * mesh.numNodes());
   dispatchSolidElement(mesh.elementType, "test", [&](auto elem) {
     using Elem = decltype(elem);
     assembleNonlinearRows<9, Elem>(
@@ -314,16 +320,20 @@ Eigen::VectorXd part(const Eigen::VectorXd &v, int offset, int width) {
 // The matrix-free products of SolidMixedMatrixFree against the assembled Jacobian of the same
 // state (a distorted box, the rotated orthotropic solid, all four solids, a = 0 and 0.05): the
 // current law at a finite strain with a 0.3 rad rotation and non-zero stresses (the nonlinear
-// model), and the incremental law at x = 0 (the linear model's operator). J v, C v (the stress
+// model), the incremental law at x = 0 (the linear model's operator) and at the same finite
+// strain with a prestress (the nonlinear model's incremental form). J v, C v (the stress
 // rows of J [v; 0]), M z (minus the stress rows of J [0; z]) and M's nodal 6 x 6 blocks, to 1e-12
 // of their size.
 TEST(SolidMixedMatrixFree, ProductsAreThoseOfTheAssembledJacobian) {
   for (ElementType type :
        {ElementType::Hex8, ElementType::Hex20, ElementType::Tet4, ElementType::Tet10})
     for (double a : {0.0, 0.05})
-      for (bool current : {true, false}) {
-        const std::string what = elementTypeName(type) + (current ? " current" : " linear") +
-                                 " a = " + std::to_string(a);
+      for (int form = 0; form < 3; ++form) { // current, linear, incremental with a prestress
+        const bool current = form == 0, prestressed = form == 2;
+        const std::string what =
+            elementTypeName(type) +
+            (current ? " current" : prestressed ? " incremental" : " linear") +
+            " a = " + std::to_string(a);
         const Mesh mesh = distortedBox(2, type);
         const LocalIndex nn = mesh.numNodes();
         const SolidMatrix c = rotatedOrthotropicSolid();
@@ -333,9 +343,13 @@ TEST(SolidMixedMatrixFree, ProductsAreThoseOfTheAssembledJacobian) {
         d.stiffness = detail::deviceMatrices({c}, "stiffness");
         const auto compliance = detail::deviceMatrices(detail::solidCompliances({c}), "compliance");
         // The state: a rotation of 0.3 rad about z with a 5 % stretch in x, and stresses of the
-        // size of the material's stiffness times 1e-2 (current law); zero (incremental law).
+        // size of the material's stiffness times 1e-2 (current law and prestressed incremental
+        // law, whose prestress is of the same size); zero (the linear operator).
         Eigen::VectorXd x = Eigen::VectorXd::Zero(9 * nn);
-        if (current) {
+        const Eigen::VectorXd tau =
+            prestressed ? Eigen::VectorXd(1e-2 * c.m[0][0] * randomVector(6 * nn, 12))
+                        : Eigen::VectorXd::Zero(6 * nn);
+        if (current || prestressed) {
           const double ct = std::cos(0.3), st = std::sin(0.3);
           const Eigen::VectorXd s = 1e-2 * c.m[0][0] * randomVector(9 * nn, 11);
           for (LocalIndex p = 0; p < nn; ++p) {
@@ -355,8 +369,10 @@ TEST(SolidMixedMatrixFree, ProductsAreThoseOfTheAssembledJacobian) {
                 : assembledJacobian(
                       mesh, d,
                       MixedIncrementLaw<DeviceSpace, 3>{d.material, d.stiffness, compliance, a},
-                      xd);
-        SolidMixedMatrixFree mf(mesh, d, compliance, a, current);
+                      xd, deviceCopy(tau));
+        SolidMixedMatrixFree mf(mesh, d, compliance, a, current,
+                                prestressed ? deviceCopy(tau)
+                                            : Kokkos::View<const double *, DeviceSpace>());
         mf.update(xd);
         const Eigen::VectorXd v = randomVector(9 * nn, 5);
         Kokkos::View<double *, DeviceSpace> y("y", 9 * nn);

@@ -306,11 +306,6 @@ TEST(SolidProblem, RefusesWhat3DDoesNotHaveYetWithFileAndLine) {
     std::string from, to, expect;
   };
   const Case cases[] = {
-      {"materials:",
-       "model: {formulation: mixed, geometric_nonlinearity: true, mixed_form: incremental}\n"
-       "materials:",
-       "solid.yaml:3:71: model.mixed_form: the geometrically nonlinear 3D mixed model has the "
-       "current form only so far"},
       {"solver: {type: direct}", "model: {formulation: mixed}\nsolver: {type: amg, method: schur}",
        "solid.yaml:13:29: solver.method: method applies to the 2D mixed model's solvers"},
       {"materials:", "model: {analysis: plane_strain}\nmaterials:",

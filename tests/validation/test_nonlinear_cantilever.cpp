@@ -8,7 +8,7 @@
 // Also: Newton's local quadratic convergence, modified Newton and the no-equilibrium-iteration
 // mode reaching (or drifting from) the same answer, and automatic step cutting.
 // The 3D form (issue 17): the same beam of square section b = h as 40 x 1 x 1 Hex20 solids, both
-// models.
+// models, the mixed model in both forms.
 #include <mesh/Generators.hpp>
 #include <solver/Nonlinear.hpp>
 
@@ -36,7 +36,7 @@ constexpr Elastica kReference[] = {{1.0, 0.12347, 0.00875},
                                    {5.0, 0.49591, 0.15334},
                                    {10.0, 0.70020, 0.34365}};
 
-enum class Kind { Displacement, Mixed };
+enum class Kind { Displacement, Mixed, MixedIncremental };
 
 struct Beam {
   Mesh mesh;
@@ -263,7 +263,9 @@ TEST(ReportCantilever, MixedAmgMethodsFollowTheDirectNewtonPath) {
 // 40 x 1 x 1 Hex20, clamped at x = 0, the dead load q = 10 EI / L^3 (EI = E b h^3 / 12) as a
 // traction q / b on the top face z = h, the tip on the neutral axis (x = L, z = h / 2). Same
 // elastica reference and tolerances as the plane cantilever (issue 4), for the displacement model
-// (Almansi law) and the mixed model (current form, a = 0: the report's model).
+// (Almansi law) and the mixed model (a = 0: the report's model) in its current form and in the
+// report's incremental form (w/L 0.70336 and 0.70345 measured at qL^3/EI = 10 in the 12 increments
+// of examples/cantilever_3d_large_deflection_mixed.yaml).
 class SolidSlenderCantilever : public ::testing::TestWithParam<Kind> {};
 
 TEST_P(SolidSlenderCantilever, Hex20MatchesElasticaAtEveryStepWithQuadraticNewton) {
@@ -272,9 +274,11 @@ TEST_P(SolidSlenderCantilever, Hex20MatchesElasticaAtEveryStepWithQuadraticNewto
   const std::vector<int> material(mesh.numElements(), 0);
   const std::vector<SolidMatrix> c{IsotropicMaterial{kYoungs, kPoisson}.stiffness()};
   std::unique_ptr<NonlinearModel> model;
-  if (GetParam() == Kind::Mixed)
-    model = std::make_unique<SolidNonlinearMixedModel>(mesh, material, c, 0.0);
-  else
+  if (GetParam() != Kind::Displacement) {
+    auto mixed = std::make_unique<SolidNonlinearMixedModel>(mesh, material, c, 0.0);
+    mixed->setForm(GetParam() == Kind::Mixed ? MixedForm::Current : MixedForm::Incremental);
+    model = std::move(mixed);
+  } else
     model = std::make_unique<NonlinearDisplacementModel>(mesh, material, c);
   for (LocalIndex n : mesh.nodesOf("xmin"))
     for (int i = 0; i < 3; ++i)
@@ -306,8 +310,12 @@ INSTANTIATE_TEST_SUITE_P(Models, SlenderCantilever,
                            return std::string(info.param == Kind::Mixed ? "Mixed" : "Displacement");
                          });
 INSTANTIATE_TEST_SUITE_P(Models, SolidSlenderCantilever,
-                         ::testing::Values(Kind::Displacement, Kind::Mixed), [](const auto &info) {
-                           return std::string(info.param == Kind::Mixed ? "Mixed" : "Displacement");
+                         ::testing::Values(Kind::Displacement, Kind::Mixed, Kind::MixedIncremental),
+                         [](const auto &info) {
+                           return std::string(info.param == Kind::Mixed ? "Mixed"
+                                              : info.param == Kind::MixedIncremental
+                                                  ? "MixedIncremental"
+                                                  : "Displacement");
                          });
 
 } // namespace
