@@ -452,7 +452,10 @@ template <class MemorySpace, int Dim = 2> struct MixedIncrementLaw {
 ///    Sigma = 0: no geometric term), with a zero residual there (SolidMixedModel);
 ///  - MixedCurrentLaw<MemorySpace, 3> is the geometrically nonlinear model in the current
 ///    configuration: x the total displacements and Cauchy stresses, tau unused
-///    (SolidNonlinearMixedModel).
+///    (SolidNonlinearMixedModel, form Current);
+///  - MixedIncrementLaw<MemorySpace, 3> on the last converged configuration c1 (mesh) at an
+///    increment x with the nodal prestress tau is the report's incremental form
+///    (SolidNonlinearMixedModel, form Incremental).
 template <class Elem, class MemorySpace, class Law = MixedIncrementLaw<MemorySpace, 3>>
 struct SolidMixedKernel {
   static_assert(Elem::kDim == 3, "the 3D mixed element");
@@ -684,7 +687,7 @@ void pushForwardNodalStress(const ExecSpace &exec, const MeshView<MemorySpace, E
   using L = LayoutOf<Elem>;
   const LocalIndex nn = m.coordinates.extent(0);
   // Per node: the summed gradients (row by row) and the number of elements.
-  Kokkos::View<double *[Elem::kDim * Elem::kDim + 1], MemorySpace> acc(
+  Kokkos::View<double * [Elem::kDim * Elem::kDim + 1], MemorySpace> acc(
       "mixcon::kernels::nodalDeformationGradient", nn);
   Kokkos::parallel_for(
       "mixcon::kernels::nodalDeformationGradient",

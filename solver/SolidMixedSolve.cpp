@@ -133,8 +133,8 @@ void SolidMixedMatrixFree::update(const Kokkos::View<const double *, Memory> &x)
 
 void SolidMixedMatrixFree::applyJacobian(const ConstVec &v, const Vec &y) const {
   dispatch([&](auto rule, const auto &law) {
-    applyMixedJacobian<decltype(rule)>(Exec(), solid_.mesh, 1.0, law, ConstVec(x_), tau_,
-                                       v, y, colors_);
+    applyMixedJacobian<decltype(rule)>(Exec(), solid_.mesh, 1.0, law, ConstVec(x_), tau_, v, y,
+                                       colors_);
   });
 }
 

@@ -91,8 +91,8 @@ private:
   double stabilization_;
   bool current_;
   MixedElementColors<Memory> colors_;
-  Kokkos::View<double *, Memory> x_;         ///< the state
-  Kokkos::View<const double *, Memory> tau_; ///< the prestress (incremental law)
+  Kokkos::View<double *, Memory> x_;                           ///< the state
+  Kokkos::View<const double *, Memory> tau_;                   ///< the prestress (incremental law)
   Kokkos::View<double ***, Memory> pointCoupling_, pointMass_; ///< (elements, points, 54 / 36)
   Kokkos::View<SolidMatrix *, Memory> blocks_;
 };

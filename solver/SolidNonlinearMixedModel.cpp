@@ -50,11 +50,12 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
     throw std::logic_error("nonlinear mixed model: small displacements are solved in the current "
                            "form (the incremental form updates its configuration)");
   const auto start = std::chrono::steady_clock::now();
-  if (incremental() && tau_.extent(0) == 0) { // c1 starts at the reference configuration
+  // Form Incremental: c1 starts at the reference configuration; a later setup() keeps the state.
+  if (incremental() && tau_.extent(0) == 0) {
     const LocalIndex nn = mesh_.numNodes();
     configuration_ = solid_;
     configuration_.mesh.coordinates =
-        Kokkos::View<double *[3], Memory>("mixcon::nonlinear3d::configuration", nn);
+        decltype(configuration_.mesh.coordinates)("mixcon::nonlinear3d::configuration", nn);
     Kokkos::deep_copy(configuration_.mesh.coordinates, solid_.mesh.coordinates);
     tau_ = Vec("mixcon::nonlinear3d::cauchyStress", kStresses * nn);
     displacement_ = Vec("mixcon::nonlinear3d::displacement", dim() * nn);
@@ -63,6 +64,7 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   map_ = elementScatterMap<Memory>(mesh_, graph_);
   setStiffnessScale(graph_, map_);
   work_ = CsrMatrix<Memory>{};
+  mass_ = CsrMatrix<Memory>{}; // on graph_ (the projected stress update's, made when first used)
   commitStaged();
   follower_ = followerLoads();
   // jacobian: matrix_free serves the block-triangular GMRES without follower pressures (their
@@ -74,8 +76,8 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   matrixFree_.reset();
   if (withoutMatrix)
     matrixFree_ = std::make_unique<SolidMixedMatrixFree>(
-        mesh_, incremental() ? configuration_ : solid_, compliance_, stabilization_,
-        !incremental(), incremental() ? ConstVec(tau_) : ConstVec());
+        mesh_, incremental() ? configuration_ : solid_, compliance_, stabilization_, !incremental(),
+        incremental() ? ConstVec(tau_) : ConstVec());
   const LocalIndex n = kUnknowns * mesh_.numNodes();
   flags_ = Kokkos::View<int *, Memory>("mixcon::nonlinear3d::constrained", n);
   constraintsChanged();
@@ -88,8 +90,10 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   diag_ = Vec("mixcon::nonlinear3d::diagonal", n);
   Kokkos::deep_copy(committed_, x_);
   linearOptions_ = options;
-  linearOptions_.symmetric = false; // the exact Jacobian of the current form is not symmetric
-  linearOptions_.indefinite = true; // and a saddle point (symmetric in the reference state)
+  // The exact Jacobian of the current form is not symmetric; the incremental form's is (without
+  // follower pressures); both are saddle points: the LU.
+  linearOptions_.symmetric = false;
+  linearOptions_.indefinite = true;
   comm_ = comm;
   solver_.reset();
   iterative_.reset();
@@ -109,10 +113,10 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
 std::string SolidNonlinearMixedModel::solverName() const {
   std::ostringstream o;
   o << "mixed "
-    << (incremental() ? std::string("incremental form (3D, stress update ") +
-                            (stressUpdate_ == StressUpdate::Projected ? "projected" : "nodal average") +
-                            ")"
-                      : std::string("current-configuration form (3D)"))
+    << (incremental()
+            ? std::string("incremental form (3D, stress update ") +
+                  (stressUpdate_ == StressUpdate::Projected ? "projected" : "nodal average") + ")"
+            : std::string("current-configuration form (3D)"))
     << ", a = " << stabilization_ << ", "
     << (solver_      ? solver_->name()
         : iterative_ ? iterative_->name()
@@ -125,6 +129,9 @@ long SolidNonlinearMixedModel::innerIterations() const {
 }
 
 void SolidNonlinearMixedModel::setUnknowns(const std::vector<double> &x) {
+  if (x.size() != x_.extent(0))
+    throw std::invalid_argument("nonlinear mixed model: " + std::to_string(x.size()) +
+                                " unknowns given, " + std::to_string(x_.extent(0)) + " expected");
   fromHost(x, x_);
   updateDisplacement();
 }
@@ -132,6 +139,10 @@ void SolidNonlinearMixedModel::setUnknowns(const std::vector<double> &x) {
 void SolidNonlinearMixedModel::setPrestress(const std::vector<double> &tau) {
   if (!incremental() || tau_.extent(0) == 0)
     throw std::logic_error("nonlinear mixed model: a prestress needs the incremental form, set up");
+  if (tau.size() != tau_.extent(0))
+    throw std::invalid_argument("nonlinear mixed model: " + std::to_string(tau.size()) +
+                                " prestress values given, " + std::to_string(tau_.extent(0)) +
+                                " expected");
   fromHost(tau, tau_);
 }
 
@@ -173,14 +184,15 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
       using Law = std::decay_t<decltype(law)>;
       return assembleNonlinearRows<kUnknowns, Elem>(
           Exec(), mesh,
-          SolidMixedKernel<Elem, Memory, Law>{mesh, law, tangentState(x_), ConstVec(tau_)}, map_,
-          a, g_);
+          SolidMixedKernel<Elem, Memory, Law>{mesh, law, tangentState(x_), ConstVec(tau_)}, map_, a,
+          g_);
     };
     if (assembled || !small_)
-      inverted = incremental() ? rows(MixedIncrementLaw<Memory, 3>{solid_.material, solid_.stiffness,
-                                                                   compliance_, stabilization_})
-                               : rows(MixedCurrentLaw<Memory, 3>{solid_.material, solid_.stiffness,
-                                                                 compliance_, stabilization_});
+      inverted = incremental()
+                     ? rows(MixedIncrementLaw<Memory, 3>{solid_.material, solid_.stiffness,
+                                                         compliance_, stabilization_})
+                     : rows(MixedCurrentLaw<Memory, 3>{solid_.material, solid_.stiffness,
+                                                       compliance_, stabilization_});
     if (small_) { // g = J0 x
       originTaken_ = true;
       if (matrixFree_)
@@ -192,9 +204,8 @@ double SolidNonlinearMixedModel::evaluate(double lambda, bool tangent) {
     subtractLoad(g_, kUnknowns, lambda);
     if (follower_.edges.extent(0) > 0) {
       const auto [pressure, factor] = followerPressureAt(lambda);
-      assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), mesh, ConstVec(x_),
-                                                    follower_.edges, pressure, factor, map_, a,
-                                                    followerForce(g_));
+      assembleFollowerFacePressure<kUnknowns, Elem>(Exec(), mesh, ConstVec(x_), follower_.edges,
+                                                    pressure, factor, map_, a, followerForce(g_));
       addFollowerForce(g_, kUnknowns);
     }
   };
@@ -218,9 +229,8 @@ LinearSolveStats SolidNonlinearMixedModel::correct(double lambda, double &increm
   const double stressFloor = 1e-8 * maxModulus_ * std::sqrt(static_cast<double>(mesh_.numNodes()));
   const double stress = incremental() ? strideNorm(totalStress(), 1, 0, 1, {}, 0)
                                       : strideNorm(x_, kUnknowns, kStressOffset, kStresses, {}, 0);
-  const double ds =
-      relativeToHistory(strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
-                        std::max(stress, stressFloor), kStressScale);
+  const double ds = relativeToHistory(strideNorm(dx_, kUnknowns, kStressOffset, kStresses, {}, 0),
+                                      std::max(stress, stressFloor), kStressScale);
   increment = std::max(du, ds);
   return s;
 }
@@ -325,7 +335,8 @@ void SolidNonlinearMixedModel::rollback() {
 
 // Form Current: the committed unknowns (total displacement and nodal Cauchy stress), as the 2D
 // model's current form saves them; the sizes tell a 2D state from a 3D one. Form Incremental: the
-// total displacement, tau and c1, as the 2D model's incremental form (detail::saveIncrementalState).
+// total displacement, tau and c1, as the 2D model's incremental form
+// (detail::saveIncrementalState).
 void SolidNonlinearMixedModel::saveCommitted(Checkpoint &state) const {
   if (incremental()) {
     detail::saveIncrementalState(state, displacement_, tau_, configuration_.mesh.coordinates);

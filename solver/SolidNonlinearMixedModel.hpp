@@ -115,9 +115,10 @@ private:
   MPI_Comm comm_ = MPI_COMM_SELF;
   MixedForm form_ = MixedForm::Current;
   StressUpdate stressUpdate_ = StressUpdate::Projected;
-  /// Form Incremental (allocated by setup()): c1, the last converged configuration (the
-  /// materials of solid_, its own coordinates), the nodal Cauchy stress tau there, the total
-  /// displacement to c1 (3 per node) and the scalar mass of the projected stress update.
+  /// Form Incremental (allocated by the first setup()): c1, the last converged configuration (the
+  /// materials of solid_, its own coordinates), the nodal Cauchy stress tau there and the total
+  /// displacement to c1 (3 per node); the scalar mass of the projected stress update (made at
+  /// the first commit).
   ElementData<Memory, 3> configuration_;
   Kokkos::View<double *, Memory> tau_, displacement_;
   CsrMatrix<Memory> mass_;

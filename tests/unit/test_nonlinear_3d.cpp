@@ -365,8 +365,7 @@ TEST_P(SolidNonlinearMixed, RigidRotationWithoutStressHasNoResidual) {
 /// The mixed model's incremental form (the report's literal scheme) on the distorted box of
 /// `type`, set up as makeMixedModel's, with the push-forward `update`.
 std::unique_ptr<SolidNonlinearMixedModel> makeIncrementalModel(const Solid &s, double a,
-                                                               bool follower,
-                                                               StressUpdate update) {
+                                                               bool follower, StressUpdate update) {
   auto model = std::make_unique<SolidNonlinearMixedModel>(s.mesh, s.material, s.stiffness, a);
   model->setForm(MixedForm::Incremental);
   model->setStressUpdate(update);
@@ -475,8 +474,7 @@ TEST_P(SolidNonlinearMixed, IncrementalCommitPushesAHomogeneousStateForward) {
     x.segment<6>(9 * k + 3) = s0;
     tau.segment<6>(6 * k) = tau0;
   }
-  const Eigen::Matrix3d expect =
-      f * voigtTensor(tau0 + s0) * f.transpose() / f.determinant();
+  const Eigen::Matrix3d expect = f * voigtTensor(tau0 + s0) * f.transpose() / f.determinant();
   for (StressUpdate update : {StressUpdate::Projected, StressUpdate::NodalAverage}) {
     SCOPED_TRACE(update == StressUpdate::Projected ? "projected" : "nodal average");
     const auto model = makeIncrementalModel(s, 0.0, false, update);

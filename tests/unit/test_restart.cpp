@@ -139,6 +139,18 @@ steps: {increments: 6, iteration: newton, tolerance: 0.001}
 solver: {type: direct}
 )",
      false},
+    // The projected update with the matrix-free Jacobian, which reads c1 and tau in place.
+    {"solid_mixed_incremental_matrix_free", R"(
+mesh: {generator: {type: box, size: [4, 0.5, 0.5], divisions: [4, 1, 1], element: hex8}}
+model: {formulation: mixed, geometric_nonlinearity: true, stabilization: 0.05,
+        mixed_form: incremental, stress_update: projected}
+materials: [{region: body, type: isotropic, E: 1.2e4, nu: 0.2}]
+boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
+loads: [{boundary: zmax, traction: [0, 0, -20.0]}]
+steps: {increments: 6, iteration: newton, tolerance: 0.001}
+solver: {type: amg, jacobian: matrix_free}
+)",
+     false},
     {"rigid_contact_friction", R"(
 mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
 model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}

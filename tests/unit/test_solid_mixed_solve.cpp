@@ -330,10 +330,11 @@ TEST(SolidMixedMatrixFree, ProductsAreThoseOfTheAssembledJacobian) {
     for (double a : {0.0, 0.05})
       for (int form = 0; form < 3; ++form) { // current, linear, incremental with a prestress
         const bool current = form == 0, prestressed = form == 2;
-        const std::string what =
-            elementTypeName(type) +
-            (current ? " current" : prestressed ? " incremental" : " linear") +
-            " a = " + std::to_string(a);
+        const std::string what = elementTypeName(type) +
+                                 (current       ? " current"
+                                  : prestressed ? " incremental"
+                                                : " linear") +
+                                 " a = " + std::to_string(a);
         const Mesh mesh = distortedBox(2, type);
         const LocalIndex nn = mesh.numNodes();
         const SolidMatrix c = rotatedOrthotropicSolid();
@@ -368,8 +369,8 @@ TEST(SolidMixedMatrixFree, ProductsAreThoseOfTheAssembledJacobian) {
                       MixedCurrentLaw<DeviceSpace, 3>{d.material, d.stiffness, compliance, a}, xd)
                 : assembledJacobian(
                       mesh, d,
-                      MixedIncrementLaw<DeviceSpace, 3>{d.material, d.stiffness, compliance, a},
-                      xd, deviceCopy(tau));
+                      MixedIncrementLaw<DeviceSpace, 3>{d.material, d.stiffness, compliance, a}, xd,
+                      deviceCopy(tau));
         SolidMixedMatrixFree mf(mesh, d, compliance, a, current,
                                 prestressed ? deviceCopy(tau)
                                             : Kokkos::View<const double *, DeviceSpace>());

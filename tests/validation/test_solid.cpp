@@ -331,9 +331,8 @@ namespace {
 /// increments: per increment the relative deformation Fi = F(lambda_n+1) F(lambda_n)^-1 carries
 /// tau_n + C : E(Fi) to tau_n+1 = Fi (tau_n + C : E(Fi)) Fi^T / det Fi (Eq. (9), (5b) with the
 /// incremental St. Venant-Kirchhoff law); tau_0 = 0. Voigt xx, yy, zz, yz, xz, xy.
-std::vector<Eigen::Matrix<double, 6, 1>> incrementalCauchy(const SolidMatrix &c,
-                                                           const Eigen::Matrix3d &f,
-                                                           int increments) {
+std::vector<Eigen::Matrix<double, 6, 1>>
+incrementalCauchy(const SolidMatrix &c, const Eigen::Matrix3d &f, int increments) {
   const Eigen::Matrix3d id = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d tau = Eigen::Matrix3d::Zero();
   std::vector<Eigen::Matrix<double, 6, 1>> out;
@@ -358,10 +357,10 @@ std::vector<Eigen::Matrix<double, 6, 1>> incrementalCauchy(const SolidMatrix &c,
 
 // The finite-deformation patch test of the 3D mixed model's incremental form (the report's
 // literal scheme): x = F X (8 % strain, 0.4 rad) prescribed on the boundary of the distorted box
-// in 4 increments is reproduced inside (interior nodes checked), and after every increment every nodal Cauchy stress is
-// the hypoelastic closed form of incrementalCauchy (which differs from the current form's
-// C : e(F) by several % at this strain), with both stress updates (projected, node-averaged),
-// for a = 0 and 0.05; no force at interior nodes.
+// in 4 increments is reproduced inside (interior nodes checked), and after every increment every
+// nodal Cauchy stress is the hypoelastic closed form of incrementalCauchy (which differs from the
+// current form's C : e(F) by several % at this strain), with both stress updates (projected,
+// node-averaged), for a = 0 and 0.05; no force at interior nodes.
 TEST_P(SolidNonlinearMixedPatchTest, IncrementalFormFollowsTheHypoelasticClosedForm) {
   const auto [type, a] = GetParam();
   // 2 x 2 x 2 cells for the quadratic elements (interior nodes enough; 8 LU solves per update).
