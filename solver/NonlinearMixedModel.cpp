@@ -4,6 +4,7 @@
 #include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
+#include <solver/IncrementalUpdate.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/MixedModel.hpp>
 #include <solver/NonlinearMixedModel.hpp>
@@ -289,43 +290,12 @@ void NonlinearMixedModel::commit() {
     Kokkos::deep_copy(committedState_, x_);
     return;
   }
-  Vec load;
-  if (stressUpdate_ == StressUpdate::Projected) {
-    load = Vec("mixcon::nonlinear::projectionLoad", tau_.extent(0));
-    dispatchPlaneElement(
-        mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
-          using Elem = decltype(elem);
-          pushForwardProjectionLoad<Elem>(Exec(), current_.mesh, current_.thickness, ConstVec(tau_),
-                                          ConstVec(x_), load);
-        });
-  } else {
-    dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model",
-                         [&](auto elem) {
-                           using Elem = decltype(elem);
-                           pushForwardNodalStress<Elem>(Exec(), current_.mesh, ConstVec(x_), tau_);
-                         });
-  }
-  movedCoordinates(current_.mesh.coordinates, x_, kMixed, current_.mesh.coordinates);
-  Vec increment("mixcon::nonlinear::increment", committed_.extent(0));
-  gather(x_, kMixed, 0, kDisp, increment);
-  axpby(1.0, increment, 1.0, committed_);
-  Kokkos::deep_copy(x_, 0.0);
+  detail::commitIncrementalState<kDisp>(
+      [&](const auto &f) {
+        dispatchPlaneElement(mesh_.elementType, "the geometrically nonlinear mixed model", f);
+      },
+      current_.mesh, current_.thickness, stressUpdate_, graph_, map_, mass_, x_, tau_, committed_);
   updateTotalDisplacement();
-  if (stressUpdate_ == StressUpdate::Projected)
-    projectStress(load);
-}
-
-void NonlinearMixedModel::projectStress(const Vec &load) {
-  // Scalar consistent mass of the new configuration; CG with Jacobi per stress component.
-  if (mass_.numRows == 0)
-    mass_ = expandGraph<Memory>(graph_, 1);
-  Kokkos::deep_copy(mass_.values, 0.0);
-  dispatchPlaneElement(
-      mesh_.elementType, "the geometrically nonlinear mixed model", [&](auto elem) {
-        using Elem = decltype(elem);
-        assembleScalarMass<Elem>(Exec(), current_.mesh, data_.thickness, map_, mass_);
-      });
-  detail::projectNodalComponents(mass_, ConstVec(load), kStress, tau_);
 }
 
 void NonlinearMixedModel::rollback() {

@@ -82,8 +82,6 @@ private:
   void updateTotalDisplacement();
   /// Nodal Cauchy stress tau + S (3 per node).
   Kokkos::View<double *, Memory> stressOnly() const;
-  /// tau <- M(c2)^-1 load, component by component (the L2 projection of the stress update).
-  void projectStress(const Kokkos::View<double *, Memory> &load);
   void setupSchurPreconditioner();
   /// solveSchur() or solveBlockTriangular(), stronger AMG preconditioners while they fail.
   LinearSolveStats solveIterative();

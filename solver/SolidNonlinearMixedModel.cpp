@@ -3,6 +3,7 @@
 #include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
+#include <solver/IncrementalUpdate.hpp>
 #include <solver/Rules.hpp>
 #include <solver/SolidMixedModel.hpp>
 #include <solver/SolidNonlinearMixedModel.hpp>
@@ -296,33 +297,10 @@ void SolidNonlinearMixedModel::commit() {
 }
 
 void SolidNonlinearMixedModel::commitIncrement() {
-  Vec load;
-  dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
-    using Elem = decltype(elem);
-    if (stressUpdate_ == StressUpdate::Projected) {
-      load = Vec("mixcon::nonlinear3d::projectionLoad", tau_.extent(0));
-      pushForwardProjectionLoad<Elem>(Exec(), configuration_.mesh, 1.0, ConstVec(tau_),
-                                      ConstVec(x_), load);
-    } else {
-      pushForwardNodalStress<Elem>(Exec(), configuration_.mesh, ConstVec(x_), tau_);
-    }
-  });
-  movedCoordinates(configuration_.mesh.coordinates, x_, kUnknowns, configuration_.mesh.coordinates);
-  Vec increment("mixcon::nonlinear3d::increment", displacement_.extent(0));
-  gather(x_, kUnknowns, 0, dim(), increment);
-  axpby(1.0, increment, 1.0, displacement_);
-  Kokkos::deep_copy(x_, 0.0);
+  detail::commitIncrementalState<3>(
+      [&](const auto &f) { dispatchSolidElement(mesh_.elementType, "the 3D mixed model", f); },
+      configuration_.mesh, 1.0, stressUpdate_, graph_, map_, mass_, x_, tau_, displacement_);
   updateDisplacement();
-  if (stressUpdate_ != StressUpdate::Projected)
-    return;
-  // tau <- M(c2)^-1 load: the L2 projection onto the nodal stresses of the new configuration.
-  if (mass_.numRows == 0)
-    mass_ = expandGraph<Memory>(graph_, 1);
-  Kokkos::deep_copy(mass_.values, 0.0);
-  dispatchSolidElement(mesh_.elementType, "the 3D mixed model", [&](auto elem) {
-    assembleScalarMass<decltype(elem)>(Exec(), configuration_.mesh, 1.0, map_, mass_);
-  });
-  detail::projectNodalComponents(mass_, ConstVec(load), kStresses, tau_);
 }
 
 void SolidNonlinearMixedModel::rollback() {
