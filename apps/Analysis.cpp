@@ -620,6 +620,18 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
       return result;
     }
   }
+  if (const CapacitanceSolve &kept = model.keptFactorization(); kept.solves() > 0) {
+    // Contact corrections solved on a kept factorization (solver/CapacitanceSolve.hpp).
+    result.keptFactorizationCorrections = kept.solves();
+    result.keptFactorizations = kept.factorizations();
+    writer.setSummaryExtra("kept_factorization",
+                           "{\"factorizations\": " + std::to_string(kept.factorizations()) +
+                               ", \"corrections\": " + std::to_string(kept.solves()) + "}");
+    if (log)
+      *log << "mixcon: " << kept.solves() << " contact corrections solved on "
+           << kept.factorizations() << " kept factorization"
+           << (kept.factorizations() == 1 ? "" : "s") << " of the stiffness\n";
+  }
   writer.finish(true, "");
   if (log)
     *log << "mixcon: wrote " << result.outputDirectory << "/{"

@@ -31,6 +31,9 @@ struct RunResult {
   std::vector<double> displacement; ///< last step, N x 2
   std::vector<double> stress;       ///< last step, N x 3
   std::string outputDirectory;
+  /// Contact corrections solved on a kept factorization of the stiffness (the direct solver,
+  /// solver/CapacitanceSolve.hpp), and the factorizations they used.
+  int keptFactorizationCorrections = 0, keptFactorizations = 0;
 };
 
 /// Runs the analysis a problem describes and writes its results. Non-convergence of a step is

@@ -134,17 +134,21 @@ public:
 private:
   void buildPairs();
   /// The closed pairs as multipoint constraints on `stride` unknowns per node (the Dirichlet
-  /// flags of the contactors from prescribed()).
-  void constraints(int stride, MultiPointConstraints &c) const;
+  /// flags of the contactors from prescribed()), and when `conditions` is given the same
+  /// constraints as conditions on the global unknowns (ConstraintSet::conditions): per pair
+  /// n . u_p - sum_i w_i n . u_i = step_n, in stick also t . u_p - sum_j w_j t . u_j = step_t.
+  void constraints(int stride, MultiPointConstraints &c,
+                   std::vector<LinearCondition> *conditions = nullptr) const;
   /// Their device form on `numUnknowns` unknowns, built once per set of closed pairs (O(pairs)
   /// uploaded) and kept until the pairs change.
   const DeviceMultiPointConstraints &deviceConstraints(int stride, LocalIndex numUnknowns) const;
   /// The friction forces of the slip pairs on the device (nodes and 2 components each, only the
   /// nodes that carry one), uploaded by buildPairs.
   void uploadFriction();
-  CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
-  ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
-  ConstraintSet set_;                 ///< of the last correction
+  CsrMatrix<DeviceSpace> work_;             ///< the eliminated system of the last correction
+  ConstraintElimination elimination_;       ///< its symbolic phase, reused while the pairs stay
+  ConstraintSet set_;                       ///< of the last correction
+  std::vector<LinearCondition> conditions_; ///< its constraints as conditions
   mutable DeviceMultiPointConstraints deviceConstraints_;
   mutable bool deviceConstraintsFresh_ = false;
   mutable int deviceConstraintsStride_ = 0;

@@ -75,13 +75,16 @@ const DeviceMultiPointConstraints &SurfaceContact::deviceConstraints(int stride,
   return deviceConstraints_;
 }
 
-void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
+void SurfaceContact::constraints(int stride, MultiPointConstraints &c,
+                                 std::vector<LinearCondition> *conditions) const {
   // Per closed contactor p on target nodes i with weights w_i: in its local frame (n, t) the
   // normal displacement is sum_i w_i n . u_i - gap (slave), in stick the tangential one
   // sum_j w_j t . u_j + tangentStep at the anchor (slave), in slip the tangential one free:
   // u_p = n (sum_i w_i n . u_i + step_n) + t (...). A contactor with one component held by a
   // Dirichlet condition (a symmetry line) takes the normal condition on its other component.
   c.clear();
+  if (conditions)
+    conditions->clear();
   for (const SurfacePair &q : pairs_) {
     const LocalIndex i0 = stride * q.node;
     const bool fx = prescribed_[2 * static_cast<std::size_t>(q.node)] != 0,
@@ -92,6 +95,12 @@ void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
     for (int a = 0; a < q.normalCount; ++a)
       for (int d = 0; d < 2; ++d)
         normalRow.emplace_back(stride * q.normalNodes[a] + d, q.normalWeights[a] * q.normal[d]);
+    if (conditions) { // n . u_p - normalRow . u = step_n (a held component of p included)
+      LinearCondition normal{{{i0, q.normal[0]}, {i0 + 1, q.normal[1]}}, q.normalStep};
+      for (const auto &e : normalRow)
+        normal.entries.emplace_back(e.first, -e.second);
+      conditions->push_back(std::move(normal));
+    }
     if (fx || fy) {
       const int fixed = fx ? 0 : 1, other = 1 - fixed;
       const double nf = q.normal[fixed], no = q.normal[other];
@@ -112,6 +121,12 @@ void SurfaceContact::constraints(int stride, MultiPointConstraints &c) const {
         for (int d = 0; d < 2; ++d)
           tangentRow.emplace_back(stride * q.tangentNodes[a] + d,
                                   q.tangentWeights[a] * q.tangent[d]);
+    if (conditions && q.stick) { // t . u_p - tangentRow . u = step_t
+      LinearCondition tangent{{{i0, q.tangent[0]}, {i0 + 1, q.tangent[1]}}, q.tangentStep};
+      for (const auto &e : tangentRow)
+        tangent.entries.emplace_back(e.first, -e.second);
+      conditions->push_back(std::move(tangent));
+    }
     for (int d = 0; d < 2; ++d) {
       std::vector<std::pair<LocalIndex, double>> row;
       for (const auto &e : normalRow)
@@ -141,6 +156,9 @@ const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys)
   set_.values = sys.target;
   set_.multipoint = &deviceConstraints(sys.stride, static_cast<LocalIndex>(sys.target.extent(0)));
   set_.slaveDiagonal = std::max(sys.stiffnessScale, 1e-300);
+  MultiPointConstraints rows; // the same constraints as conditions (O(pairs), host)
+  constraints(sys.stride, rows, &conditions_);
+  set_.conditions = &conditions_;
   return &set_;
 }
 

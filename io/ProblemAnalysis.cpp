@@ -152,6 +152,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "coarsest_size",
                  "smoother",
                  "reuse_hierarchy",
+                 "reuse_factorization",
                  "direct_fallback",
                  "coarse_space"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
@@ -164,8 +165,8 @@ void readSolver(const YamlItem &top, Problem &p) {
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
                    "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
-                   "coarsest_size", "smoother", "reuse_hierarchy", "print_level", "jacobian",
-                   "coarse_space"});
+                   "coarsest_size", "smoother", "reuse_hierarchy", "reuse_factorization",
+                   "print_level", "jacobian", "coarse_space"});
     }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
@@ -292,6 +293,8 @@ void readSolver(const YamlItem &top, Problem &p) {
     }
     if (s.has("reuse_hierarchy"))
       p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();
+    if (s.has("reuse_factorization"))
+      p.solver.reuseFactorization = s["reuse_factorization"].boolean();
     if (s.has("coarse_space"))
       p.solver.coarseSpace = s["coarse_space"].choice({"none", "rigid_body"}) == "rigid_body";
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())

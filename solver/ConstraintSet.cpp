@@ -14,7 +14,9 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 using Policy = Kokkos::RangePolicy<Exec>;
 
-/// `work` = a (its pattern shared when it already fits, values copied).
+} // namespace
+
+namespace detail {
 void copyMatrix(const CsrMatrix<DeviceSpace> &a, CsrMatrix<DeviceSpace> &work) {
   if (work.numRows != a.numRows || work.rowOffsets.data() != a.rowOffsets.data() ||
       work.values.extent(0) != a.values.extent(0)) {
@@ -24,8 +26,7 @@ void copyMatrix(const CsrMatrix<DeviceSpace> &a, CsrMatrix<DeviceSpace> &work) {
   }
   Kokkos::deep_copy(work.values, a.values);
 }
-
-} // namespace
+} // namespace detail
 
 LinearSolveStats solveConstrained(const ConstraintSet &c, const CsrMatrix<DeviceSpace> &a,
                                   CsrMatrix<DeviceSpace> &work, ConstraintElimination &elimination,
@@ -38,7 +39,7 @@ LinearSolveStats solveConstrained(const ConstraintSet &c, const CsrMatrix<Device
   // Frames: A <- R^T A R, b <- R^T b (on a copy of A).
   CsrMatrix<DeviceSpace> rotated;
   if (c.hasFrames()) {
-    copyMatrix(a, work);
+    detail::copyMatrix(a, work);
     rotateToLocalFrames(Exec(), work, c.stride, c.framed, c.normal, b);
     rotated = work;
   }
@@ -54,7 +55,7 @@ LinearSolveStats solveConstrained(const ConstraintSet &c, const CsrMatrix<Device
         KOKKOS_LAMBDA(LocalIndex i) { held(i) = f(i) || slave(i) ? 1 : 0; });
     flags = held;
   } else if (!c.hasFrames()) {
-    copyMatrix(a, work);
+    detail::copyMatrix(a, work);
   }
   applyDirichlet(Exec(), work, flags, c.values, b);
   Exec().fence();

@@ -13,7 +13,16 @@
 #include <solver/LinearSolver.hpp>
 #include <solver/MultiPointConstraints.hpp>
 
+#include <utility>
+#include <vector>
+
 namespace mixcon {
+
+/// A linear condition sum_e c_e x_e = d on the global unknowns (host description).
+struct LinearCondition {
+  std::vector<std::pair<LocalIndex, double>> entries;
+  double value = 0.0;
+};
 
 struct ConstraintSet {
   int stride = 2;                               ///< unknowns per node, the displacement pair first
@@ -23,6 +32,10 @@ struct ConstraintSet {
   Kokkos::View<const double *[2], DeviceSpace> normal;     ///< per node: n of its frame
   const DeviceMultiPointConstraints *multipoint = nullptr; ///< T and s; nullptr: none
   double slaveDiagonal = 1.0; ///< D at the slaves (scale it like A's diagonal)
+  /// The multipoint rows' constraints written as conditions on the global unknowns, for a
+  /// solver that takes them in that form (solver/CapacitanceSolve.hpp); nullptr: not given, and
+  /// only the elimination solves the set.
+  const std::vector<LinearCondition> *conditions = nullptr;
   bool hasFrames() const { return framed.extent(0) > 0; }
   bool hasMultipoint() const { return multipoint && !multipoint->empty(); }
 };
@@ -37,6 +50,11 @@ LinearSolveStats solveConstrained(const ConstraintSet &c, const CsrMatrix<Device
                                   LinearSolver &solver,
                                   const Kokkos::View<double *, DeviceSpace> &x,
                                   double *setupSeconds = nullptr);
+
+namespace detail {
+/// `work` = a: its pattern shared when it already fits, the values copied.
+void copyMatrix(const CsrMatrix<DeviceSpace> &a, CsrMatrix<DeviceSpace> &work);
+} // namespace detail
 
 /// ||T^T R^T g|| over the displacement unknowns (i % stride < 2) neither prescribed nor slaves:
 /// the residual the constrained system balances (a device reduction; nothing copied).

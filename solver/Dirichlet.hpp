@@ -8,6 +8,48 @@
 
 namespace mixcon {
 
+namespace detail {
+/// One row of the constraints: a constrained row keeps its diagonal d_ii (1 where it is 0) and
+/// gets rhs d_ii g_i; a free row moves its constrained columns' terms to the rhs. The matrix is
+/// changed only with kModifyMatrix (otherwise the rhs is lifted for a matrix already changed).
+template <class MemorySpace, bool kModifyMatrix> struct DirichletRows {
+  Kokkos::View<const Offset *, MemorySpace> ro;
+  Kokkos::View<const LocalIndex *, MemorySpace> co;
+  Kokkos::View<double *, MemorySpace> va;
+  Kokkos::View<const int *, MemorySpace> constrained;
+  Kokkos::View<const double *, MemorySpace> value;
+  Kokkos::View<double *, MemorySpace> rhs;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex i) const {
+    if (constrained(i)) {
+      double diag = 0.0;
+      for (Offset k = ro(i); k < ro(i + 1); ++k) {
+        if (co(k) == i)
+          diag = va(k);
+        else if (kModifyMatrix)
+          va(k) = 0.0;
+      }
+      if (diag == 0.0) {
+        diag = 1.0;
+        if (kModifyMatrix)
+          for (Offset k = ro(i); k < ro(i + 1); ++k)
+            if (co(k) == i)
+              va(k) = 1.0;
+      }
+      rhs(i) = diag * value(i);
+    } else {
+      double shift = 0.0;
+      for (Offset k = ro(i); k < ro(i + 1); ++k)
+        if (constrained(co(k))) {
+          shift += va(k) * value(co(k));
+          if (kModifyMatrix)
+            va(k) = 0.0;
+        }
+      rhs(i) -= shift;
+    }
+  }
+};
+} // namespace detail
+
 /// Applies constraints in place. `constrained(i)` != 0 marks unknown i, `value(i)` its prescribed
 /// value. Rows are independent, so the kernel is race free. A zero diagonal becomes 1.
 template <class ExecSpace, class MemorySpace>
@@ -15,37 +57,23 @@ void applyDirichlet(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
                     const Kokkos::View<const int *, MemorySpace> &constrained,
                     const Kokkos::View<const double *, MemorySpace> &value,
                     const Kokkos::View<double *, MemorySpace> &rhs) {
-  auto ro = a.rowOffsets;
-  auto co = a.columns;
-  auto va = a.values;
-  Kokkos::parallel_for(
-      "mixcon::solver::applyDirichlet", Kokkos::RangePolicy<ExecSpace>(exec, 0, a.numRows),
-      KOKKOS_LAMBDA(LocalIndex i) {
-        if (constrained(i)) {
-          double diag = 0.0;
-          for (Offset k = ro(i); k < ro(i + 1); ++k) {
-            if (co(k) == i)
-              diag = va(k);
-            else
-              va(k) = 0.0;
-          }
-          if (diag == 0.0) {
-            diag = 1.0;
-            for (Offset k = ro(i); k < ro(i + 1); ++k)
-              if (co(k) == i)
-                va(k) = 1.0;
-          }
-          rhs(i) = diag * value(i);
-        } else {
-          double shift = 0.0;
-          for (Offset k = ro(i); k < ro(i + 1); ++k)
-            if (constrained(co(k))) {
-              shift += va(k) * value(co(k));
-              va(k) = 0.0;
-            }
-          rhs(i) -= shift;
-        }
-      });
+  Kokkos::parallel_for("mixcon::solver::applyDirichlet",
+                       Kokkos::RangePolicy<ExecSpace>(exec, 0, a.numRows),
+                       detail::DirichletRows<MemorySpace, true>{a.rowOffsets, a.columns, a.values,
+                                                                constrained, value, rhs});
+}
+
+/// The right-hand side applyDirichlet would give, `a` (the unconstrained matrix) left as it is:
+/// for a system whose constrained matrix was factorized before and only b changes.
+template <class ExecSpace, class MemorySpace>
+void liftDirichlet(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
+                   const Kokkos::View<const int *, MemorySpace> &constrained,
+                   const Kokkos::View<const double *, MemorySpace> &value,
+                   const Kokkos::View<double *, MemorySpace> &rhs) {
+  Kokkos::parallel_for("mixcon::solver::liftDirichlet",
+                       Kokkos::RangePolicy<ExecSpace>(exec, 0, a.numRows),
+                       detail::DirichletRows<MemorySpace, false>{a.rowOffsets, a.columns, a.values,
+                                                                 constrained, value, rhs});
 }
 
 /// Matrix-free form of the same constraints, for an operator A applied without a matrix:

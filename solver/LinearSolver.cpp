@@ -111,8 +111,8 @@ private:
 class DirectSolver final : public LinearSolver {
 public:
   DirectSolver(MPI_Comm comm, const LinearSolverOptions &o)
-      : symmetric_(o.symmetric), saddle_(o.indefinite), indefinite_(o.indefinite),
-        tolerance_(o.tolerance) {
+      : options_(o), comm_(comm), symmetric_(o.symmetric), saddle_(o.indefinite),
+        indefinite_(o.indefinite), keep_(o.reuseFactorization), tolerance_(o.tolerance) {
     int size = 1;
     MPI_Comm_size(comm, &size);
     if (size != 1)
@@ -153,6 +153,7 @@ public:
         ((cholesky || (symmetric_ && !saddle_)) && !(factors_.pivotRatio() > kSingularPivot)))
       throw std::runtime_error(kSingular);
     factored_ = true;
+    ++builds_;
     setupSeconds_ = seconds(start);
   }
 
@@ -209,8 +210,15 @@ public:
     return std::string("direct (") + SparseDirect::name(method) + ")";
   }
   double setupSeconds() const override { return setupSeconds_; }
+  int builds() const override { return builds_; }
+  bool keepsFactorization() const override { return keep_; }
+  std::unique_ptr<LinearSolver> another() const override {
+    return std::make_unique<DirectSolver>(comm_, options_);
+  }
 
 private:
+  LinearSolverOptions options_; ///< as given (another() starts from them)
+  MPI_Comm comm_;
   SparseDirect factors_;
   /// A pivot at rounding level relative to the largest: the matrix is singular to working
   /// precision. Measured min/max |pivot| (with Eigen's LDL^T, before SuiteSparse): 9e-16 for the
@@ -231,8 +239,10 @@ private:
   bool saddle_ = false; ///< LinearSolverOptions::indefinite
   bool factored_ = false;
   bool indefinite_ = false; ///< said so, or the Cholesky met a pivot <= 0: LU from then on
+  bool keep_ = true;        ///< LinearSolverOptions::reuseFactorization
   double tolerance_ = 1e-8;
   double setupSeconds_ = 0.0;
+  int builds_ = 0; ///< factorizations
 };
 
 class HypreAmgSolver final : public LinearSolver {

@@ -82,6 +82,9 @@ struct LinearSolverOptions {
   /// the next setup; a solve that fails with a kept hierarchy is redone with a fresh one).
   bool reuseHierarchy = true;
   double reuseIterationGrowth = 2.0;
+  /// The direct solver's factorization may be kept across contact corrections while the matrix
+  /// stays and only the contact conditions change (solver/CapacitanceSolve.hpp).
+  bool reuseFactorization = true;
   /// A second level around the BoomerAMG V-cycle: the rigid-body modes of small node aggregates
   /// with their Galerkin operator factorized (solver/RigidCoarseSpace.hpp), applied by the
   /// balancing method in mixcon's CG (GMRES where not symmetric). For slender parts, whose
@@ -149,6 +152,13 @@ public:
   /// Full setups (hierarchies built or factorizations) and setups that kept the hierarchy.
   virtual int builds() const { return 0; }
   virtual int reuses() const { return 0; }
+  /// True where solve() is exact to round-off on a factorization kept until the next setup()
+  /// (the direct solver) and the options allow a caller to keep one for other constraints
+  /// (LinearSolverOptions::reuseFactorization); builds() then counts the factorizations.
+  virtual bool keepsFactorization() const { return false; }
+  /// A new solver of the same kind and options, nothing set up (the direct solver: for a
+  /// caller that keeps a factorization of its own beside this one's); nullptr where not offered.
+  virtual std::unique_ptr<LinearSolver> another() const { return nullptr; }
 };
 
 /// Creates the solver chosen in the options. `comm` must outlive the solver. Throws

@@ -257,6 +257,11 @@ LinearSolveStats NonlinearModel::correctWithContact(
     return contact_->correct(system, dx);
   axpby(-1.0, g, 0.0, rhs);
   solverSetupSeconds_ += seconds(start);
+  // The same matrix as in the last correction, only the contact conditions changed: solved on
+  // one kept factorization (solver/CapacitanceSolve.hpp) where the solver allows it.
+  LinearSolveStats kept;
+  if (capacitance_.solve(*set, flags, tangent, rhs, solver, dx, kept, &solverSetupSeconds_))
+    return kept;
   // Frames and Dirichlet rows keep the tangent's pattern (the model's `work`, as its own
   // corrections); multipoint rows make a reduced matrix of another pattern (its own storage).
   return solveConstrained(*set, tangent, set->hasMultipoint() ? contactWork_ : work,

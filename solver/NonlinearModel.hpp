@@ -7,6 +7,7 @@
 // ContactIterations (solver/ContactIterations.hpp). Theory: docs/theory.md. Layer: solver.
 #pragma once
 
+#include <solver/CapacitanceSolve.hpp>
 #include <solver/Checkpoint.hpp>
 #include <solver/ContactIterations.hpp>
 #include <solver/ModelBase.hpp>
@@ -68,6 +69,9 @@ public:
   /// constrained corrections; the load stepper for its status iterations.
   void setContact(ContactIterations *contact) { contact_ = contact; }
   ContactIterations *contactIterations() const { return contact_; }
+  /// The contact corrections solved on a kept factorization (the direct solver, the stiffness
+  /// unchanged between corrections: solver/CapacitanceSolve.hpp), for the run's summary.
+  const CapacitanceSolve &keptFactorization() const { return capacitance_; }
   /// Host copy of the last residual G = f_int - f_ext (unknowns per node as the model's, the
   /// displacements first) and that count per node.
   virtual std::vector<double> residualVectorHost() const = 0;
@@ -171,8 +175,9 @@ protected:
   ContactIterations *contact_ = nullptr;
   CsrMatrix<Memory> contactWork_;            ///< the reduced system of multipoint constraints
   ConstraintElimination contactElimination_; ///< its symbolic phase, kept between corrections
-  ElasticLaw law_ = ElasticLaw::Almansi;     ///< the displacement model's law (output stresses)
-  bool small_ = false; ///< small-displacement kinematics (setSmallDisplacements)
+  CapacitanceSolve capacitance_; ///< contact corrections on one factorization (direct solver)
+  ElasticLaw law_ = ElasticLaw::Almansi; ///< the displacement model's law (output stresses)
+  bool small_ = false;                   ///< small-displacement kinematics (setSmallDisplacements)
   /// Where a mixed model takes its Jacobian: its unknowns x, or with small displacements the
   /// origin (zeros of x's length, allocated on first use), where the Jacobian is J0, the linear
   /// operator, and the residual J0 x - f.
