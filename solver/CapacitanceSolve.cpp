@@ -82,47 +82,31 @@ bool withoutBaseEntries(const Kokkos::View<const int *, DeviceSpace> &base,
   return true;
 }
 
-} // namespace
-
-bool CapacitanceSolve::sameMatrix(const CsrMatrix<DeviceSpace> &a,
-                                  const Kokkos::View<const int *, DeviceSpace> &base) const {
-  if (a.rowOffsets.data() != rowOffsets_ || a.columns.data() != columns_ ||
-      values_.extent(0) != a.values.extent(0) || base_.extent(0) != base.extent(0))
-    return false;
-  const auto va = a.values;
-  const auto ref = values_;
-  const auto bf = base;
-  const auto rf = base_;
-  int differ = 0;
+/// Entries where two arrays differ (exactly).
+int differences(const Kokkos::View<const double *, DeviceSpace> &a,
+                const Kokkos::View<const double *, DeviceSpace> &b) {
+  int count = 0;
   Kokkos::parallel_reduce(
-      "mixcon::capacitance::sameMatrix", Policy(0, static_cast<Offset>(va.extent(0))),
-      KOKKOS_LAMBDA(Offset k, int &acc) { acc += va(k) != ref(k) ? 1 : 0; }, differ);
-  if (differ)
-    return false;
-  Kokkos::parallel_reduce(
-      "mixcon::capacitance::sameBase", Policy(0, static_cast<LocalIndex>(bf.extent(0))),
-      KOKKOS_LAMBDA(LocalIndex i, int &acc) { acc += (bf(i) != 0) != (rf(i) != 0) ? 1 : 0; },
-      differ);
-  return differ == 0;
+      "mixcon::capacitance::sameValues", Policy(0, static_cast<Offset>(a.extent(0))),
+      KOKKOS_LAMBDA(Offset k, int &acc) { acc += a(k) != b(k) ? 1 : 0; }, count);
+  return count;
 }
 
-void CapacitanceSolve::record(const CsrMatrix<DeviceSpace> &a,
-                              const Kokkos::View<const int *, DeviceSpace> &base) {
-  rowOffsets_ = a.rowOffsets.data();
-  columns_ = a.columns.data();
-  if (values_.extent(0) != a.values.extent(0))
-    values_ =
-        Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::values", a.values.extent(0));
-  Kokkos::deep_copy(values_, a.values);
-  if (base_.extent(0) != base.extent(0))
-    base_ = Kokkos::View<int *, DeviceSpace>("mixcon::capacitance::base", base.extent(0));
-  Kokkos::deep_copy(base_, base);
-  factored_ = false; // nothing factorized for it yet
-  declined_ = false;
-  // The row-sum norm ||A||_inf, the scale of the conditions' residual.
+/// Entries where two flag arrays differ (set or not).
+int flagDifferences(const Kokkos::View<const int *, DeviceSpace> &a,
+                    const Kokkos::View<const int *, DeviceSpace> &b) {
+  int count = 0;
+  Kokkos::parallel_reduce(
+      "mixcon::capacitance::sameFlags", Policy(0, static_cast<LocalIndex>(a.extent(0))),
+      KOKKOS_LAMBDA(LocalIndex i, int &acc) { acc += (a(i) != 0) != (b(i) != 0) ? 1 : 0; }, count);
+  return count;
+}
+
+/// ||A||_inf on the device.
+double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
   const auto ro = a.rowOffsets;
   const auto va = a.values;
-  normInf_ = 0.0;
+  double norm = 0.0;
   Kokkos::parallel_reduce(
       "mixcon::capacitance::rowSumNorm", Policy(0, a.numRows),
       KOKKOS_LAMBDA(LocalIndex i, double &m) {
@@ -131,26 +115,28 @@ void CapacitanceSolve::record(const CsrMatrix<DeviceSpace> &a,
           sum += detail::fabs(va(k));
         m = sum > m ? sum : m;
       },
-      Kokkos::Max<double>(normInf_));
+      Kokkos::Max<double>(norm));
+  return norm;
 }
 
-double CapacitanceSolve::constrainedResidual(const CsrMatrix<DeviceSpace> &a,
-                                             const Kokkos::View<const int *, DeviceSpace> &base,
-                                             const Kokkos::View<const double *, DeviceSpace> &b,
-                                             const Kokkos::View<const double *, DeviceSpace> &x,
-                                             const std::vector<LocalIndex> &unknowns,
-                                             const std::vector<double> &mu,
-                                             const std::vector<LinearCondition> &rows) {
+/// max(||b - A x - C^T lambda|| / sqrt(||b||^2 + ||C^T lambda||^2) over the free rows, the
+/// largest |c_k . x - d_k| relative to |d_k| + sum_e |c_ke| u), C^T lambda given as `mu` at
+/// `unknowns` (sorted), u the larger of max|x| and ||b|| / ||A||_inf (`normInf`); `force` and
+/// `product` are scratch vectors of A's size.
+double constrainedResidual(const CsrMatrix<DeviceSpace> &a,
+                           const Kokkos::View<const int *, DeviceSpace> &base,
+                           const Kokkos::View<const double *, DeviceSpace> &b,
+                           const Kokkos::View<const double *, DeviceSpace> &x,
+                           const std::vector<LocalIndex> &unknowns, const std::vector<double> &mu,
+                           const std::vector<LinearCondition> &rows, double normInf,
+                           const Kokkos::View<double *, DeviceSpace> &force,
+                           const Kokkos::View<double *, DeviceSpace> &product) {
   const LocalIndex n = a.numRows;
-  if (force_.extent(0) != static_cast<std::size_t>(n)) {
-    force_ = Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::force", n);
-    product_ = Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::product", n);
-  }
   // C^T lambda (at the touched unknowns) and x there, through one small upload and copy.
   const std::size_t t = unknowns.size();
   const auto du = upload(unknowns, "mixcon::capacitance::residualUnknowns");
   const auto dm = upload(mu, "mixcon::capacitance::multipliers");
-  const auto f = force_;
+  const auto f = force;
   Kokkos::deep_copy(f, 0.0);
   Kokkos::parallel_for(
       "mixcon::capacitance::scatterMultipliers", Policy(0, static_cast<LocalIndex>(t)),
@@ -159,8 +145,8 @@ double CapacitanceSolve::constrainedResidual(const CsrMatrix<DeviceSpace> &a,
         dm(q) = x(du(q));
       });
   const auto hx = copyToHost(dm);
-  multiply(Exec(), a, x, product_);
-  const auto ax = product_;
+  multiply(Exec(), a, x, product);
+  const auto ax = product;
   double r2 = 0.0, b2 = 0.0;
   Kokkos::parallel_reduce(
       "mixcon::capacitance::residual", Policy(0, n),
@@ -182,7 +168,7 @@ double CapacitanceSolve::constrainedResidual(const CsrMatrix<DeviceSpace> &a,
         m = v > m ? v : m;
       },
       Kokkos::Max<double>(xmax));
-  xmax = std::max(xmax, normInf_ > 0.0 ? std::sqrt(b2) / normInf_ : 0.0);
+  xmax = std::max(xmax, normInf > 0.0 ? std::sqrt(b2) / normInf : 0.0);
   double worst = 0.0;
   for (const LinearCondition &r : rows) {
     double cx = 0.0, scale = std::abs(r.value);
@@ -196,6 +182,31 @@ double CapacitanceSolve::constrainedResidual(const CsrMatrix<DeviceSpace> &a,
       worst = std::max(worst, std::abs(cx - r.value) / scale);
   }
   return std::max(b2 > 0.0 ? std::sqrt(r2 / b2) : std::sqrt(r2), worst);
+}
+
+} // namespace
+
+bool CapacitanceSolve::sameMatrix(const CsrMatrix<DeviceSpace> &a,
+                                  const Kokkos::View<const int *, DeviceSpace> &base) const {
+  return a.rowOffsets.data() == rowOffsets_ && a.columns.data() == columns_ &&
+         values_.extent(0) == a.values.extent(0) && base_.extent(0) == base.extent(0) &&
+         differences(a.values, values_) == 0 && flagDifferences(base, base_) == 0;
+}
+
+void CapacitanceSolve::record(const CsrMatrix<DeviceSpace> &a,
+                              const Kokkos::View<const int *, DeviceSpace> &base) {
+  rowOffsets_ = a.rowOffsets.data();
+  columns_ = a.columns.data();
+  if (values_.extent(0) != a.values.extent(0))
+    values_ =
+        Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::values", a.values.extent(0));
+  Kokkos::deep_copy(values_, a.values);
+  if (base_.extent(0) != base.extent(0))
+    base_ = Kokkos::View<int *, DeviceSpace>("mixcon::capacitance::base", base.extent(0));
+  Kokkos::deep_copy(base_, base);
+  factored_ = false; // nothing factorized for it yet
+  declined_ = false;
+  normInf_ = rowSumNorm(a); // the scale of the conditions' residual
 }
 
 bool CapacitanceSolve::factorize(const ConstraintSet &c,
@@ -424,7 +435,12 @@ bool CapacitanceSolve::solve(const ConstraintSet &c,
     }
     // The true residual of the constrained system: b - A x - C^T lambda on the free rows and
     // C x - d. A nearly singular A0 gives columns too large to combine accurately: declined.
-    s.relativeResidual = constrainedResidual(a, base, b, x, distinct, mu, rows);
+    if (force_.extent(0) != static_cast<std::size_t>(n)) {
+      force_ = Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::force", n);
+      product_ = Kokkos::View<double *, DeviceSpace>("mixcon::capacitance::product", n);
+    }
+    s.relativeResidual =
+        constrainedResidual(a, base, b, x, distinct, mu, rows, normInf_, force_, product_);
     if (!(s.relativeResidual <= kResidualBound)) {
       declined_ = true;
       own_.reset();

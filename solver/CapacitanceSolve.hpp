@@ -65,14 +65,6 @@ private:
   /// A0 factorized by own_ (made from `solver` first); false where A0 is singular.
   bool factorize(const ConstraintSet &c, const Kokkos::View<const int *, DeviceSpace> &base,
                  const CsrMatrix<DeviceSpace> &a, const LinearSolver &solver);
-  /// max(||b - A x - C^T lambda|| / (||b|| + ||C^T lambda||) over the free rows, the largest
-  /// |c_k . x - d_k| relative to its terms), C^T lambda given as `mu` at `unknowns` (sorted).
-  double constrainedResidual(const CsrMatrix<DeviceSpace> &a,
-                             const Kokkos::View<const int *, DeviceSpace> &base,
-                             const Kokkos::View<const double *, DeviceSpace> &b,
-                             const Kokkos::View<const double *, DeviceSpace> &x,
-                             const std::vector<LocalIndex> &unknowns, const std::vector<double> &mu,
-                             const std::vector<LinearCondition> &rows);
   /// The kept column A0^-1 e_u (solved now if u has none).
   int column(LocalIndex u, LinearSolveStats &stats);
 
