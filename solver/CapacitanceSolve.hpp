@@ -9,7 +9,8 @@
 // solve):
 //   y = A0^-1 b0,   S lambda = C y - d,   x = y - A0^-1 C^T lambda,
 // with the columns A0^-1 e_u kept for every unknown u a condition has touched since the
-// factorization (two solves per contact node, once). Entries at base unknowns move to d. The
+// factorization (two solves per node a condition touches, once per factorization; at most
+// kMaxColumns, and 32 Mi values in all). Entries at base unknowns move to d. The
 // result is the constrained system's solution up to round-off, as solveConstrained's
 // elimination gives it.
 // Used only where the solver's solve() is exact on a kept factorization
@@ -35,8 +36,9 @@ public:
   /// solveConstrained (S is dense, and a column costs a solve and a vector).
   static constexpr int kMaxConditions = 400;
   static constexpr int kMaxColumns = 2 * kMaxConditions;
-  /// Largest relative residual of a solution taken (constrainedResidual); the direct solver's
-  /// are about 1e-15, a nearly singular A0 (a body held only by contact) gives O(1).
+  /// Largest relative residual of a solution taken (free rows and conditions, checked after
+  /// every solve); the direct solver's are about 1e-15, a nearly singular A0 (a body held only
+  /// by contact) gives O(1).
   static constexpr double kResidualBound = 1e-9;
 
   /// x solving A x = b under `c`, where `base` flags the unknowns prescribed in every correction
