@@ -145,10 +145,11 @@ private:
   /// The friction forces of the slip pairs on the device (nodes and 2 components each, only the
   /// nodes that carry one), uploaded by buildPairs.
   void uploadFriction();
-  CsrMatrix<DeviceSpace> work_;             ///< the eliminated system of the last correction
-  ConstraintElimination elimination_;       ///< its symbolic phase, reused while the pairs stay
-  ConstraintSet set_;                       ///< of the last correction
-  std::vector<LinearCondition> conditions_; ///< its constraints as conditions
+  CsrMatrix<DeviceSpace> work_;       ///< the eliminated system of the last correction
+  ConstraintElimination elimination_; ///< its symbolic phase, reused while the pairs stay
+  ConstraintSet set_;                 ///< of the last correction
+  /// The device constraints' rows as conditions, built with them (ConstraintSet::conditions).
+  mutable std::vector<LinearCondition> conditions_;
   mutable DeviceMultiPointConstraints deviceConstraints_;
   mutable bool deviceConstraintsFresh_ = false;
   mutable int deviceConstraintsStride_ = 0;

@@ -67,7 +67,7 @@ const DeviceMultiPointConstraints &SurfaceContact::deviceConstraints(int stride,
   if (!deviceConstraintsFresh_ || deviceConstraintsStride_ != stride ||
       deviceConstraints_.numUnknowns != n) {
     MultiPointConstraints c;
-    constraints(stride, c);
+    constraints(stride, c, &conditions_); // the same constraints as conditions, kept with them
     deviceConstraints_ = toDevice(c, n);
     deviceConstraintsFresh_ = true;
     deviceConstraintsStride_ = stride;
@@ -156,9 +156,7 @@ const ConstraintSet *SurfaceContact::constraintSet(const ContactCorrection &sys)
   set_.values = sys.target;
   set_.multipoint = &deviceConstraints(sys.stride, static_cast<LocalIndex>(sys.target.extent(0)));
   set_.slaveDiagonal = std::max(sys.stiffnessScale, 1e-300);
-  MultiPointConstraints rows; // the same constraints as conditions (O(pairs), host)
-  constraints(sys.stride, rows, &conditions_);
-  set_.conditions = &conditions_;
+  set_.conditions = &conditions_; // built with the device constraints above
   return &set_;
 }
 

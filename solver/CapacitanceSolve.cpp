@@ -2,6 +2,7 @@
 // Layer: solver.
 #include <solver/CapacitanceSolve.hpp>
 #include <solver/Dirichlet.hpp>
+#include <solver/FieldOps.hpp>
 #include <solver/HostAlgebra.hpp>
 #include <solver/Krylov.hpp>
 
@@ -22,18 +23,11 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 using Policy = Kokkos::RangePolicy<Exec>;
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 /// A device copy of a host list (O(conditions), uploaded once per correction).
 template <class T>
 Kokkos::View<T *, DeviceSpace> upload(const std::vector<T> &list, const char *label) {
   Kokkos::View<T *, DeviceSpace> d(std::string(label), list.size());
-  auto h = hostMirror(d);
-  for (std::size_t q = 0; q < list.size(); ++q)
-    h(q) = list[q];
-  copyToDevice(d, h);
+  copyToDevice(d, list);
   return d;
 }
 
@@ -366,7 +360,7 @@ bool CapacitanceSolve::solve(const ConstraintSet &c,
   for (LocalIndex u : distinct)
     column(u, s);
   if (setupSeconds)
-    *setupSeconds += secondsSince(start);
+    *setupSeconds += fieldops::seconds(start);
 
   // y = A0^-1 b0, b0 the right-hand side lifted by the base values (b itself is kept until the
   // method is known to apply).

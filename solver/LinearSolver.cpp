@@ -112,7 +112,7 @@ class DirectSolver final : public LinearSolver {
 public:
   DirectSolver(MPI_Comm comm, const LinearSolverOptions &o)
       : options_(o), comm_(comm), symmetric_(o.symmetric), saddle_(o.indefinite),
-        indefinite_(o.indefinite), keep_(o.reuseFactorization), tolerance_(o.tolerance) {
+        indefinite_(o.indefinite), tolerance_(o.tolerance) {
     int size = 1;
     MPI_Comm_size(comm, &size);
     if (size != 1)
@@ -211,7 +211,7 @@ public:
   }
   double setupSeconds() const override { return setupSeconds_; }
   int builds() const override { return builds_; }
-  bool keepsFactorization() const override { return keep_; }
+  bool keepsFactorization() const override { return options_.reuseFactorization; }
   std::unique_ptr<LinearSolver> another() const override {
     return std::make_unique<DirectSolver>(comm_, options_);
   }
@@ -239,7 +239,6 @@ private:
   bool saddle_ = false; ///< LinearSolverOptions::indefinite
   bool factored_ = false;
   bool indefinite_ = false; ///< said so, or the Cholesky met a pivot <= 0: LU from then on
-  bool keep_ = true;        ///< LinearSolverOptions::reuseFactorization
   double tolerance_ = 1e-8;
   double setupSeconds_ = 0.0;
   int builds_ = 0; ///< factorizations
