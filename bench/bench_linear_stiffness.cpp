@@ -102,6 +102,22 @@ constexpr double stiffnessFlops(int n, int quadraturePoints) {
   return quadraturePoints * (8.0 * n * n + 46.0 * n + 10.0);
 }
 
+/// Which stiffness kernel a benchmark times: the one the build chooses for the execution space
+/// (computeElementStiffness: "threads"), SIMD lanes of elements per thread, or one team per
+/// element (kernels/ElementDriver.hpp; the team form is chosen on GPUs for 16 or more unknowns).
+enum class Kernel { Chosen, Lanes, Team };
+
+template <Kernel K, class Elem, class Exec, class MeshV, class Law, class View>
+void stiffnessWith(const Exec &exec, const MeshV &mesh, double thickness, const Law &law,
+                   const View &ke) {
+  if constexpr (K == Kernel::Lanes)
+    computeElementStiffnessLanes<Elem>(exec, mesh, thickness, law, ke);
+  else if constexpr (K == Kernel::Team)
+    computeElementStiffnessTeam<Elem>(exec, mesh, thickness, law, ke);
+  else
+    computeElementStiffness<Elem>(exec, mesh, thickness, law, ke);
+}
+
 /// Skips a Kokkos::Serial baseline where the setup's memory is a GPU's (the CUDA build).
 template <class Exec> bool baselineCanRun(benchmark::State &state) {
   if constexpr (Kokkos::SpaceAccessibility<Exec, Memory>::accessible) {
@@ -112,7 +128,7 @@ template <class Exec> bool baselineCanRun(benchmark::State &state) {
   }
 }
 
-template <class Exec> void elementMatrices(benchmark::State &state) {
+template <class Exec, Kernel K = Kernel::Chosen> void elementMatrices(benchmark::State &state) {
   if (!baselineCanRun<Exec>(state))
     return;
   const Setup s = makeSetup(typeOf(state), static_cast<int>(state.range(1)));
@@ -120,10 +136,11 @@ template <class Exec> void elementMatrices(benchmark::State &state) {
     using Elem = decltype(elem);
     constexpr int nd = 2 * Elem::kNumNodes;
     Kokkos::View<double ***, Memory> ke("ke", s.mesh.numElements(), nd, nd);
+    const auto law = linearElasticLaw(s.data);
     // Output dominates the traffic: nd^2 doubles per element, written once.
-    timeElementMatrices<Exec>(state, s.mesh.numElements(), nd * nd * 8.0,
-                              stiffnessFlops(Elem::kNumNodes, Elem::kNumQp),
-                              [&] { computeLinearStiffness<Elem>(Exec(), s.data, ke); });
+    timeElementMatrices<Exec>(
+        state, s.mesh.numElements(), nd * nd * 8.0, stiffnessFlops(Elem::kNumNodes, Elem::kNumQp),
+        [&] { stiffnessWith<K, Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
   });
 }
 
@@ -460,7 +477,8 @@ template <class View> double solidPropertyViolation(const Mesh &mesh, const View
   return worst;
 }
 
-template <class Exec> void solidElementMatrices(benchmark::State &state) {
+template <class Exec, Kernel K = Kernel::Chosen>
+void solidElementMatrices(benchmark::State &state) {
   if (!baselineCanRun<Exec>(state))
     return;
   const ElementType type = solidTypeOf(state);
@@ -471,7 +489,7 @@ template <class Exec> void solidElementMatrices(benchmark::State &state) {
     const LocalIndex ne = s.mesh.numElements();
     Kokkos::View<double ***, Memory> ke("ke", ne, nd, nd);
     const auto law = linearElasticLaw(s.data);
-    computeElementStiffness<Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke);
+    stiffnessWith<K, Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke);
     Exec().fence();
     const bool hex8 = type == ElementType::Hex8;
     const double m = hex8 ? solidMismatch(s, ke) : solidPropertyViolation(s.mesh, ke);
@@ -484,7 +502,7 @@ template <class Exec> void solidElementMatrices(benchmark::State &state) {
     }
     timeElementMatrices<Exec>(
         state, ne, nd * nd * 8.0, solidStiffnessFlops(Elem::kNumNodes, Elem::kNumQp),
-        [&] { computeElementStiffness<Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
+        [&] { stiffnessWith<K, Elem>(Exec(), s.data.mesh, s.data.thickness, law, ke); });
   });
 }
 
@@ -499,8 +517,17 @@ void solidHostReference(benchmark::State &state) {
 /// Fused compute + atomic CSR scatter of the Hex8 K^L (3 unknowns per node), checked first: the
 /// assembled matrix times a smooth displacement field equals the sum of the element matrices
 /// (host reference) times it.
-void solidAssembleCsr(benchmark::State &state) {
+template <Kernel K = Kernel::Chosen> void solidAssembleCsr(benchmark::State &state) {
   using Exec = Kokkos::DefaultExecutionSpace;
+  const auto assemble = [](const SolidSetup &s, const auto &map, const auto &a) {
+    const auto law = linearElasticLaw(s.data);
+    if constexpr (K == Kernel::Lanes)
+      assembleElementStiffnessLanes<Hex8>(Exec(), s.data.mesh, 1.0, law, map, a);
+    else if constexpr (K == Kernel::Team)
+      assembleElementStiffnessTeam<Hex8>(Exec(), s.data.mesh, 1.0, law, map, a);
+    else
+      assembleLinearStiffness<Hex8>(Exec(), s.data, map, a);
+  };
   const SolidSetup s = makeSolidSetup(static_cast<int>(state.range(1)));
   const NodeGraph g = buildNodeGraph(s.mesh);
   auto a = expandGraph<Memory>(g, 3);
@@ -509,7 +536,7 @@ void solidAssembleCsr(benchmark::State &state) {
   const LocalIndex nn = s.mesh.numNodes(), ne = s.mesh.numElements();
   {
     Kokkos::deep_copy(a.values, 0.0);
-    assembleLinearStiffness<Hex8>(Exec(), s.data, map, a);
+    assemble(s, map, a);
     Exec().fence();
     // K u for u = (sin 3x + yz, cos 2y + x^2, x z^2 + y) (not in the null space or constant
     // stress, so interior rows count too): the kernel's CSR against the reference's elements.
@@ -546,7 +573,7 @@ void solidAssembleCsr(benchmark::State &state) {
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
     Kokkos::deep_copy(Exec(), a.values, 0.0);
-    assembleLinearStiffness<Hex8>(Exec(), s.data, map, a);
+    assemble(s, map, a);
     Exec().fence();
     state.SetIterationTime(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -589,14 +616,14 @@ std::vector<int64_t> solidSizesOf(int nodes) {
 } // namespace linear_stiffness_bench
 using namespace linear_stiffness_bench;
 
-BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace>)
+BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Chosen>)
     ->Name("KL/elementMatrices/threads")
     ->ArgsProduct({{4, 8}, planeSizes()})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 #ifdef KOKKOS_ENABLE_SERIAL
-BENCHMARK(elementMatrices<Kokkos::Serial>)
+BENCHMARK(elementMatrices<Kokkos::Serial, Kernel::Chosen>)
     ->Name("KL/elementMatrices/serial-baseline")
     ->ArgsProduct({{4, 8}, {64, 256, 512}})
     ->ArgNames({"nodes", "n"})
@@ -641,13 +668,13 @@ BENCHMARK(assembleCsr)
     ->Unit(benchmark::kMillisecond);
 // 3D (issue 17): `nodes` is 8 (Hex8), 20 (Hex20), 4 (Tet4) or 10 (Tet10), n the divisions of
 // the cube (n^3 hexahedra, 6 n^3 tetrahedra).
-BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Chosen>)
     ->Name("KL3D/elementMatrices/threads")
     ->ArgsProduct({{8}, solidSizes()})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Chosen>)
     ->Name("KL3D/elementMatrices/threads")
     ->ArgsProduct({{20}, solidSizesOf(20)})
     ->ArgsProduct({{4}, solidSizesOf(4)})
@@ -656,7 +683,7 @@ BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace>)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 #ifdef KOKKOS_ENABLE_SERIAL
-BENCHMARK(solidElementMatrices<Kokkos::Serial>)
+BENCHMARK(solidElementMatrices<Kokkos::Serial, Kernel::Chosen>)
     ->Name("KL3D/elementMatrices/serial-baseline")
     ->ArgsProduct({{8}, {16, 32, 48}})
     ->ArgNames({"nodes", "n"})
@@ -669,8 +696,52 @@ BENCHMARK(solidHostReference)
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(solidAssembleCsr)
+BENCHMARK(solidAssembleCsr<>)
     ->Name("KL3D/assembleCsr/threads")
+    ->ArgsProduct({{8}, solidSizes()})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+// The two stiffness kernels side by side (the "threads" cases above run the one the build
+// chooses): SIMD lanes of elements per thread, and one team per element (docs/gpu.md).
+BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Lanes>)
+    ->Name("KL/elementMatrices/lanes")
+    ->ArgsProduct({{4, 8}, planeSizes()})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(elementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Team>)
+    ->Name("KL/elementMatrices/team")
+    ->ArgsProduct({{4, 8}, planeSizes()})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Lanes>)
+    ->Name("KL3D/elementMatrices/lanes")
+    ->ArgsProduct({{8}, solidSizes()})
+    ->ArgsProduct({{20}, solidSizesOf(20)})
+    ->ArgsProduct({{4}, solidSizesOf(4)})
+    ->ArgsProduct({{10}, solidSizesOf(10)})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidElementMatrices<Kokkos::DefaultExecutionSpace, Kernel::Team>)
+    ->Name("KL3D/elementMatrices/team")
+    ->ArgsProduct({{8}, solidSizes()})
+    ->ArgsProduct({{20}, solidSizesOf(20)})
+    ->ArgsProduct({{4}, solidSizesOf(4)})
+    ->ArgsProduct({{10}, solidSizesOf(10)})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidAssembleCsr<Kernel::Lanes>)
+    ->Name("KL3D/assembleCsr/lanes")
+    ->ArgsProduct({{8}, solidSizes()})
+    ->ArgNames({"nodes", "n"})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(solidAssembleCsr<Kernel::Team>)
+    ->Name("KL3D/assembleCsr/team")
     ->ArgsProduct({{8}, solidSizes()})
     ->ArgNames({"nodes", "n"})
     ->UseManualTime()

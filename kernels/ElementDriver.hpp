@@ -9,7 +9,9 @@
 // MeshView<MemorySpace, Elem::kDim>, and in 3D the thickness t is 1), the point physics from a
 // "law": a small copyable struct with `Point at(LocalIndex e) const` giving element e's point
 // functor (kernels/PointPhysics.hpp: stress(eps), tangent(eps); kernels/MixedPointPhysics.hpp:
-// evaluate<Tangent>(h, s, tau)). Layer: kernels.
+// evaluate<Tangent>(h, s, tau)). The stiffness comes in two forms: SIMD lanes of elements per
+// thread (stiffnessLanes, CPUs and the small elements on GPUs) and one team per element
+// (teamElementStiffness, the larger 3D elements on GPUs; kTeamStiffness). Layer: kernels.
 #pragma once
 
 #include <core/ElementTraits.hpp>
@@ -332,11 +334,178 @@ KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
   }
 }
 
-/// Element stiffness matrices of all elements into ke(e, i, j) (extent E x Dim n x Dim n).
+/// True where the element stiffness kernels of ExecSpace run one team per element
+/// (teamElementStiffness) rather than SIMD lanes of elements per thread (stiffnessLanes): on GPUs,
+/// for the 3D elements of 24 or more unknowns (Hex8, Hex20, Tet10). Measured on an H200
+/// (docs/gpu.md, 2026-11-28): the team form writes the element matrices of Hex8, Hex20 and Tet10
+/// 1.36x, 2.38x and 1.06x faster and assembles the Hex8 CSR 4.7x faster; it is slower for Quad4,
+/// Quad8 and Tet4 (0.15x, 0.81x, 0.42x), whose matrices one thread holds without much spilling.
+/// On CPUs the lanes are always taken.
+template <class ExecSpace, class Elem>
+constexpr bool kTeamStiffness =
+    !Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible && Elem::kDim == 3 &&
+    Elem::kDim * Elem::kNumNodes >= 24;
+
+namespace detail {
+
+/// Where teamElementStiffness puts a Dim x Dim block (a, b) of element e: into the element
+/// matrices ke(e, i, j).
+template <int Dim, class View> struct ElementMatrixSink {
+  View ke;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, int a, int b,
+                                         const double (&blk)[Dim][Dim]) const {
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j)
+        ke(e, Dim * a + i, Dim * b + j) = blk[i][j];
+  }
+};
+
+/// Where teamElementStiffness puts a Dim x Dim block (p, b) of element e: added times `scale`
+/// into CSR through the scatter map (as scatterElementStiffness), with atomics.
+template <int Dim, class MemorySpace, class Map> struct CsrScatterSink {
+  CsrMatrix<MemorySpace> a;
+  Map map;
+  MeshView<MemorySpace, Dim> mesh;
+  double scale;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, int p, int b,
+                                         const double (&blk)[Dim][Dim]) const {
+    const LocalIndex row = mesh.connectivity(e, p);
+    const Offset column = Dim * map(e, p, b);
+    for (int i = 0; i < Dim; ++i) {
+      const Offset k = a.rowOffsets(Dim * row + i) + column;
+      for (int j = 0; j < Dim; ++j)
+        Kokkos::atomic_add(&a.values(k + j), scale * blk[i][j]);
+    }
+  }
+};
+
+/// The team-per-element stiffness t int B^T D B dA (the arithmetic of stiffnessLanes): one team
+/// per element. In the team's scratch: the nodal coordinates, the tangent D of the element's law
+/// at zero strain, and at every quadrature point the physical gradients and the weight
+/// t w det J, each quadrature point's geometry computed by one thread. Then one thread per node
+/// pair (a, b) sums its Dim x Dim block B_a^T (f D B_b) over the quadrature points and hands it
+/// to the sink. A functor, not a lambda: no nvcc lambda wrapper (docs/gpu.md).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+struct TeamStiffness {
+  using Member = typename Kokkos::TeamPolicy<ExecSpace>::member_type;
+  using Scratch = Kokkos::View<double *, typename ExecSpace::scratch_memory_space,
+                               Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  static constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nq = Elem::kNumQp;
+  static constexpr int nv = Voigt<dim>::kSize;
+  // Scratch layout: gradients g[q][a][i], weights f[q], D[r][s], coordinates x[a][i].
+  static constexpr int kG = 0, kF = nq * n * dim, kD = kF + nq, kX = kD + nv * nv;
+  static constexpr int kScratch = kX + n * dim;
+
+  MeshView<MemorySpace, dim> mesh;
+  double thickness;
+  Law law;
+  Sink sink;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const Member &team) const {
+    using V = Voigt<dim>;
+    const LocalIndex e = team.league_rank();
+    const Scratch s(team.team_scratch(0), kScratch);
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n * dim), [&](int k) {
+      s(kX + k) = mesh.coordinates(mesh.connectivity(e, k / dim), k % dim);
+    });
+    Kokkos::single(Kokkos::PerTeam(team), [&]() {
+      const auto t = law.at(e).tangent(Vector<nv>{});
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < nv; ++c)
+          s(kD + nv * r + c) = t.m[r][c];
+    });
+    team.team_barrier();
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, nq), [&](int q) {
+      double sh[n], dn[n][dim], xe[n][dim], g[n][dim];
+      const double w = referencePoint<Elem>(q, sh, dn);
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i)
+          xe[a][i] = s(kX + dim * a + i);
+      const double det = pointGeometry<Elem>(xe, dn, g);
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i)
+          s(kG + dim * (n * q + a) + i) = g[a][i];
+      s(kF + q) = thickness * w * det;
+    });
+    team.team_barrier();
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n * n), [&](int p) {
+      const int a = p / n, b = p % n;
+      double d[nv][nv], blk[dim][dim] = {};
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < nv; ++c)
+          d[r][c] = s(kD + nv * r + c);
+      for (int q = 0; q < nq; ++q) {
+        double ga[dim], gb[dim];
+        for (int i = 0; i < dim; ++i) {
+          ga[i] = s(kG + dim * (n * q + a) + i);
+          gb[i] = s(kG + dim * (n * q + b) + i);
+        }
+        const double f = s(kF + q);
+        // f D B_b and B_a^T (f D B_b) as in stiffnessLanes.
+        double db[nv][dim];
+        for (int k = 0; k < nv; ++k)
+          for (int j = 0; j < dim; ++j) {
+            double v = d[k][j] * gb[j];
+            for (int m = dim; m < nv; ++m) {
+              if (V::row(m) == j)
+                v += d[k][m] * gb[V::col(m)];
+              if (V::col(m) == j)
+                v += d[k][m] * gb[V::row(m)];
+            }
+            db[k][j] = v * f;
+          }
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) {
+            double v = ga[i] * db[i][j];
+            for (int k = dim; k < nv; ++k) {
+              if (V::row(k) == i)
+                v += ga[V::col(k)] * db[k][j];
+              if (V::col(k) == i)
+                v += ga[V::row(k)] * db[k][j];
+            }
+            blk[i][j] += v;
+          }
+      }
+      sink(e, a, b, blk);
+    });
+  }
+};
+
+} // namespace detail
+
+/// Runs the team-per-element stiffness over every element of the mesh, each block handed to
+/// `sink` (detail::ElementMatrixSink or detail::CsrScatterSink). teamSize 0 chooses: the node
+/// pairs rounded up to whole warps on GPUs (at most what the kernel's registers allow), one
+/// thread on CPUs. The unit tests pass 2 or 3 on CPU threads so that the team's shared scratch
+/// and barriers are exercised there too.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+void teamElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                          double thickness, const Law &law, const Sink &sink, int teamSize = 0) {
+  using F = detail::TeamStiffness<Elem, ExecSpace, Law, MemorySpace, Sink>;
+  const int ne = static_cast<int>(mesh.connectivity.extent(0));
+  if (ne == 0)
+    return;
+  const F f{mesh, thickness, law, sink};
+  const auto scratch = Kokkos::PerTeam(F::Scratch::shmem_size(F::kScratch));
+  if (teamSize <= 0) {
+    constexpr bool host = Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible;
+    constexpr int pairs = Elem::kNumNodes * Elem::kNumNodes;
+    const Kokkos::TeamPolicy<ExecSpace> probe =
+        Kokkos::TeamPolicy<ExecSpace>(exec, ne, Kokkos::AUTO).set_scratch_size(0, scratch);
+    const int most = probe.team_size_max(f, Kokkos::ParallelForTag());
+    teamSize = host ? 1 : (pairs + 31) / 32 * 32 < most ? (pairs + 31) / 32 * 32 : most;
+  }
+  Kokkos::parallel_for(
+      "mixcon::kernels::teamElementStiffness",
+      Kokkos::TeamPolicy<ExecSpace>(exec, ne, teamSize).set_scratch_size(0, scratch), f);
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j), SIMD lanes of elements per thread
+/// (stiffnessLanes).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
-void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
-                             double thickness, const Law &law,
-                             const Kokkos::View<double ***, P...> &ke) {
+void computeElementStiffnessLanes(const ExecSpace &exec,
+                                  const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                  const Law &law, const Kokkos::View<double ***, P...> &ke) {
   constexpr int nd = Elem::kDim * Elem::kNumNodes;
   constexpr int W = kStiffnessLanes<ExecSpace>;
   const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
@@ -353,13 +522,36 @@ void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, 
       });
 }
 
+/// Element stiffness matrices of all elements into ke(e, i, j), one team per element.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffnessTeam(const ExecSpace &exec,
+                                 const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                 const Law &law, const Kokkos::View<double ***, P...> &ke,
+                                 int teamSize = 0) {
+  using Sink = detail::ElementMatrixSink<Elem::kDim, Kokkos::View<double ***, P...>>;
+  teamElementStiffness<Elem>(exec, mesh, thickness, law, Sink{ke}, teamSize);
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j) (extent E x Dim n x Dim n): one
+/// team per element where kTeamStiffness, else SIMD lanes of elements per thread.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                             double thickness, const Law &law,
+                             const Kokkos::View<double ***, P...> &ke) {
+  if constexpr (kTeamStiffness<ExecSpace, Elem>)
+    computeElementStiffnessTeam<Elem>(exec, mesh, thickness, law, ke);
+  else
+    computeElementStiffnessLanes<Elem>(exec, mesh, thickness, law, ke);
+}
+
 /// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
 /// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
-/// element-matrix storage, atomics; `a.values` is not zeroed.
+/// element-matrix storage, atomics; `a.values` is not zeroed. SIMD lanes of elements per thread.
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
-void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
-                              double thickness, const Law &law, const Map &map,
-                              const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
+void assembleElementStiffnessLanes(const ExecSpace &exec,
+                                   const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                   const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
+                                   double scale = 1.0) {
   constexpr int nd = Elem::kDim * Elem::kNumNodes;
   constexpr int W = kStiffnessLanes<ExecSpace>;
   const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
@@ -377,6 +569,30 @@ void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace,
           scatterElementStiffness<Elem>(a, map, mesh, first + l, scale, k);
         }
       });
+}
+
+/// assembleElementStiffnessLanes with one team per element.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffnessTeam(const ExecSpace &exec,
+                                  const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                  const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
+                                  double scale = 1.0, int teamSize = 0) {
+  using Sink = detail::CsrScatterSink<Elem::kDim, MemorySpace, Map>;
+  teamElementStiffness<Elem>(exec, mesh, thickness, law, Sink{a, map, mesh, scale}, teamSize);
+}
+
+/// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
+/// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
+/// element-matrix storage, atomics; `a.values` is not zeroed. One team per element where
+/// kTeamStiffness, else SIMD lanes of elements per thread.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                              double thickness, const Law &law, const Map &map,
+                              const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
+  if constexpr (kTeamStiffness<ExecSpace, Elem>)
+    assembleElementStiffnessTeam<Elem>(exec, mesh, thickness, law, map, a, scale);
+  else
+    assembleElementStiffnessLanes<Elem>(exec, mesh, thickness, law, map, a, scale);
 }
 
 /// Small-strain residual of element e at displacements u: fe = t int B^T sigma dA with sigma =

@@ -3,8 +3,8 @@
 # bundle made by bench/gpu/bundle.sh, with the CUDA build ("cuda") and, beside it, the OpenMP
 # build ("omp") on the same machine's cores. Writes logs, gtest XML and benchmark JSON to OUT.
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
-#   STAGES: any of machine tests sanitizer kernels kernels-large newton newton-large operators
-#           search cube mixed3d
+#   STAGES: any of machine tests sanitizer kernels kernels-large team newton newton-large
+#           operators search cube mixed3d
 # Sizes: CUBE_SIZES (default 100), NEWTON_LARGE_N (the 2D mixed step, default 2000; its builds:
 # NEWTON_LARGE_VARIANTS, default cuda),
 # MIXED3D_RUNS (element:N pairs of the 3D mixed Newton increment, default hex8:48).
@@ -95,16 +95,26 @@ tests) # the two programs side by side (one GPU, 8 host threads each), their Ope
   # the later stages keep the settings above.
   (
     export OMP_PROC_BIND=false OMP_WAIT_POLICY=passive OMP_NUM_THREADS=$(( $(nproc) / 2 ))
-    run cuda unit-cuda ${TEST_TIMEOUT:-420} mixcon_unit_tests --gtest_output=xml:"$out/unit-cuda.xml" &
+    # UNIT_SHARDS (default 1) unit-test programs side by side, each a gtest shard.
+    shards=${UNIT_SHARDS:-1}
+    export OMP_NUM_THREADS=$(( $(nproc) / (shards + 1) ))
+    for ((k = 0; k < shards; ++k)); do
+      GTEST_TOTAL_SHARDS=$shards GTEST_SHARD_INDEX=$k run cuda unit-cuda-$k ${TEST_TIMEOUT:-420} \
+        mixcon_unit_tests --gtest_output=xml:"$out/unit-cuda-$k.xml" &
+    done
     run cuda validation-cuda ${TEST_TIMEOUT:-420} mixcon_validation_tests \
       --gtest_output=xml:"$out/validation-cuda.xml"
     wait
   ) ;;
+team) # the two stiffness kernels side by side on the GPU: SIMD lanes (one element per thread
+  # there) and one team per element, at the largest sizes (TEAM_FILTER)
+  bench cuda team-cuda ${TEAM_TIMEOUT:-240} mixcon_bench_linear_stiffness \
+    "${TEAM_FILTER:-(lanes|team)/nodes:(4|8)/n:(1024|96)|(lanes|team)/nodes:(20|10)/n:48|(lanes|team)/nodes:4/n:96}" ;;
 sanitizer) # compute-sanitizer's memcheck and racecheck on the element-kernel tests
   san=$(command -v compute-sanitizer || ls /usr/local/cuda*/bin/compute-sanitizer 2>/dev/null | head -1)
   for tool in memcheck racecheck; do
-    run cuda sanitizer-$tool 150 "$san" --tool $tool --error-exitcode 3 mixcon_unit_tests \
-      --gtest_filter='*ElementDriver*:*KernelTest*:Hex8*:SolidModel*:SolidLoads*:MixedMatrixFree*:SegmentSearch*:SolidMixedMatrixFree*:SolidNonlinear*:SolidReportTangent*'
+    run cuda sanitizer-$tool ${SANITIZER_TIMEOUT:-150} "$san" --tool $tool --error-exitcode 3 \
+      mixcon_unit_tests --gtest_filter="${SANITIZER_FILTER:-*ElementDriver*:*KernelTest*:Hex8*:SolidModel*:SolidLoads*:MixedMatrixFree*:SegmentSearch*:SolidMixedMatrixFree*:SolidNonlinear*:SolidReportTangent*:*TeamStiffness*}"
   done ;;
 kernels)
   bench cuda kernels-cuda 240 mixcon_bench_linear_stiffness 'threads'

@@ -1,0 +1,158 @@
+// The team-per-element stiffness of the element driver (kernels/ElementDriver.hpp:
+// teamElementStiffness, one team per element, the geometry shared in team scratch, one thread per
+// node pair) against the SIMD-lanes kernel and, in 2D, the plain host reference (explicit B,
+// Eigen): element matrices and the fused CSR assembly, for every element type, on distorted
+// meshes with anisotropic materials, with teams of 1, 2 and 3 threads and the size the launch
+// chooses. Teams of 2 and 3 threads on the OpenMP backend run the scratch sharing and barriers
+// that the GPU relies on (a missing barrier fails with the threads racing).
+#include <kernels/LinearElasticity.hpp>
+#include <support/KernelFixture.hpp>
+#include <support/SolidMesh.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+using namespace mixcon;
+using Exec = Kokkos::DefaultExecutionSpace;
+using Memory = Exec::memory_space;
+
+// Named (not anonymous): nvcc rejects device lambdas in functions of an unnamed namespace.
+namespace team_stiffness_tests {
+
+/// Team sizes to try: the launch's own choice (0), 1, 2 and 3, the last two only where the
+/// execution space has that many threads (on CPUs a team cannot outnumber the pool).
+std::vector<int> teamSizes() {
+  std::set<int> sizes{0, 1};
+  constexpr bool host = Kokkos::SpaceAccessibility<Exec, Kokkos::HostSpace>::accessible;
+  for (int s : {2, 3})
+    if (!host || s <= Exec().concurrency())
+      sizes.insert(s);
+  return {sizes.begin(), sizes.end()};
+}
+
+/// A distorted mesh of the element type with its element data: the 2D kernel fixture (two
+/// anisotropic materials in a checkerboard, thickness 0.7) or the distorted 3D box with a rotated
+/// orthotropic solid and a scaled copy of it on every other element.
+template <int Dim> struct Case {
+  Mesh mesh;
+  ElementData<Memory, Dim> data;
+};
+
+Case<2> planeCase(ElementType type) {
+  const test::Fixture f = test::makeFixture(type);
+  return {f.mesh, f.data};
+}
+
+Case<3> solidCase(ElementType type) {
+  Case<3> c;
+  c.mesh = test::distortedBox(3, type);
+  c.data.mesh = toDevice<Memory, 3>(c.mesh);
+  c.data.material = Kokkos::View<int *, Memory>("material", c.mesh.numElements());
+  c.data.stiffness = Kokkos::View<SolidMatrix *, Memory>("stiffness", 2);
+  auto hm = Kokkos::create_mirror_view(c.data.material);
+  for (LocalIndex e = 0; e < c.mesh.numElements(); ++e)
+    hm(e) = e % 2;
+  Kokkos::deep_copy(c.data.material, hm);
+  auto hs = Kokkos::create_mirror_view(c.data.stiffness);
+  hs(0) = test::rotatedOrthotropicSolid();
+  for (int r = 0; r < 6; ++r)
+    for (int s = 0; s < 6; ++s)
+      hs(1).m[r][s] = 2.5 * hs(0).m[r][s];
+  Kokkos::deep_copy(c.data.stiffness, hs);
+  return c;
+}
+
+/// Largest |a - b| over all entries, and the largest |b|.
+template <class A, class B> std::pair<double, double> difference(const A &a, const B &b) {
+  double diff = 0.0, scale = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    diff = std::max(diff, std::abs(a.data()[k] - b.data()[k]));
+    scale = std::max(scale, std::abs(b.data()[k]));
+  }
+  return {diff, scale};
+}
+
+/// Element matrices and CSR assembly of the team kernel against the lanes kernel, for every team
+/// size, and the dispatching entry point's matrices; the lanes matrices are returned for the
+/// caller's reference check.
+template <class Elem, int Dim> auto compareTeamWithLanes(const Case<Dim> &c) {
+  constexpr int nd = Dim * Elem::kNumNodes;
+  const LocalIndex ne = c.mesh.numElements();
+  const auto law = linearElasticLaw(c.data);
+  Kokkos::View<double ***, Memory> lanes("lanes", ne, nd, nd), team("team", ne, nd, nd);
+  computeElementStiffnessLanes<Elem>(Exec(), c.data.mesh, c.data.thickness, law, lanes);
+  const auto hl = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), lanes);
+
+  const NodeGraph graph = buildNodeGraph(c.mesh);
+  const auto map = elementScatterMap<Memory>(c.mesh, graph);
+  auto a = expandGraph<Memory>(graph, Dim), b = expandGraph<Memory>(graph, Dim);
+  Kokkos::deep_copy(a.values, 0.0);
+  assembleElementStiffnessLanes<Elem>(Exec(), c.data.mesh, c.data.thickness, law, map, a, 0.7);
+  const auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+
+  // The dispatching entry point gives the matrices of the kernel it chooses.
+  computeElementStiffness<Elem>(Exec(), c.data.mesh, c.data.thickness, law, team);
+  const auto [d, s] =
+      difference(Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), team), hl);
+  EXPECT_LE(d, 1e-13 * s) << Elem::kName << " (" << (kTeamStiffness<Exec, Elem> ? "team" : "lanes")
+                          << " chosen)";
+
+  for (const int size : teamSizes()) {
+    Kokkos::deep_copy(team, -1.0);
+    computeElementStiffnessTeam<Elem>(Exec(), c.data.mesh, c.data.thickness, law, team, size);
+    const auto ht = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), team);
+    const auto [dk, sk] = difference(ht, hl);
+    EXPECT_LE(dk, 1e-13 * sk) << Elem::kName << ", element matrices, team size " << size;
+
+    // Non-zero start values: the assembly adds.
+    Kokkos::deep_copy(b.values, 1.0);
+    assembleElementStiffnessTeam<Elem>(Exec(), c.data.mesh, c.data.thickness, law, map, b, 0.7,
+                                       size);
+    auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.values);
+    for (std::size_t k = 0; k < hb.size(); ++k)
+      hb(k) -= 1.0;
+    const auto [da, sa] = difference(hb, ha);
+    EXPECT_LE(da, 1e-13 * sa) << Elem::kName << ", CSR assembly, team size " << size;
+  }
+  return hl;
+}
+
+} // namespace team_stiffness_tests
+using namespace team_stiffness_tests;
+
+class TeamStiffness : public ::testing::TestWithParam<ElementType> {};
+
+TEST_P(TeamStiffness, EqualsTheLanesKernelAndTheHostReference) {
+  const ElementType type = GetParam();
+  dispatchElement(type, [&](auto elem) {
+    using Elem = decltype(elem);
+    if constexpr (Elem::kDim == 2) {
+      const Case<2> c = planeCase(type);
+      const auto hl = compareTeamWithLanes<Elem>(c);
+      // The lanes matrices (equal to the team's above) against the plain host reference.
+      const test::Fixture f = test::makeFixture(type);
+      for (LocalIndex e = 0; e < c.mesh.numElements(); ++e) {
+        const Eigen::MatrixXd ref =
+            test::referenceStiffness(test::elementCoordinates(c.mesh, e),
+                                     test::toEigen(f.materials[f.elementMaterial[e]]), 0.7);
+        double diff = 0.0;
+        for (int i = 0; i < ref.rows(); ++i)
+          for (int j = 0; j < ref.cols(); ++j)
+            diff = std::max(diff, std::abs(hl(e, i, j) - ref(i, j)));
+        ASSERT_LE(diff, 1e-10 * ref.cwiseAbs().maxCoeff()) << Elem::kName << ", element " << e;
+      }
+    } else {
+      const Case<3> c = solidCase(type);
+      compareTeamWithLanes<Elem>(c);
+    }
+  });
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, TeamStiffness,
+                         ::testing::Values(ElementType::Quad4, ElementType::Quad8,
+                                           ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                           ElementType::Tet10),
+                         [](const auto &info) { return elementTypeName(info.param); });
