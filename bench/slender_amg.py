@@ -39,6 +39,7 @@ SETTINGS = [
     ("(c) coarsest 500", {"coarsest_size": 500}),
     ("(d) coarsest 2000", {"coarsest_size": 2000}),
     ("(e) rigid-body coarse space", {"coarse_space": "rigid_body"}),
+    ("(f) separate components", {"amg_matrix": "separate_components"}),
 ]
 
 STEP = re.compile(r"^step (\d+)/(\d+).*?iterations (\d+)\s+cuts (\d+)\s+linear its (\d+)\s+"
@@ -220,8 +221,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--tolerance", type=float, default=None,
                     help="linear: the solver tolerance (default mixcon's, 1e-8)")
-    ap.add_argument("--settings", default="abcde",
-                    help="linear: the settings to run, by letter (default all: abcde)")
+    ap.add_argument("--settings", default="abcdef",
+                    help="linear: the settings to run, by letter (default all: abcdef)")
     ap.add_argument("--timeout", type=float, default=600)
     args = ap.parse_args()
     {"linear": linear, "nonlinear": nonlinear, "reuse": reuse}[args.what](args)

@@ -145,6 +145,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "inner_tolerance",
                  "interpolation_max_elements",
                  "nodal_coarsening",
+                 "amg_matrix",
                  "method",
                  "stress_block_tolerance",
                  "jacobian",
@@ -164,9 +165,9 @@ void readSolver(const YamlItem &top, Problem &p) {
                       "the block-triangular GMRES (type: amg) or the sparse LU (type: direct)");
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
-                   "interpolation_max_elements", "nodal_coarsening", "rigid_body_modes",
-                   "coarsest_size", "smoother", "reuse_hierarchy", "reuse_factorization",
-                   "print_level", "jacobian", "coarse_space"});
+                   "interpolation_max_elements", "nodal_coarsening", "amg_matrix",
+                   "rigid_body_modes", "coarsest_size", "smoother", "reuse_hierarchy",
+                   "reuse_factorization", "print_level", "jacobian", "coarse_space"});
     }
     for (const char *key : {"method", "stress_block_tolerance"})
       if (s.has(key) && !mixed)
@@ -281,6 +282,14 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.nodalCoarsening = s["nodal_coarsening"].boolean();
     if (s.has("rigid_body_modes"))
       p.solver.rigidBodyModes = s["rigid_body_modes"].boolean();
+    if (s.has("amg_matrix")) {
+      p.solver.separateComponents =
+          s["amg_matrix"].choice({"full", "separate_components"}) == "separate_components";
+      if (p.solver.separateComponents && s.has("rigid_body_modes") && p.solver.rigidBodyModes)
+        s["rigid_body_modes"].fail("rigid_body_modes: true needs amg_matrix: full (the rotations "
+                                   "couple the displacement components that "
+                                   "separate_components drops)");
+    }
     if (s.has("coarsest_size"))
       p.solver.coarsestSize = count("coarsest_size", 1);
     if (s.has("smoother")) {

@@ -263,6 +263,8 @@ public:
       ++builds_;
     } else if (options_.reuseHierarchy && amg_ && !rebuild_ && samePattern(a)) {
       setValues(a, "IJMatrixSetValues (kept hierarchy)"); // the hierarchy stays
+      if (ijP_)
+        setComponentValues(a, "IJMatrixSetValues (kept hierarchy, separate components)");
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
       matrix_ = a;
@@ -340,13 +342,13 @@ public:
       Kokkos::deep_copy(x, 0.0);
       Kokkos::fence();
       const BorrowedVector borrowB(parb_, b.data()), borrowX(parx_, x.data());
-      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+      HYPRE_BoomerAMGSolve(amg_, hierarchyMatrix(), parb_, parx_);
     } else {
       const auto hb = copyToHost(b);
       auto hx = hostMirror(x);
       HYPRE_IJVectorSetValues(ijb_, n, rows_.data(), hb.data());
       HYPRE_IJVectorSetValues(ijx_, n, rows_.data(), zero_.data());
-      HYPRE_BoomerAMGSolve(amg_, parA_, parb_, parx_);
+      HYPRE_BoomerAMGSolve(amg_, hierarchyMatrix(), parb_, parx_);
       HYPRE_IJVectorGetValues(ijx_, n, rows_.data(), hx.data());
       copyToDevice(x, hx);
     }
@@ -397,7 +399,9 @@ public:
                     : options_.symmetric ? "hypre PCG + BoomerAMG"
                                          : "hypre GMRES + BoomerAMG";
     n += " (" + smootherName(options_.smoother) + ")";
-    if (!rotations_.empty() || willUseRotations())
+    if (separate())
+      n += " on the separate displacement components";
+    else if (!rotations_.empty() || willUseRotations())
       n += " with rigid-body modes";
     if (coarse_)
       n += " and a rigid-body coarse space of " + std::to_string(coarse_->size()) + " unknowns";
@@ -427,7 +431,7 @@ private:
 
   bool willUseRotations() const {
     const int dim = dofs_.dofsPerNode;
-    return options_.rigidBodyModes && variant_ > 0 && (dim == 2 || dim == 3) &&
+    return options_.rigidBodyModes && !separate() && variant_ > 0 && (dim == 2 || dim == 3) &&
            positions_.extent(0) > 0 && static_cast<int>(positions_.extent(1)) == dim &&
            static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes;
   }
@@ -504,6 +508,8 @@ private:
     setValues(a, "IJMatrixSetValues");
     check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
     check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
+    if (separate())
+      buildComponentMatrix(a);
 
     for (HYPRE_IJVector *v : {&ijb_, &ijx_, &ijr_}) {
       check(HYPRE_IJVectorCreate(comm_, lo, hi, v), "IJVectorCreate");
@@ -553,9 +559,13 @@ private:
       HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
       HYPRE_PCGSetTwoNorm(pcg_, 1);
       HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
-      HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                          reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      if (retried(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup"))
+      if (parP_)
+        HYPRE_PCGSetPrecond(pcg_, &componentVcycle, &noSetup, self());
+      else
+        HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      if (retried(setupComponentHierarchy(), "BoomerAMG setup (separate components)") ||
+          retried(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup"))
         return;
     } else {
       HYPRE_ParCSRGMRESCreate(comm_, &gmres_);
@@ -564,9 +574,13 @@ private:
       HYPRE_GMRESSetAbsoluteTol(gmres_, 0.0);
       HYPRE_GMRESSetMaxIter(gmres_, options_.maxIterations);
       HYPRE_GMRESSetPrintLevel(gmres_, options_.printLevel);
-      HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      if (retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
+      if (parP_)
+        HYPRE_GMRESSetPrecond(gmres_, &componentVcycle, &noSetup, self());
+      else
+        HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
+                              reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
+      if (retried(setupComponentHierarchy(), "BoomerAMG setup (separate components)") ||
+          retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
         return;
     }
     buildCoarseSpace();
@@ -805,7 +819,97 @@ private:
     return true;
   }
 
+  /// LinearSolverOptions::separateComponents where it changes anything (2 or more unknowns per
+  /// node).
+  bool separate() const { return options_.separateComponents && dofs_.dofsPerNode > 1; }
+
+  /// The matrix BoomerAMG's hierarchy is built on and every V-cycle smooths with.
+  HYPRE_ParCSRMatrix hierarchyMatrix() const { return parP_ ? parP_ : parA_; }
+
+  HYPRE_Solver self() { return reinterpret_cast<HYPRE_Solver>(this); }
+
+  /// The Krylov methods' preconditioner with separate components: one V-cycle on the filtered
+  /// matrix (hypre's BoomerAMGSolve smooths with the matrix it is given, not its own), whose
+  /// hierarchy setupComponentHierarchy() built; the method's own setup leaves it as it is.
+  static HYPRE_Int componentVcycle(HYPRE_Solver solver, HYPRE_Matrix, HYPRE_Vector b,
+                                   HYPRE_Vector x) {
+    const auto *s = reinterpret_cast<const HypreAmgSolver *>(solver);
+    return HYPRE_BoomerAMGSolve(s->amg_, s->parP_, reinterpret_cast<HYPRE_ParVector>(b),
+                                reinterpret_cast<HYPRE_ParVector>(x));
+  }
+  static HYPRE_Int noSetup(HYPRE_Solver, HYPRE_Matrix, HYPRE_Vector, HYPRE_Vector) { return 0; }
+
+  HYPRE_Int setupComponentHierarchy() {
+    return parP_ ? HYPRE_BoomerAMGSetup(amg_, parP_, parb_, parx_) : 0;
+  }
+
+  /// Hands the entries of `a` that couple equal components (local row i and column j with
+  /// i % d == j % d; the first owned row is a node's first unknown) to ijP_, in chunks of rows
+  /// so that the copy stays small (its global columns and values: 1/d of A's entries at once
+  /// would be 1.3 GB for the 3.1M-unknown cube). `counts`, when given, receives the entries per
+  /// row and nothing is set.
+  void forComponentEntries(const CsrMatrix<DeviceSpace> &a, std::vector<HYPRE_Int> *counts,
+                           const char *what) {
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    const auto va = hostReadable(a.values);
+    const int d = dofs_.dofsPerNode;
+    const HYPRE_BigInt lo = dofs_.ownedBegin;
+    const LocalIndex n = a.numRows;
+    if (counts) {
+      counts->assign(n, 0);
+      for (LocalIndex i = 0; i < n; ++i)
+        for (auto k = ro(i); k < ro(i + 1); ++k)
+          (*counts)[i] += co(k) % d == i % d;
+      return;
+    }
+    constexpr LocalIndex kChunk = 1 << 16;
+    std::vector<HYPRE_Int> nc;
+    std::vector<HYPRE_BigInt> cols;
+    std::vector<double> vals;
+    for (LocalIndex first = 0; first < n; first += kChunk) {
+      const LocalIndex last = std::min(n, first + kChunk);
+      nc.assign(last - first, 0);
+      cols.clear();
+      vals.clear();
+      for (LocalIndex i = first; i < last; ++i)
+        for (auto k = ro(i); k < ro(i + 1); ++k)
+          if (co(k) % d == i % d) {
+            ++nc[i - first];
+            cols.push_back(lo + co(k)); // serial numbering, as setValues()
+            vals.push_back(va(k));
+          }
+      check(HYPRE_IJMatrixSetValues(ijP_, last - first, nc.data(), rows_.data() + first,
+                                    cols.data(), vals.data()),
+            what);
+    }
+  }
+
+  void setComponentValues(const CsrMatrix<DeviceSpace> &a, const char *what) {
+    forComponentEntries(a, nullptr, what);
+  }
+
+  /// ijP_ and parP_: the filtered matrix of LinearSolverOptions::separateComponents.
+  void buildComponentMatrix(const CsrMatrix<DeviceSpace> &a) {
+    const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
+    std::vector<HYPRE_Int> counts;
+    forComponentEntries(a, &counts, nullptr);
+    const std::vector<HYPRE_Int> offdSizes(counts.size(), 0);
+    check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ijP_), "IJMatrixCreate");
+    check(HYPRE_IJMatrixSetObjectType(ijP_, HYPRE_PARCSR), "IJMatrixSetObjectType");
+    check(HYPRE_IJMatrixSetDiagOffdSizes(ijP_, counts.data(), offdSizes.data()),
+          "IJMatrixSetDiagOffdSizes");
+    check(HYPRE_IJMatrixInitialize(ijP_), "IJMatrixInitialize");
+    setComponentValues(a, "IJMatrixSetValues (separate components)");
+    check(HYPRE_IJMatrixAssemble(ijP_), "IJMatrixAssemble");
+    check(HYPRE_IJMatrixGetObject(ijP_, reinterpret_cast<void **>(&parP_)), "IJMatrixGetObject");
+  }
+
   void release() {
+    if (ijP_)
+      HYPRE_IJMatrixDestroy(ijP_);
+    ijP_ = nullptr;
+    parP_ = nullptr;
     if (pcg_)
       HYPRE_ParCSRPCGDestroy(pcg_);
     if (gmres_)
@@ -846,6 +950,8 @@ private:
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
   HYPRE_ParCSRMatrix parA_ = nullptr;
+  HYPRE_IJMatrix ijP_ = nullptr;      ///< LinearSolverOptions::separateComponents' matrix
+  HYPRE_ParCSRMatrix parP_ = nullptr; ///< its ParCSR object (the hierarchy's fine level)
   HYPRE_ParVector parb_ = nullptr, parx_ = nullptr, parr_ = nullptr;
   HYPRE_Solver pcg_ = nullptr, gmres_ = nullptr, amg_ = nullptr;
   CsrMatrix<DeviceSpace> matrix_;  ///< the matrix of the last setup (for rebuilds)

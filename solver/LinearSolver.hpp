@@ -47,6 +47,14 @@ struct LinearSolverOptions {
   /// Schur operator of the strip, but more iterations on the Lame cylinder and on Quad8
   /// (docs/mixed-model.md); off unless asked for.
   bool nodalCoarsening = false;
+  /// BoomerAMG built on the separate displacement components: only the entries of A that couple
+  /// a component with the same component of a node (row and column equal modulo the unknowns
+  /// per node), about 1/3 of A's in 3D and 1/2 in 2D. The Krylov method still runs on A; the
+  /// hierarchy and every V-cycle (its smoothing too) use the filtered matrix, with no
+  /// interpolation vectors (the rotations couple components). Cheaper setups and V-cycles, more
+  /// iterations; for compact bodies (the 3D cube: docs/performance.md), not for slender parts,
+  /// whose bending couples the components (Korn's inequality degrades with L/h).
+  bool separateComponents = false;
   int printLevel = 0; ///< hypre's own print level
   /// false for a nonsymmetric matrix (the exact tangent of the geometrically nonlinear
   /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of Cholesky
