@@ -1,0 +1,405 @@
+// The element stiffness t int B^T D B dA of the generic element driver (kernels/ElementDriver.hpp)
+// in its two forms: SIMD lanes of elements per thread (stiffnessLanes: CPUs and the small elements
+// on GPUs) and one team per element (teamElementStiffness: the larger 3D elements on GPUs), the
+// choice between them (kTeamStiffness), and their element-matrix and fused CSR-assembly entry
+// points. Layer: kernels.
+#pragma once
+
+#include <kernels/ElementGeometry.hpp>
+
+namespace mixcon {
+
+/// Elements per work item of the stiffness driver: a batch of consecutive elements computed in
+/// SIMD lanes on CPUs (every scalar of the element loop becomes an array over the lanes, and the
+/// lane loops are the innermost, unit-stride ones the compiler vectorizes); one element per
+/// thread on GPUs. 4 lanes measured 1.2-1.6x over 1 (2 threads, SSE2 code,
+/// bench_linear_stiffness); 2 and 8 were slower than 4.
+template <class ExecSpace>
+constexpr int kStiffnessLanes =
+    Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible ? 4 : 1;
+
+namespace detail {
+
+/// f D B_b for node b of W lanes: db[k][j][l] = f[l] (D B_b)[k][j], column j of B_b gathering D's
+/// normal column j and the shear columns touching j (B_b[k][r] = g_b[c] and, for a shear
+/// component k, B_b[k][c] = g_b[r], (r, c) = (Voigt::row(k), Voigt::col(k))).
+template <int Dim, int W>
+KOKKOS_INLINE_FUNCTION void
+tangentTimesB(const double (&d)[Voigt<Dim>::kSize][Voigt<Dim>::kSize][W],
+              const double (&gb)[Dim][W], const double (&f)[W],
+              double (&db)[Voigt<Dim>::kSize][Dim][W]) {
+  using V = Voigt<Dim>;
+  for (int k = 0; k < V::kSize; ++k)
+    for (int j = 0; j < Dim; ++j)
+      for (int l = 0; l < W; ++l) {
+        double s = d[k][j][l] * gb[j][l];
+        for (int m = Dim; m < V::kSize; ++m) {
+          if (V::row(m) == j)
+            s += d[k][m][l] * gb[V::col(m)][l];
+          if (V::col(m) == j)
+            s += d[k][m][l] * gb[V::row(m)][l];
+        }
+        db[k][j][l] = s * f[l];
+      }
+}
+
+/// acc[r0 + i][c0 + j][l] += (B_a^T db)[i][j] for node a of W lanes: row i of B_a^T gathers the
+/// normal row i and the shear rows touching i.
+template <int Dim, int W, int R, int C>
+KOKKOS_INLINE_FUNCTION void addBTransposeTimes(const double (&ga)[Dim][W],
+                                               const double (&db)[Voigt<Dim>::kSize][Dim][W],
+                                               double (&acc)[R][C][W], int r0, int c0) {
+  using V = Voigt<Dim>;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j)
+      for (int l = 0; l < W; ++l) {
+        double s = ga[i][l] * db[i][j][l];
+        for (int k = Dim; k < V::kSize; ++k) {
+          if (V::row(k) == i)
+            s += ga[V::col(k)][l] * db[k][j][l];
+          if (V::col(k) == i)
+            s += ga[V::row(k)][l] * db[k][j][l];
+        }
+        acc[r0 + i][c0 + j][l] += s;
+      }
+}
+
+/// Adds rows r0 .. r0 + Dim - 1 and columns c0 .. c0 + Dim - 1 of m, times `scale`, as the
+/// Dim x Dim block of element e's nodes (p, b) into CSR through the scatter map (map(e, p, b):
+/// position of node b in the node-graph row of node p), with atomics.
+template <int Dim, class MemorySpace, class Map, int R, int C>
+KOKKOS_INLINE_FUNCTION void addElementBlock(const CsrMatrix<MemorySpace> &a, const Map &map,
+                                            const MeshView<MemorySpace, Dim> &mesh, LocalIndex e,
+                                            int p, int b, double scale, const double (&m)[R][C],
+                                            int r0, int c0) {
+  const LocalIndex row = mesh.connectivity(e, p);
+  const Offset column = Dim * map(e, p, b);
+  for (int i = 0; i < Dim; ++i) {
+    const Offset k = a.rowOffsets(Dim * row + i) + column;
+    for (int j = 0; j < Dim; ++j)
+      Kokkos::atomic_add(&a.values(k + j), scale * m[r0 + i][c0 + j]);
+  }
+}
+
+} // namespace detail
+
+/// Element stiffness t int B^T D B dA (the report's Eq. (25) for D = C) of the W elements first,
+/// first + 1, ... (clamped to last: a short final batch repeats its last element) into lane l of
+/// ke[i][j][l], dofs node-interleaved (u_1, v_1, u_2, ...). D is the tangent of the element's
+/// point law (law.at(e)) at zero strain, evaluated once per element (the law's parameters are per
+/// element). B_a (Voigt x Dim) has B_a[k][r] = g_a[c] and, for a shear component,
+/// B_a[k][c] = g_a[r], (r, c) = (Voigt::row(k), Voigt::col(k)). Per quadrature point: the
+/// gradients, D B_b for every node, the Dim x Dim blocks B_a^T (D B_b) for a <= b; the lower
+/// blocks mirrored at the end (D is symmetric).
+template <class Elem, int W, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+stiffnessLanes(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+               LocalIndex first, LocalIndex last,
+               double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes][W]) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim;
+  using V = Voigt<dim>;
+  constexpr int nv = V::kSize;
+  double xe[n][dim][W], d[nv][nv][W];
+  for (int l = 0; l < W; ++l) {
+    const LocalIndex e = first + l < last ? first + l : last;
+    for (int a = 0; a < n; ++a) {
+      const LocalIndex k = mesh.connectivity(e, a);
+      for (int i = 0; i < dim; ++i)
+        xe[a][i][l] = mesh.coordinates(k, i);
+    }
+    const auto t = law.at(e).tangent(Vector<nv>{});
+    for (int r = 0; r < nv; ++r)
+      for (int s = 0; s < nv; ++s)
+        d[r][s][l] = t.m[r][s];
+  }
+  for (int i = 0; i < dim * n; ++i)
+    for (int j = 0; j < dim * n; ++j)
+      for (int l = 0; l < W; ++l)
+        ke[i][j][l] = 0.0;
+  for (int q = 0; q < Elem::kNumQp; ++q) {
+    double sh[n], dn[n][dim], g[n][dim][W], det[W], f[W];
+    const double w = detail::referencePoint<Elem>(q, sh, dn); // shared by the lanes
+    detail::laneGeometry<Elem, W>(xe, dn, g, det);
+    for (int l = 0; l < W; ++l)
+      f[l] = thickness * w * det[l];
+    for (int b = 0; b < n; ++b) {
+      double db[nv][dim][W];
+      detail::tangentTimesB<dim, W>(d, g[b], f, db);
+      for (int a = 0; a <= b; ++a) // the blocks B_a^T (f D B_b), a <= b
+        detail::addBTransposeTimes<dim, W>(g[a], db, ke, dim * a, dim * b);
+    }
+  }
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < b; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+          for (int l = 0; l < W; ++l)
+            ke[dim * b + j][dim * a + i][l] = ke[dim * a + i][dim * b + j][l];
+}
+
+/// Element stiffness of element e (one lane of stiffnessLanes, the same arithmetic).
+template <class Elem, class Law, class MemorySpace>
+KOKKOS_INLINE_FUNCTION void
+elementStiffness(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
+                 LocalIndex e,
+                 double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  double k[nd][nd][1];
+  stiffnessLanes<Elem, 1>(mesh, thickness, law, e, e, k);
+  for (int i = 0; i < nd; ++i)
+    for (int j = 0; j < nd; ++j)
+      ke[i][j] = k[i][j][0];
+}
+
+/// Adds an element matrix (node-interleaved, Dim dofs per node) times `scale` into CSR through
+/// the scatter map (map(e, p, b): position of node b in the node-graph row of node p).
+template <class Elem, class MemorySpace, class Map>
+KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
+    const CsrMatrix<MemorySpace> &a, const Map &map, const MeshView<MemorySpace, Elem::kDim> &m,
+    LocalIndex e, double scale,
+    const double (&ke)[Elem::kDim * Elem::kNumNodes][Elem::kDim * Elem::kNumNodes]) {
+  constexpr int dim = Elem::kDim;
+  for (int p = 0; p < Elem::kNumNodes; ++p)
+    for (int b = 0; b < Elem::kNumNodes; ++b)
+      detail::addElementBlock<dim>(a, map, m, e, p, b, scale, ke, dim * p, dim * b);
+}
+
+/// True where the element stiffness kernels of ExecSpace run one team per element
+/// (teamElementStiffness) rather than SIMD lanes of elements per thread (stiffnessLanes): on GPUs,
+/// for the 3D elements of 24 or more unknowns (Hex8, Hex20, Tet10). Measured on an H200
+/// (docs/gpu.md, 2026-11-28): the team form writes the element matrices of Hex8, Hex20 and Tet10
+/// 1.36x, 2.38x and 1.06x faster and assembles the Hex8 CSR 4.7x faster; it is slower for Quad4,
+/// Quad8 and Tet4 (0.15x, 0.81x, 0.42x), whose matrices one thread holds without much spilling.
+/// On CPUs the lanes are always taken.
+template <class ExecSpace, class Elem>
+constexpr bool kTeamStiffness =
+    !Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible && Elem::kDim == 3 &&
+    Elem::kDim * Elem::kNumNodes >= 24;
+
+namespace detail {
+
+/// Where teamElementStiffness puts a Dim x Dim block (a, b) of element e: into the element
+/// matrices ke(e, i, j).
+template <int Dim, class View> struct ElementMatrixSink {
+  View ke;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, int a, int b,
+                                         const double (&blk)[Dim][Dim]) const {
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j)
+        ke(e, Dim * a + i, Dim * b + j) = blk[i][j];
+  }
+};
+
+/// Where teamElementStiffness puts a Dim x Dim block (p, b) of element e: added times `scale`
+/// into CSR through the scatter map (as scatterElementStiffness), with atomics.
+template <int Dim, class MemorySpace, class Map> struct CsrScatterSink {
+  CsrMatrix<MemorySpace> a;
+  Map map;
+  MeshView<MemorySpace, Dim> mesh;
+  double scale;
+  KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, int p, int b,
+                                         const double (&blk)[Dim][Dim]) const {
+    addElementBlock<Dim>(a, map, mesh, e, p, b, scale, blk, 0, 0);
+  }
+};
+
+/// The team-per-element stiffness t int B^T D B dA (the arithmetic of stiffnessLanes): one team
+/// per element. In the team's scratch: the nodal coordinates, the tangent D of the element's law
+/// at zero strain, and at every quadrature point the physical gradients and the weight
+/// t w det J, each quadrature point's geometry computed by one thread. Then one thread per node
+/// pair (a, b) sums its Dim x Dim block B_a^T (f D B_b) over the quadrature points and hands it
+/// to the sink. A functor, not a lambda: no nvcc lambda wrapper (docs/gpu.md).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+struct TeamStiffness {
+  using Member = typename Kokkos::TeamPolicy<ExecSpace>::member_type;
+  using Scratch = Kokkos::View<double *, typename ExecSpace::scratch_memory_space,
+                               Kokkos::MemoryTraits<Kokkos::Unmanaged>>;
+  static constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nq = Elem::kNumQp;
+  static constexpr int nv = Voigt<dim>::kSize;
+  // Scratch layout: gradients g[q][a][i], weights f[q], D[r][s], coordinates x[a][i].
+  static constexpr int kG = 0, kF = nq * n * dim, kD = kF + nq, kX = kD + nv * nv;
+  static constexpr int kScratch = kX + n * dim;
+
+  MeshView<MemorySpace, dim> mesh;
+  double thickness;
+  Law law;
+  Sink sink;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const Member &team) const {
+    const LocalIndex e = team.league_rank();
+    const Scratch s(team.team_scratch(0), kScratch);
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n * dim), [&](int k) {
+      s(kX + k) = mesh.coordinates(mesh.connectivity(e, k / dim), k % dim);
+    });
+    Kokkos::single(Kokkos::PerTeam(team), [&]() {
+      const auto t = law.at(e).tangent(Vector<nv>{});
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < nv; ++c)
+          s(kD + nv * r + c) = t.m[r][c];
+    });
+    team.team_barrier();
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, nq), [&](int q) {
+      double sh[n], dn[n][dim], xe[n][dim], g[n][dim];
+      const double w = referencePoint<Elem>(q, sh, dn);
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i)
+          xe[a][i] = s(kX + dim * a + i);
+      const double det = pointGeometry<Elem>(xe, dn, g);
+      for (int a = 0; a < n; ++a)
+        for (int i = 0; i < dim; ++i)
+          s(kG + dim * (n * q + a) + i) = g[a][i];
+      s(kF + q) = thickness * w * det;
+    });
+    team.team_barrier();
+    Kokkos::parallel_for(Kokkos::TeamThreadRange(team, n * n), [&](int p) {
+      const int a = p / n, b = p % n;
+      // The arithmetic of stiffnessLanes with one lane.
+      double d[nv][nv][1], acc[dim][dim][1] = {};
+      for (int r = 0; r < nv; ++r)
+        for (int c = 0; c < nv; ++c)
+          d[r][c][0] = s(kD + nv * r + c);
+      for (int q = 0; q < nq; ++q) {
+        double ga[dim][1], gb[dim][1], db[nv][dim][1];
+        for (int i = 0; i < dim; ++i) {
+          ga[i][0] = s(kG + dim * (n * q + a) + i);
+          gb[i][0] = s(kG + dim * (n * q + b) + i);
+        }
+        const double f[1] = {s(kF + q)};
+        tangentTimesB<dim, 1>(d, gb, f, db);
+        addBTransposeTimes<dim, 1>(ga, db, acc, 0, 0);
+      }
+      double blk[dim][dim];
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j)
+          blk[i][j] = acc[i][j][0];
+      sink(e, a, b, blk);
+    });
+  }
+};
+
+} // namespace detail
+
+/// Runs the team-per-element stiffness over every element of the mesh, each block handed to
+/// `sink` (detail::ElementMatrixSink or detail::CsrScatterSink). teamSize 0 chooses: the node
+/// pairs rounded up to whole warps on GPUs (at most what the kernel's registers allow), one
+/// thread on CPUs. The unit tests pass 2 or 3 on CPU threads so that the team's shared scratch
+/// and barriers are exercised there too.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+void teamElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                          double thickness, const Law &law, const Sink &sink, int teamSize = 0) {
+  using F = detail::TeamStiffness<Elem, ExecSpace, Law, MemorySpace, Sink>;
+  const int ne = static_cast<int>(mesh.connectivity.extent(0));
+  if (ne == 0)
+    return;
+  const F f{mesh, thickness, law, sink};
+  const auto scratch = Kokkos::PerTeam(F::Scratch::shmem_size(F::kScratch));
+  if (teamSize <= 0) {
+    constexpr bool host = Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible;
+    // the node pairs in whole warps of 32 threads
+    constexpr int pairs = (Elem::kNumNodes * Elem::kNumNodes + 31) / 32 * 32;
+    const Kokkos::TeamPolicy<ExecSpace> probe =
+        Kokkos::TeamPolicy<ExecSpace>(exec, ne, Kokkos::AUTO).set_scratch_size(0, scratch);
+    const int most = probe.team_size_max(f, Kokkos::ParallelForTag());
+    teamSize = host ? 1 : pairs < most ? pairs : most;
+  }
+  Kokkos::parallel_for(
+      "mixcon::kernels::teamElementStiffness",
+      Kokkos::TeamPolicy<ExecSpace>(exec, ne, teamSize).set_scratch_size(0, scratch), f);
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j), SIMD lanes of elements per thread
+/// (stiffnessLanes).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffnessLanes(const ExecSpace &exec,
+                                  const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                  const Law &law, const Kokkos::View<double ***, P...> &ke) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      "mixcon::kernels::elementStiffness",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double k[nd][nd][W];
+        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, k);
+        for (int l = 0; l < W && first + l < ne; ++l)
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              ke(first + l, i, j) = k[i][j][l];
+      });
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j), one team per element.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffnessTeam(const ExecSpace &exec,
+                                 const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                 const Law &law, const Kokkos::View<double ***, P...> &ke,
+                                 int teamSize = 0) {
+  using Sink = detail::ElementMatrixSink<Elem::kDim, Kokkos::View<double ***, P...>>;
+  teamElementStiffness<Elem>(exec, mesh, thickness, law, Sink{ke}, teamSize);
+}
+
+/// Element stiffness matrices of all elements into ke(e, i, j) (extent E x Dim n x Dim n): one
+/// team per element where kTeamStiffness, else SIMD lanes of elements per thread.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
+void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                             double thickness, const Law &law,
+                             const Kokkos::View<double ***, P...> &ke) {
+  if constexpr (kTeamStiffness<ExecSpace, Elem>)
+    computeElementStiffnessTeam<Elem>(exec, mesh, thickness, law, ke);
+  else
+    computeElementStiffnessLanes<Elem>(exec, mesh, thickness, law, ke);
+}
+
+/// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
+/// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
+/// element-matrix storage, atomics; `a.values` is not zeroed. SIMD lanes of elements per thread.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffnessLanes(const ExecSpace &exec,
+                                   const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                   const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
+                                   double scale = 1.0) {
+  constexpr int nd = Elem::kDim * Elem::kNumNodes;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      "mixcon::kernels::assembleElementStiffness",
+      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double kw[nd][nd][W];
+        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, kw);
+        for (int l = 0; l < W && first + l < ne; ++l) {
+          double k[nd][nd];
+          for (int i = 0; i < nd; ++i)
+            for (int j = 0; j < nd; ++j)
+              k[i][j] = kw[i][j][l];
+          scatterElementStiffness<Elem>(a, map, mesh, first + l, scale, k);
+        }
+      });
+}
+
+/// assembleElementStiffnessLanes with one team per element.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffnessTeam(const ExecSpace &exec,
+                                  const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                  const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
+                                  double scale = 1.0, int teamSize = 0) {
+  using Sink = detail::CsrScatterSink<Elem::kDim, MemorySpace, Map>;
+  teamElementStiffness<Elem>(exec, mesh, thickness, law, Sink{a, map, mesh, scale}, teamSize);
+}
+
+/// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
+/// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
+/// element-matrix storage, atomics; `a.values` is not zeroed. One team per element where
+/// kTeamStiffness, else SIMD lanes of elements per thread.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                              double thickness, const Law &law, const Map &map,
+                              const CsrMatrix<MemorySpace> &a, double scale = 1.0) {
+  if constexpr (kTeamStiffness<ExecSpace, Elem>)
+    assembleElementStiffnessTeam<Elem>(exec, mesh, thickness, law, map, a, scale);
+  else
+    assembleElementStiffnessLanes<Elem>(exec, mesh, thickness, law, map, a, scale);
+}
+
+} // namespace mixcon
