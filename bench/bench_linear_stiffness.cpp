@@ -104,7 +104,8 @@ constexpr double stiffnessFlops(int n, int quadraturePoints) {
 
 /// Which stiffness kernel a benchmark times: the one the build chooses for the execution space
 /// (computeElementStiffness: "threads"), SIMD lanes of elements per thread, or one team per
-/// element (kernels/ElementDriver.hpp; the team form is chosen on GPUs for 16 or more unknowns).
+/// element (kernels/ElementStiffness.hpp; kTeamStiffness: the team form on GPUs for the 3D
+/// elements of 24 or more unknowns).
 enum class Kernel { Chosen, Lanes, Team };
 
 template <Kernel K, class Elem, class Exec, class MeshV, class Law, class View>

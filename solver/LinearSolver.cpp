@@ -552,6 +552,20 @@ private:
                                             rotations_.data()),
             "BoomerAMGSetInterpVectors");
 
+    // The Krylov method's preconditioner: BoomerAMG's own setup and V-cycle on A or, with
+    // separate components, the hierarchy built here on their matrix and a V-cycle on it
+    // (componentVcycle), which the method's setup leaves as it is (noSetup).
+    auto precondSolve = reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve);
+    auto precondSetup = reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup);
+    HYPRE_Solver precondData = amg_;
+    if (parP_) {
+      if (retried(HYPRE_BoomerAMGSetup(amg_, parP_, parb_, parx_),
+                  "BoomerAMG setup (separate components)"))
+        return;
+      precondSolve = &componentVcycle;
+      precondSetup = &noSetup;
+      precondData = reinterpret_cast<HYPRE_Solver>(this);
+    }
     if (options_.symmetric) {
       HYPRE_ParCSRPCGCreate(comm_, &pcg_);
       HYPRE_PCGSetTol(pcg_, options_.tolerance);
@@ -559,13 +573,8 @@ private:
       HYPRE_PCGSetMaxIter(pcg_, options_.maxIterations);
       HYPRE_PCGSetTwoNorm(pcg_, 1);
       HYPRE_PCGSetPrintLevel(pcg_, options_.printLevel);
-      if (parP_)
-        HYPRE_PCGSetPrecond(pcg_, &componentVcycle, &noSetup, self());
-      else
-        HYPRE_PCGSetPrecond(pcg_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                            reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      if (retried(setupComponentHierarchy(), "BoomerAMG setup (separate components)") ||
-          retried(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup"))
+      HYPRE_PCGSetPrecond(pcg_, precondSolve, precondSetup, precondData);
+      if (retried(HYPRE_ParCSRPCGSetup(pcg_, parA_, parb_, parx_), "PCG/BoomerAMG setup"))
         return;
     } else {
       HYPRE_ParCSRGMRESCreate(comm_, &gmres_);
@@ -574,13 +583,8 @@ private:
       HYPRE_GMRESSetAbsoluteTol(gmres_, 0.0);
       HYPRE_GMRESSetMaxIter(gmres_, options_.maxIterations);
       HYPRE_GMRESSetPrintLevel(gmres_, options_.printLevel);
-      if (parP_)
-        HYPRE_GMRESSetPrecond(gmres_, &componentVcycle, &noSetup, self());
-      else
-        HYPRE_GMRESSetPrecond(gmres_, reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve),
-                              reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup), amg_);
-      if (retried(setupComponentHierarchy(), "BoomerAMG setup (separate components)") ||
-          retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
+      HYPRE_GMRESSetPrecond(gmres_, precondSolve, precondSetup, precondData);
+      if (retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
         return;
     }
     buildCoarseSpace();
@@ -826,11 +830,9 @@ private:
   /// The matrix BoomerAMG's hierarchy is built on and every V-cycle smooths with.
   HYPRE_ParCSRMatrix hierarchyMatrix() const { return parP_ ? parP_ : parA_; }
 
-  HYPRE_Solver self() { return reinterpret_cast<HYPRE_Solver>(this); }
-
   /// The Krylov methods' preconditioner with separate components: one V-cycle on the filtered
   /// matrix (hypre's BoomerAMGSolve smooths with the matrix it is given, not its own), whose
-  /// hierarchy setupComponentHierarchy() built; the method's own setup leaves it as it is.
+  /// hierarchy build() set up; the method's own setup leaves it as it is (noSetup).
   static HYPRE_Int componentVcycle(HYPRE_Solver solver, HYPRE_Matrix, HYPRE_Vector b,
                                    HYPRE_Vector x) {
     const auto *s = reinterpret_cast<const HypreAmgSolver *>(solver);
@@ -839,30 +841,32 @@ private:
   }
   static HYPRE_Int noSetup(HYPRE_Solver, HYPRE_Matrix, HYPRE_Vector, HYPRE_Vector) { return 0; }
 
-  HYPRE_Int setupComponentHierarchy() {
-    return parP_ ? HYPRE_BoomerAMGSetup(amg_, parP_, parb_, parx_) : 0;
+  /// True for the entry (i, j) of a matrix with `d` interleaved unknowns per node that couples
+  /// a component with the same component (the first owned row is a node's first unknown).
+  static bool sameComponent(LocalIndex i, LocalIndex j, int d) { return i % d == j % d; }
+
+  /// The entries per row of the filtered matrix of `a` (sameComponent).
+  std::vector<HYPRE_Int> componentCounts(const CsrMatrix<DeviceSpace> &a) const {
+    const auto ro = hostReadable(a.rowOffsets);
+    const auto co = hostReadable(a.columns);
+    const int d = dofs_.dofsPerNode;
+    std::vector<HYPRE_Int> counts(a.numRows, 0);
+    for (LocalIndex i = 0; i < a.numRows; ++i)
+      for (auto k = ro(i); k < ro(i + 1); ++k)
+        counts[i] += sameComponent(i, co(k), d);
+    return counts;
   }
 
-  /// Hands the entries of `a` that couple equal components (local row i and column j with
-  /// i % d == j % d; the first owned row is a node's first unknown) to ijP_, in chunks of rows
-  /// so that the copy stays small (its global columns and values: 1/d of A's entries at once
-  /// would be 1.3 GB for the 3.1M-unknown cube). `counts`, when given, receives the entries per
-  /// row and nothing is set.
-  void forComponentEntries(const CsrMatrix<DeviceSpace> &a, std::vector<HYPRE_Int> *counts,
-                           const char *what) {
+  /// Hands the entries of `a` that couple equal components (sameComponent) to ijP_, in chunks of
+  /// rows so that the copy stays small (its global columns and values: 1/d of A's entries at
+  /// once would be 1.3 GB for the 3.1M-unknown cube).
+  void setComponentValues(const CsrMatrix<DeviceSpace> &a, const char *what) {
     const auto ro = hostReadable(a.rowOffsets);
     const auto co = hostReadable(a.columns);
     const auto va = hostReadable(a.values);
     const int d = dofs_.dofsPerNode;
     const HYPRE_BigInt lo = dofs_.ownedBegin;
     const LocalIndex n = a.numRows;
-    if (counts) {
-      counts->assign(n, 0);
-      for (LocalIndex i = 0; i < n; ++i)
-        for (auto k = ro(i); k < ro(i + 1); ++k)
-          (*counts)[i] += co(k) % d == i % d;
-      return;
-    }
     constexpr LocalIndex kChunk = 1 << 16;
     std::vector<HYPRE_Int> nc;
     std::vector<HYPRE_BigInt> cols;
@@ -874,7 +878,7 @@ private:
       vals.clear();
       for (LocalIndex i = first; i < last; ++i)
         for (auto k = ro(i); k < ro(i + 1); ++k)
-          if (co(k) % d == i % d) {
+          if (sameComponent(i, co(k), d)) {
             ++nc[i - first];
             cols.push_back(lo + co(k)); // serial numbering, as setValues()
             vals.push_back(va(k));
@@ -885,15 +889,10 @@ private:
     }
   }
 
-  void setComponentValues(const CsrMatrix<DeviceSpace> &a, const char *what) {
-    forComponentEntries(a, nullptr, what);
-  }
-
   /// ijP_ and parP_: the filtered matrix of LinearSolverOptions::separateComponents.
   void buildComponentMatrix(const CsrMatrix<DeviceSpace> &a) {
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
-    std::vector<HYPRE_Int> counts;
-    forComponentEntries(a, &counts, nullptr);
+    const std::vector<HYPRE_Int> counts = componentCounts(a);
     const std::vector<HYPRE_Int> offdSizes(counts.size(), 0);
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ijP_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ijP_, HYPRE_PARCSR), "IJMatrixSetObjectType");
