@@ -257,7 +257,17 @@ public:
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     Kokkos::fence();
-    if (direct_) { // the fall back of an earlier solve stays for the run
+    if (directNext_ && !direct_) { // an earlier solve found the AMG no cheaper than it
+      matrix_ = a;
+      directNext_ = false;
+      std::string why;
+      if (fallBackToDirect(why)) {
+        ++builds_;
+      } else {
+        directNote_ = why;
+        build();
+      }
+    } else if (direct_) { // the fall back of an earlier solve stays for the run
       direct_->setup(a);
       matrix_ = a;
       ++builds_;
@@ -298,14 +308,26 @@ public:
         *this, s, [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); }, note, total);
     if (!direct_ && kept_ && s.iterations > options_.reuseIterationGrowth * freshIterations_)
       rebuild_ = true; // the next setup builds a fresh hierarchy
-    // Converged, but slowly: the next hierarchies take the next step of the ladder.
+    // Converged, but slowly: the next hierarchies take the next step of the ladder, or, where
+    // that step would hold the whole problem, the next setups the direct solver.
     if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations &&
         nextCoarsest() > coarsest_) {
-      coarsest_ = nextCoarsest();
-      rebuild_ = true;
-      appendNote(note, "AMG took " + std::to_string(s.iterations) +
-                           " iterations: the next hierarchies stop at " +
-                           std::to_string(coarsest_) + " unknowns");
+      if (ladderHoldsTheProblem() && directFallbackAllowed()) {
+        directNext_ = true;
+        appendNote(note, "AMG took " + std::to_string(s.iterations) + " iterations on " +
+                             std::to_string(dofs_.numGlobal) +
+                             " unknowns: the next setups use the direct solver");
+      } else {
+        coarsest_ = nextCoarsest();
+        rebuild_ = true;
+        appendNote(note, "AMG took " + std::to_string(s.iterations) +
+                             " iterations: the next hierarchies stop at " +
+                             std::to_string(coarsest_) + " unknowns");
+      }
+    }
+    if (!directNote_.empty()) { // why the direct solver asked for at the last setup was not used
+      appendNote(note, directNote_);
+      directNote_.clear();
     }
     if (!direct_ && !kept_)
       freshIterations_ = std::max(s.iterations, 1);
@@ -358,8 +380,10 @@ public:
     const HostLibraryStaging staging;
     if (direct_ || matrix_.numRows == 0)
       return false;
-    std::ostringstream o;
-    if (nextCoarsest() > coarsest_) {
+    // A step whose coarsest level would hold the whole problem is a dense direct solve behind
+    // a hierarchy that hypre still coarsens once: the sparse direct solver instead, where allowed.
+    if (nextCoarsest() > coarsest_ && !(ladderHoldsTheProblem() && directFallbackAllowed())) {
+      std::ostringstream o;
       o << "AMG rebuilt with a coarsest level of up to " << nextCoarsest() << " unknowns (was "
         << coarsest_ << ")";
       coarsest_ = nextCoarsest();
@@ -367,22 +391,8 @@ public:
       note = o.str();
       return true;
     }
-    if (directFallbackAllowed()) {
-      auto direct = std::make_unique<DirectSolver>(comm_, options_);
-      try {
-        direct->setup(matrix_);
-      } catch (const std::runtime_error &e) { // singular: the AMG's answer stands, with why
-        fallbackRefused_ = true;
-        note = std::string("no fall back to the direct solver: ") + e.what();
-        return false;
-      }
-      direct_ = std::move(direct);
-      release();
-      o << "the AMG did not converge: falling back to the direct solver (" << dofs_.numGlobal
-        << " unknowns)";
-      note = o.str();
-      return true;
-    }
+    if (directFallbackAllowed())
+      return fallBackToDirect(note);
     return false;
   }
 
@@ -776,6 +786,29 @@ private:
 
   bool canStrengthen() const { return nextCoarsest() > coarsest_ || directFallbackAllowed(); }
 
+  /// The ladder's next coarsest size is not below the problem's size.
+  bool ladderHoldsTheProblem() const {
+    return nextCoarsest() > coarsest_ && nextCoarsest() >= dofs_.numGlobal;
+  }
+
+  /// Factorizes matrix_ with the direct solver, which serves the rest of the run; false, with
+  /// why in `note`, where the matrix is singular (the AMG's answer stands then).
+  bool fallBackToDirect(std::string &note) {
+    auto direct = std::make_unique<DirectSolver>(comm_, options_);
+    try {
+      direct->setup(matrix_);
+    } catch (const std::runtime_error &e) {
+      fallbackRefused_ = true;
+      note = std::string("no fall back to the direct solver: ") + e.what();
+      return false;
+    }
+    direct_ = std::move(direct);
+    release();
+    note = "the AMG did not converge: falling back to the direct solver (" +
+           std::to_string(dofs_.numGlobal) + " unknowns)";
+    return true;
+  }
+
   /// The rigid-body rotations of the positions as BoomerAMG interpolation vectors (the
   /// translations are the constants the systems AMG interpolates anyway): in 2D (-y, x), in 3D
   /// the three rotations about the axes, about the centroid. With nodal coarsening, as hypre's
@@ -965,6 +998,8 @@ private:
   bool fallbackRefused_ = false; ///< the direct solver found the matrix singular
   bool kept_ = false;            ///< the hierarchy was built on an earlier matrix
   bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
+  bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
+  std::string directNote_;  ///< why that direct solver was not used
   int freshIterations_ = 1;      ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;

@@ -79,8 +79,11 @@ struct LinearSolverOptions {
   /// (slender parts: coarse levels of long, thin elements lock in bending, so the hierarchy must
   /// stop while the elements are still short: L/h = 100 needs about 400, L/h = 1000 about 3000
   /// unknowns; the ladder stops at 2000: the coarsest level is a dense inverse), then the direct
-  /// solver where the system has at most `directFallbackUnknowns` unknowns on one rank. Each step
-  /// is reported (LinearSolveStats::note) and kept for the run.
+  /// solver where the system has at most `directFallbackUnknowns` unknowns on one rank. A step
+  /// whose coarsest size is not below the system's unknowns goes to that direct solver instead
+  /// (hypre would still coarsen once; the dense coarsest level would be no cheaper), both when a
+  /// solve fails and when it converges slowly (then from the next setup on). Each step is
+  /// reported (LinearSolveStats::note) and kept for the run.
   int escalationIterations = 200;
   std::vector<int> escalationCoarsestSizes = {500, 2000};
   long directFallbackUnknowns = 200000; ///< 0: never fall back to the direct solver

@@ -168,6 +168,25 @@ TEST(SlenderStrip, FallsBackToTheDirectSolverAndSaysSo) {
   EXPECT_FALSE(solveSlenderStrip(100.0, o).stats.converged);
 }
 
+TEST(SlenderStrip, LadderStepHoldingTheProblemIsTheDirectSolver) {
+  // L/h = 30: 1,302 unknowns, so the ladder's 2000 would be a coarsest level holding the whole
+  // problem (hypre would still coarsen it once): the direct solver takes that step.
+  LinearSolverOptions direct;
+  direct.type = LinearSolverType::Direct;
+  const StripResult reference = solveSlenderStrip(30.0, direct);
+  ASSERT_LT(reference.u.size(), 2000u);
+  LinearSolverOptions o;
+  o.rigidBodyModes = false;
+  o.escalationIterations = 3; // every AMG step fails
+  const StripResult r = solveSlenderStrip(30.0, o);
+  EXPECT_TRUE(r.stats.converged);
+  EXPECT_NE(r.stats.note.find("up to 500 unknowns"), std::string::npos) << r.stats.note;
+  EXPECT_EQ(r.stats.note.find("up to 2000 unknowns"), std::string::npos) << r.stats.note;
+  EXPECT_NE(r.stats.note.find("falling back to the direct solver"), std::string::npos)
+      << r.stats.note;
+  EXPECT_LT(relativeDifference(r.u, reference.u), 1e-6);
+}
+
 namespace {
 /// K^L of a clamped Quad4 square (2 unknowns per node), scaled by `scale` in its first half of
 /// rows and columns' symmetric part: the same pattern, other values.
@@ -274,6 +293,35 @@ TEST(AmgReuse, KeepsTheHierarchyForTheSamePatternAndStillSolves) {
   } else {
     EXPECT_EQ(growing->builds(), 1);
   }
+}
+
+TEST(AmgReuse, SlowSolveOnASmallProblemSendsTheNextSetupsToTheDirectSolver) {
+  // 650 unknowns: the ladder's next step (a coarsest level of 2000) would hold the whole problem.
+  const Mesh mesh = rectangleMesh(2.0, 1.0, 24, 12, ElementType::Quad4);
+  const DofMap dofs = DofMap::serial(mesh.numNodes(), 2);
+  const CsrMatrix<Memory> a = squareStiffness(mesh, 1.0);
+  LinearSolverOptions o;
+  o.escalationCoarsestSizes = {2000};
+  o.directFallbackUnknowns = 0; // first the AMG alone: how many iterations it takes
+  LinearSolveStats st, ds;
+  solveWith(*makeLinearSolver(o, dofs, MPI_COMM_WORLD), a, st);
+  ASSERT_TRUE(st.converged);
+  ASSERT_GE(st.iterations, 4);
+  o.directFallbackUnknowns = 200000;
+  o.escalationIterations = st.iterations + 1; // converges, but in more than half of that
+  auto amg = makeLinearSolver(o, dofs, MPI_COMM_WORLD);
+  solveWith(*amg, a, st);
+  EXPECT_TRUE(st.converged);
+  EXPECT_NE(st.note.find("the next setups use the direct solver"), std::string::npos) << st.note;
+  EXPECT_EQ(amg->name().find("fallen back"), std::string::npos) << amg->name();
+  LinearSolverOptions d;
+  d.type = LinearSolverType::Direct;
+  const CsrMatrix<Memory> b = squareStiffness(mesh, 1.5);
+  const auto x = solveWith(*amg, b, st);
+  EXPECT_NE(amg->name().find("fallen back"), std::string::npos) << amg->name();
+  EXPECT_EQ(amg->builds(), 2);
+  EXPECT_LT(relativeDifference(x, solveWith(*makeLinearSolver(d, dofs, MPI_COMM_WORLD), b, ds)),
+            1e-10);
 }
 
 namespace {
