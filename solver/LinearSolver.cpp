@@ -1000,7 +1000,7 @@ private:
   bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
   bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
   std::string directNote_;  ///< why that direct solver was not used
-  int freshIterations_ = 1;      ///< iterations of the last solve with a fresh hierarchy
+  int freshIterations_ = 1; ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;
   double normInf_ = 0.0;

@@ -158,6 +158,16 @@ bool LoadStepper::settleContact(double lambda, IncrementOutcome &out, std::strin
   return false;
 }
 
+bool LoadStepper::commitModel(std::string &why) {
+  try {
+    model_.commit();
+  } catch (const CommitFailure &e) { // the committed state is unchanged: cut as for a divergence
+    why = e.what();
+    return false;
+  }
+  return true;
+}
+
 IncrementOutcome LoadStepper::advance(double target) {
   IncrementOutcome out;
   double step = target - lambda_;
@@ -165,8 +175,7 @@ IncrementOutcome LoadStepper::advance(double target) {
     const double next =
         std::abs(target - lambda_) <= std::abs(step) * (1 + 1e-12) ? target : lambda_ + step;
     std::string why;
-    if (attempt(next, out, why) && settleContact(next, out, why)) {
-      model_.commit();
+    if (attempt(next, out, why) && settleContact(next, out, why) && commitModel(why)) {
       model_.noteCommitted();
       if (model_.contactIterations())
         model_.contactIterations()->commit();

@@ -58,6 +58,8 @@ public:
 private:
   bool attempt(double lambda, IncrementOutcome &out, std::string &why);
   bool settleContact(double lambda, IncrementOutcome &out, std::string &why);
+  /// model_.commit(); false, with why, where it throws CommitFailure.
+  bool commitModel(std::string &why);
   std::string contactHint() const;
   NonlinearModel &model_;
   NonlinearOptions options_;

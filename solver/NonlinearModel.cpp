@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 namespace mixcon {
@@ -327,12 +328,18 @@ void projectNodalComponents(const CsrMatrix<Memory> &mass, const ConstVec &load,
   KrylovOptions o;
   o.tolerance = 1e-13;
   o.maxIterations = 500;
+  o.backwardErrorFloor = true; // 1e-13 can be below what rounding allows on a large mesh
   for (int c = 0; c < components; ++c) {
     gather(load, components, c, 1, b);
     gather(field, components, c, 1, t); // the previous values as the initial guess
     const KrylovStats s = krylovSolve(o, apply, jacobi, b, t);
-    if (!s.converged)
-      throw std::runtime_error("mixed stress update: the mass projection did not converge");
+    if (!s.converged) {
+      std::ostringstream m;
+      m << "the stress update's mass projection (stress component " << c << ") did not converge"
+        << " (relative residual " << s.relativeResidual << " after " << s.iterations
+        << " iterations)";
+      throw CommitFailure(m.str());
+    }
     scatter<double>(t, components, c, 1, field, false);
   }
 }

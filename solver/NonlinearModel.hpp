@@ -14,11 +14,20 @@
 #include <solver/NonlinearOptions.hpp>
 
 #include <chrono>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace mixcon {
+
+/// Thrown by NonlinearModel::commit() where the converged state cannot be accepted (the mixed
+/// models' stress projection onto the moved configuration fails); the committed state is then
+/// unchanged, and the load stepper cuts the increment as for a failed Newton iteration.
+class CommitFailure : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
 
 /// A geometrically nonlinear model: iterate (evaluate, correct), then commit or roll back.
 /// Host-side interface (virtual, never called on the device).
@@ -52,7 +61,8 @@ public:
   /// Solves the last tangent for the correction (prescribed values reach lambda g), applies it,
   /// and returns the solver statistics; `increment` receives the relative increment norm.
   virtual LinearSolveStats correct(double lambda, double &increment) = 0;
-  /// Accepts the current state as converged (configuration and stress update).
+  /// Accepts the current state as converged (configuration and stress update). Throws
+  /// CommitFailure, with the committed state unchanged, where it cannot.
   virtual void commit() = 0;
   /// Returns to the last committed state.
   virtual void rollback() = 0;
@@ -217,8 +227,9 @@ void restoreIncrementalState(const Checkpoint &state,
                              const Kokkos::View<double **, DeviceSpace> &configuration);
 /// field <- mass^-1 load for `components` interleaved values per node (mass: a scalar matrix,
 /// one row per node), component by component by Jacobi-CG to 1e-13 from field's values: the L2
-/// projection of the incremental form's stress update. std::runtime_error when a component does
-/// not converge.
+/// projection of the incremental form's stress update, accepted at the backward-error floor of
+/// floating point. CommitFailure when a component does not converge (field may then hold the
+/// components before it projected).
 void projectNodalComponents(const CsrMatrix<DeviceSpace> &mass,
                             const Kokkos::View<const double *, DeviceSpace> &load, int components,
                             const Kokkos::View<double *, DeviceSpace> &field);
