@@ -307,26 +307,43 @@ void teamElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Ele
       Kokkos::TeamPolicy<ExecSpace>(exec, ne, teamSize).set_scratch_size(0, scratch), f);
 }
 
+/// The stiffness of every element by SIMD lanes of elements per thread (stiffnessLanes), each
+/// Dim x Dim block (p, b) of element e handed to `sink(e, p, b, block)` (the sinks of
+/// teamElementStiffness): kernel `label`.
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+void laneElementStiffness(const ExecSpace &exec, const char *label,
+                          const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                          const Law &law, const Sink &sink) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  Kokkos::parallel_for(
+      label, Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W),
+      KOKKOS_LAMBDA(LocalIndex batch) {
+        const LocalIndex first = batch * W;
+        double k[nd][nd][W];
+        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, k);
+        for (int l = 0; l < W && first + l < ne; ++l)
+          for (int p = 0; p < n; ++p)
+            for (int b = 0; b < n; ++b) {
+              double blk[dim][dim];
+              for (int i = 0; i < dim; ++i)
+                for (int j = 0; j < dim; ++j)
+                  blk[i][j] = k[dim * p + i][dim * b + j][l];
+              sink(first + l, p, b, blk);
+            }
+      });
+}
+
 /// Element stiffness matrices of all elements into ke(e, i, j), SIMD lanes of elements per thread
 /// (stiffnessLanes).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class... P>
 void computeElementStiffnessLanes(const ExecSpace &exec,
                                   const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
                                   const Law &law, const Kokkos::View<double ***, P...> &ke) {
-  constexpr int nd = Elem::kDim * Elem::kNumNodes;
-  constexpr int W = kStiffnessLanes<ExecSpace>;
-  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
-  Kokkos::parallel_for(
-      "mixcon::kernels::elementStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
-        const LocalIndex first = batch * W;
-        double k[nd][nd][W];
-        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, k);
-        for (int l = 0; l < W && first + l < ne; ++l)
-          for (int i = 0; i < nd; ++i)
-            for (int j = 0; j < nd; ++j)
-              ke(first + l, i, j) = k[i][j][l];
-      });
+  using Sink = detail::ElementMatrixSink<Elem::kDim, Kokkos::View<double ***, P...>>;
+  laneElementStiffness<Elem>(exec, "mixcon::kernels::elementStiffness", mesh, thickness, law,
+                             Sink{ke});
 }
 
 /// Element stiffness matrices of all elements into ke(e, i, j), one team per element.
@@ -359,23 +376,9 @@ void assembleElementStiffnessLanes(const ExecSpace &exec,
                                    const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
                                    const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
                                    double scale = 1.0) {
-  constexpr int nd = Elem::kDim * Elem::kNumNodes;
-  constexpr int W = kStiffnessLanes<ExecSpace>;
-  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
-  Kokkos::parallel_for(
-      "mixcon::kernels::assembleElementStiffness",
-      Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W), KOKKOS_LAMBDA(LocalIndex batch) {
-        const LocalIndex first = batch * W;
-        double kw[nd][nd][W];
-        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, kw);
-        for (int l = 0; l < W && first + l < ne; ++l) {
-          double k[nd][nd];
-          for (int i = 0; i < nd; ++i)
-            for (int j = 0; j < nd; ++j)
-              k[i][j] = kw[i][j][l];
-          scatterElementStiffness<Elem>(a, map, mesh, first + l, scale, k);
-        }
-      });
+  using Sink = detail::CsrScatterSink<Elem::kDim, MemorySpace, Map>;
+  laneElementStiffness<Elem>(exec, "mixcon::kernels::assembleElementStiffness", mesh, thickness,
+                             law, Sink{a, map, mesh, scale});
 }
 
 /// assembleElementStiffnessLanes with one team per element.
