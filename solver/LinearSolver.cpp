@@ -264,7 +264,7 @@ public:
       if (fallBackToDirect(why)) {
         ++builds_;
       } else {
-        directNote_ = why;
+        appendNote(setupNote_, why);
         build();
       }
     } else if (direct_) { // the fall back of an earlier solve stays for the run
@@ -312,7 +312,7 @@ public:
     // that step would hold the whole problem, the next setups the direct solver.
     if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations &&
         nextCoarsest() > coarsest_) {
-      if (ladderHoldsTheProblem() && directFallbackAllowed()) {
+      if (directBeforeNextStep()) {
         directNext_ = true;
         appendNote(note, "AMG took " + std::to_string(s.iterations) + " iterations on " +
                              std::to_string(dofs_.numGlobal) +
@@ -325,15 +325,11 @@ public:
                              std::to_string(coarsest_) + " unknowns");
       }
     }
-    if (!directNote_.empty()) { // why the direct solver asked for at the last setup was not used
-      appendNote(note, directNote_);
-      directNote_.clear();
-    }
     if (!direct_ && !kept_)
       freshIterations_ = std::max(s.iterations, 1);
-    if (!coarseNote_.empty()) { // why the coarse space asked for was not built
-      appendNote(note, coarseNote_);
-      coarseNote_.clear();
+    if (!setupNote_.empty()) { // what the last setup was asked for and did not build, and why
+      appendNote(note, setupNote_);
+      setupNote_.clear();
     }
     s.iterations = total;
     s.note = note;
@@ -382,7 +378,7 @@ public:
       return false;
     // A step whose coarsest level would hold the whole problem is a dense direct solve behind
     // a hierarchy that hypre still coarsens once: the sparse direct solver instead, where allowed.
-    if (nextCoarsest() > coarsest_ && !(ladderHoldsTheProblem() && directFallbackAllowed())) {
+    if (nextCoarsest() > coarsest_ && !directBeforeNextStep()) {
       std::ostringstream o;
       o << "AMG rebuilt with a coarsest level of up to " << nextCoarsest() << " unknowns (was "
         << coarsest_ << ")";
@@ -625,7 +621,7 @@ private:
     }
     // Said once per reason (a Newton run sets up every iteration), in the next solve's note.
     if (!why.empty() && why != coarseRefusal_)
-      coarseNote_ = "no rigid-body coarse space: " + why;
+      appendNote(setupNote_, "no rigid-body coarse space: " + why);
     coarseRefusal_ = why;
   }
 
@@ -786,9 +782,11 @@ private:
 
   bool canStrengthen() const { return nextCoarsest() > coarsest_ || directFallbackAllowed(); }
 
-  /// The ladder's next coarsest size is not below the problem's size.
-  bool ladderHoldsTheProblem() const {
-    return nextCoarsest() > coarsest_ && nextCoarsest() >= dofs_.numGlobal;
+  /// The ladder's next coarsest size is not below the problem's size, and the direct solver may
+  /// take that step instead.
+  bool directBeforeNextStep() const {
+    return nextCoarsest() > coarsest_ && nextCoarsest() >= dofs_.numGlobal &&
+           directFallbackAllowed();
   }
 
   /// Factorizes matrix_ with the direct solver, which serves the rest of the run; false, with
@@ -974,11 +972,13 @@ private:
   int ranks_ = 1;
   int coarsest_ = 9; ///< the coarsest size in use (grows along the escalation ladder)
   std::unique_ptr<RigidCoarseSpace> coarse_; ///< LinearSolverOptions::coarseSpace, when built
-  std::string coarseNote_;                   ///< why it was not, for the next solve's note
-  std::string coarseRefusal_;                ///< the last reason, said once
-  DeviceVector cw_, sw_, yw_, qw_;           ///< twoLevel()'s work vectors
-  KrylovWorkspace workspace_;                ///< iterateTwoLevel()'s Krylov vectors
-  int variant_ = 2; ///< interpolation-vector variant in use (0: none; see retried())
+  /// Why a setup did not build what it was asked for (the coarse space, the direct solver), for
+  /// the next solve's note.
+  std::string setupNote_;
+  std::string coarseRefusal_;      ///< the last reason, said once
+  DeviceVector cw_, sw_, yw_, qw_; ///< twoLevel()'s work vectors
+  KrylovWorkspace workspace_;      ///< iterateTwoLevel()'s Krylov vectors
+  int variant_ = 2;                ///< interpolation-vector variant in use (0: none; see retried())
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
   HYPRE_ParCSRMatrix parA_ = nullptr;
@@ -999,7 +999,6 @@ private:
   bool kept_ = false;            ///< the hierarchy was built on an earlier matrix
   bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
   bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
-  std::string directNote_;  ///< why that direct solver was not used
   int freshIterations_ = 1; ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;

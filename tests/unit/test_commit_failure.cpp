@@ -21,12 +21,8 @@ using namespace mixcon;
 namespace {
 using Memory = DeviceSpace;
 
-std::vector<double> hostCopy(const Kokkos::View<double *, Memory> &v) {
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
-  return std::vector<double>(h.data(), h.data() + h.size());
-}
-
-std::vector<double> hostCopy(const Kokkos::View<double *[2], Memory> &v) {
+/// The node coordinates, node by node.
+std::vector<double> coordinatesHost(const Kokkos::View<double *[2], Memory> &v) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
   std::vector<double> out;
   for (std::size_t i = 0; i < h.extent(0); ++i)
@@ -35,11 +31,11 @@ std::vector<double> hostCopy(const Kokkos::View<double *[2], Memory> &v) {
 }
 
 Kokkos::View<double *, Memory> filled(const std::string &name, std::size_t n, double scale) {
-  Kokkos::View<double *, Memory> v(name, n);
-  auto h = Kokkos::create_mirror_view(v);
+  std::vector<double> h(n);
   for (std::size_t i = 0; i < n; ++i)
-    h(i) = scale * std::sin(0.7 * static_cast<double>(i) + 0.3);
-  Kokkos::deep_copy(v, h);
+    h[i] = scale * std::sin(0.7 * static_cast<double>(i) + 0.3);
+  Kokkos::View<double *, Memory> v(name, n);
+  ModelBase::fromHost(h, v);
   return v;
 }
 
@@ -69,28 +65,28 @@ struct IncrementalState {
 
 TEST(CommitFailure, FailedStressProjectionLeavesTheIncrementalStateUnchanged) {
   IncrementalState s(std::numeric_limits<double>::infinity()); // a non-finite increment
-  const auto x0 = hostCopy(s.x), tau0 = hostCopy(s.tau), u0 = hostCopy(s.displacement),
-             c0 = hostCopy(s.c1.coordinates);
+  const auto x0 = ModelBase::toHost(s.x), tau0 = ModelBase::toHost(s.tau),
+             u0 = ModelBase::toHost(s.displacement), c0 = coordinatesHost(s.c1.coordinates);
   try {
     s.commit();
     ADD_FAILURE() << "the projection on a non-finite c2 was accepted";
   } catch (const CommitFailure &e) {
     EXPECT_NE(std::string(e.what()).find("mass projection"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(hostCopy(s.x), x0);
-  EXPECT_EQ(hostCopy(s.tau), tau0);
-  EXPECT_EQ(hostCopy(s.displacement), u0);
-  EXPECT_EQ(hostCopy(s.c1.coordinates), c0);
+  EXPECT_EQ(ModelBase::toHost(s.x), x0);
+  EXPECT_EQ(ModelBase::toHost(s.tau), tau0);
+  EXPECT_EQ(ModelBase::toHost(s.displacement), u0);
+  EXPECT_EQ(coordinatesHost(s.c1.coordinates), c0);
 
   IncrementalState ok(1e-3); // a finite increment commits: c1 moves by u, x is zeroed
-  const auto okc0 = hostCopy(ok.c1.coordinates), okx = hostCopy(ok.x);
+  const auto okc0 = coordinatesHost(ok.c1.coordinates), okx = ModelBase::toHost(ok.x);
   ok.commit();
-  const auto c = hostCopy(ok.c1.coordinates), x = hostCopy(ok.x);
+  const auto c = coordinatesHost(ok.c1.coordinates), x = ModelBase::toHost(ok.x);
   for (std::size_t n = 0; n < c.size() / 2; ++n)
     for (int d = 0; d < 2; ++d)
       EXPECT_NEAR(c[2 * n + d], okc0[2 * n + d] + okx[5 * n + d], 1e-15);
   EXPECT_EQ(x, std::vector<double>(x.size(), 0.0));
-  EXPECT_NE(hostCopy(ok.tau), tau0);
+  EXPECT_NE(ModelBase::toHost(ok.tau), tau0);
 }
 
 namespace {
