@@ -6,7 +6,7 @@
              top edge, E = 1e4, nu = 0.3, plane stress), displacement and linear mixed model, for
              five solver settings: old AMG (no rigid-body modes, coarsest 9, no direct fall back),
              the default, coarsest_size 500 and 2000 (with the rigid-body modes), and the default
-             with `coarse_space: rigid_body` (--settings picks them by letter). With --dim 3:
+             with `coarse_space: rigid_body`, and more (--settings picks them by letter). With --dim 3:
              the strips as solids of square section h x h (Hex20, 2 x 2 through the section,
              clamped face xmin, traction on ymax), displacement model.
   nonlinear  examples/cantilever/slender_{displacement,mixed}.yaml at divisions [200, 2] with
@@ -35,11 +35,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 SETTINGS = [
     ("(a) old AMG", {"rigid_body_modes": False, "direct_fallback": False, "coarsest_size": 9}),
-    ("(b) default", {}),
+    ("(b) default", {}),  # since 2026-11-29: the coarse space as the ladder's first step
     ("(c) coarsest 500", {"coarsest_size": 500}),
     ("(d) coarsest 2000", {"coarsest_size": 2000}),
     ("(e) rigid-body coarse space", {"coarse_space": "rigid_body"}),
     ("(f) separate components", {"amg_matrix": "separate_components"}),
+    ("(g) no coarse space (the default before 2026-11-29)", {"coarse_space": "none"}),
 ]
 
 STEP = re.compile(r"^step (\d+)/(\d+).*?iterations (\d+)\s+cuts (\d+)\s+linear its (\d+)\s+"
@@ -159,19 +160,26 @@ def nonlinear(args):
     print("| file | solver | converged (rc) | last load factor | Newton its | linear its | wall s "
           "| w/L (elastica 0.70020) | solver notes |")
     print("|---|---|---|---|---|---|---|---|---|")
+    none = {"type": "amg", "coarse_space": "none"}  # the ladder before 2026-11-29
     cases = [("slender_displacement.yaml", {"type": "amg"}, None),
+             ("slender_displacement.yaml", none, None),
              ("slender_displacement.yaml", {"type": "direct"}, None),
              ("slender_mixed.yaml", {"type": "amg"}, None),
+             ("slender_mixed.yaml", none, None),
              ("slender_mixed.yaml", {"type": "direct"}, None),
              ("slender_mixed.yaml", {"type": "amg"}, 0.05),
+             ("slender_mixed.yaml", none, 0.05),
              ("slender_mixed.yaml", {"type": "direct"}, 0.05)]
+    if args.cases:
+        cases = [cases[int(k)] for k in args.cases.split(",")]
     for name, solver, stab in cases:
         p = example("cantilever/" + name)
         p["mesh"]["generator"]["divisions"] = [200, 2]
         p["solver"] = solver
         if stab is not None:
             p["model"]["stabilization"] = stab
-        label = f"{name[:-5]}_{solver['type']}" + (f"_stab{stab}" if stab is not None else "")
+        label = (f"{name[:-5]}_{solver['type']}" + ("_nocoarse" if "coarse_space" in solver else "") +
+                 (f"_stab{stab}" if stab is not None else ""))
         out = os.path.join(args.out, "nonlinear", label)
         r = run(args.mixcon, p, out, args.timeout, hdf5=True)
         newton, lin, _, lam = totals(r)
@@ -179,7 +187,8 @@ def nonlinear(args):
         notes = "; ".join(sorted(set(re.sub(r"load factor \S+, iteration \d+: ", "", n)
                                      for n in r["notes"])))
         print(f"| {name}" + (f" stabilization {stab}" if stab is not None else "") +
-              f" | {solver['type']} | {r['summary'].get('converged')} ({r['rc']}) | {lam} | {newton} "
+              f" | {solver['type']}" + (", coarse_space: none" if "coarse_space" in solver else "") +
+              f" | {r['summary'].get('converged')} ({r['rc']}) | {lam} | {newton} "
               f"| {lin} | {r['wall']:.2f} | {w if w is None else f'{w:.5f}'} | {notes or 'none'} |",
               flush=True)
 
@@ -221,8 +230,10 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--tolerance", type=float, default=None,
                     help="linear: the solver tolerance (default mixcon's, 1e-8)")
-    ap.add_argument("--settings", default="abcdef",
-                    help="linear: the settings to run, by letter (default all: abcdef)")
+    ap.add_argument("--settings", default="abcdefg",
+                    help="linear: the settings to run, by letter (default all: abcdefg)")
+    ap.add_argument("--cases", default="",
+                    help="nonlinear: the cases to run, by index, comma-separated (default all)")
     ap.add_argument("--timeout", type=float, default=600)
     args = ap.parse_args()
     {"linear": linear, "nonlinear": nonlinear, "reuse": reuse}[args.what](args)

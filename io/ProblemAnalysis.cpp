@@ -304,8 +304,12 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.reuseHierarchy = s["reuse_hierarchy"].boolean();
     if (s.has("reuse_factorization"))
       p.solver.reuseFactorization = s["reuse_factorization"].boolean();
-    if (s.has("coarse_space"))
-      p.solver.coarseSpace = s["coarse_space"].choice({"none", "rigid_body"}) == "rigid_body";
+    if (s.has("coarse_space")) {
+      const std::string v = s["coarse_space"].choice({"none", "auto", "rigid_body"});
+      p.solver.coarseSpace = v == "none"         ? CoarseSpace::None
+                             : v == "rigid_body" ? CoarseSpace::RigidBody
+                                                 : CoarseSpace::OnStall;
+    }
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
       p.solver.directFallbackUnknowns = 0;
   }

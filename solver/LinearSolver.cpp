@@ -303,26 +303,27 @@ public:
       s = iterate(b, x);
       total += s.iterations;
     }
-    // The escalation ladder: a stronger AMG, then the direct solver.
+    // The escalation ladder: the coarse space, a stronger AMG, then the direct solver.
     s = climbLadder(
         *this, s, [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); }, note, total);
     if (!direct_ && kept_ && s.iterations > options_.reuseIterationGrowth * freshIterations_)
       rebuild_ = true; // the next setup builds a fresh hierarchy
-    // Converged, but slowly: the next hierarchies take the next step of the ladder, or, where
-    // that step would hold the whole problem, the next setups the direct solver.
-    if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations &&
-        nextCoarsest() > coarsest_) {
-      if (directBeforeNextStep()) {
+    // Converged, but slowly: the next setups take the next step of the ladder (the coarse space,
+    // a larger coarsest level or, where that would hold the whole problem, the direct solver).
+    if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations) {
+      const std::string took = "AMG took " + std::to_string(s.iterations) + " iterations";
+      if (coarseStepLeft()) {
+        coarseOn_ = true;
+        appendNote(note, took + ": the next setups add a rigid-body coarse space");
+      } else if (directBeforeNextStep()) {
         directNext_ = true;
-        appendNote(note, "AMG took " + std::to_string(s.iterations) + " iterations on " +
-                             std::to_string(dofs_.numGlobal) +
+        appendNote(note, took + " on " + std::to_string(dofs_.numGlobal) +
                              " unknowns: the next setups use the direct solver");
-      } else {
+      } else if (nextCoarsest() > coarsest_) {
         coarsest_ = nextCoarsest();
         rebuild_ = true;
-        appendNote(note, "AMG took " + std::to_string(s.iterations) +
-                             " iterations: the next hierarchies stop at " +
-                             std::to_string(coarsest_) + " unknowns");
+        appendNote(note, took + ": the next hierarchies stop at " + std::to_string(coarsest_) +
+                             " unknowns");
       }
     }
     if (!direct_ && !kept_)
@@ -376,6 +377,19 @@ public:
     const HostLibraryStaging staging;
     if (direct_ || matrix_.numRows == 0)
       return false;
+    // First the rigid-body coarse space, the remedy for what stalls BoomerAMG most (slender
+    // parts); where it cannot be built, why, and the next step.
+    if (coarseStepLeft()) {
+      coarseOn_ = true;
+      std::string why;
+      if (makeCoarseSpace(why)) {
+        note = "AMG stalled: a rigid-body coarse space of " + std::to_string(coarse_->size()) +
+               " unknowns added";
+        return true;
+      }
+      refuseCoarseStep();
+      note = "no rigid-body coarse space: " + why;
+    }
     // A step whose coarsest level would hold the whole problem is a dense direct solve behind
     // a hierarchy that hypre still coarsens once: the sparse direct solver instead, where allowed.
     if (nextCoarsest() > coarsest_ && !directBeforeNextStep()) {
@@ -384,11 +398,15 @@ public:
         << coarsest_ << ")";
       coarsest_ = nextCoarsest();
       build();
-      note = o.str();
+      appendNote(note, o.str());
       return true;
     }
-    if (directFallbackAllowed())
-      return fallBackToDirect(note);
+    if (directFallbackAllowed()) {
+      std::string step;
+      const bool taken = fallBackToDirect(step);
+      appendNote(note, step);
+      return taken;
+    }
     return false;
   }
 
@@ -396,11 +414,16 @@ public:
     positions_ = positions;
   }
 
+  int iterationsPerAttempt(int maxIterations) const override {
+    return !direct_ && coarseStepLeft() ? std::min(maxIterations, options_.escalationIterations)
+                                        : maxIterations;
+  }
+
   std::string name() const override {
     if (direct_)
       return direct_->name() + " (fallen back from AMG)";
     // Before the first setup, the coarse space asked for; after it, the one built (or none).
-    const bool coarse = coarse_ || (options_.coarseSpace && builds_ == 0);
+    const bool coarse = coarse_ || (options_.coarseSpace == CoarseSpace::RigidBody && builds_ == 0);
     std::string n = coarse ? (options_.symmetric ? "CG + BoomerAMG" : "GMRES + BoomerAMG")
                     : options_.symmetric ? "hypre PCG + BoomerAMG"
                                          : "hypre GMRES + BoomerAMG";
@@ -599,18 +622,31 @@ private:
     rebuild_ = false;
   }
 
-  /// The rigid-body coarse space of LinearSolverOptions::coarseSpace on matrix_ (one rank, node
-  /// positions given); where it cannot be had, why goes to the next solve's note.
+  /// The rigid-body coarse space of LinearSolverOptions::coarseSpace on matrix_, where it is
+  /// asked for or the ladder took it; where it cannot be had, why goes to the next solve's note
+  /// (and the ladder's step is given up).
   void buildCoarseSpace() {
     coarse_.reset();
-    if (!options_.coarseSpace)
+    if (!(options_.coarseSpace == CoarseSpace::RigidBody || coarseOn_))
       return;
     std::string why;
-    if (ranks_ != 1)
-      why = "it needs one rank";
-    else if (!(static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes &&
-               static_cast<int>(positions_.extent(1)) == dofs_.dofsPerNode))
-      why = "it needs the node positions of 2 or 3 displacement unknowns per node";
+    if (!makeCoarseSpace(why)) {
+      if (options_.coarseSpace == CoarseSpace::OnStall)
+        refuseCoarseStep();
+      // Said once per reason (a Newton run sets up every iteration), in the next solve's note.
+      if (why != coarseRefusal_)
+        appendNote(setupNote_, "no rigid-body coarse space: " + why);
+    }
+    coarseRefusal_ = why;
+  }
+
+  /// coarse_ on matrix_ (one rank, node positions given); false, with why, where it cannot be
+  /// built.
+  bool makeCoarseSpace(std::string &why) {
+    coarse_.reset();
+    if (!coarseSpacePossible())
+      why = ranks_ != 1 ? "it needs one rank"
+                        : "it needs the node positions of 2 or 3 displacement unknowns per node";
     else {
       auto c = std::make_unique<RigidCoarseSpace>(
           matrix_, positions_, rigidCoarseSpaceLimit(dofs_.dofsPerNode), options_.symmetric);
@@ -619,10 +655,24 @@ private:
       else
         why = c->why();
     }
-    // Said once per reason (a Newton run sets up every iteration), in the next solve's note.
-    if (!why.empty() && why != coarseRefusal_)
-      appendNote(setupNote_, "no rigid-body coarse space: " + why);
-    coarseRefusal_ = why;
+    return coarse_ != nullptr;
+  }
+
+  bool coarseSpacePossible() const {
+    return ranks_ == 1 && static_cast<LocalIndex>(positions_.extent(0)) == dofs_.numLocalNodes &&
+           static_cast<int>(positions_.extent(1)) == dofs_.dofsPerNode;
+  }
+
+  /// The ladder's first step, the coarse space (CoarseSpace::OnStall), is still to be taken.
+  bool coarseStepLeft() const {
+    return options_.coarseSpace == CoarseSpace::OnStall && !coarseOn_ && !coarseRefused_ &&
+           coarseSpacePossible();
+  }
+
+  /// The coarse space could not be built: the ladder goes on without it, for the run.
+  void refuseCoarseStep() {
+    coarseOn_ = false;
+    coarseRefused_ = true;
   }
 
   /// z = M^-1 r with the balancing preconditioner of the coarse space around one V-cycle B:
@@ -780,7 +830,9 @@ private:
     return !fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns;
   }
 
-  bool canStrengthen() const { return nextCoarsest() > coarsest_ || directFallbackAllowed(); }
+  bool canStrengthen() const {
+    return coarseStepLeft() || nextCoarsest() > coarsest_ || directFallbackAllowed();
+  }
 
   /// The ladder's next coarsest size is not below the problem's size, and the direct solver may
   /// take that step instead.
@@ -976,6 +1028,8 @@ private:
   /// the next solve's note.
   std::string setupNote_;
   std::string coarseRefusal_;      ///< the last reason, said once
+  bool coarseOn_ = false;          ///< the ladder took the coarse space (CoarseSpace::OnStall)
+  bool coarseRefused_ = false;     ///< it could not be built: the ladder goes on without it
   DeviceVector cw_, sw_, yw_, qw_; ///< twoLevel()'s work vectors
   KrylovWorkspace workspace_;      ///< iterateTwoLevel()'s Krylov vectors
   int variant_ = 2;                ///< interpolation-vector variant in use (0: none; see retried())

@@ -27,6 +27,13 @@ enum class LinearSolverType { Amg, Direct };
 /// (resolvedSmoother).
 enum class AmgSmoother { Automatic, L1GaussSeidel, L1Jacobi, Chebyshev };
 
+/// When the AMG solver adds its rigid-body coarse space (LinearSolverOptions::coarseSpace).
+enum class CoarseSpace {
+  None,     ///< never
+  OnStall,  ///< as the first step of the escalation ladder (`coarse_space: auto`)
+  RigidBody ///< from the first setup on (`coarse_space: rigid_body`)
+};
+
 /// Options; defaults are DESIGN-NOTES section 3 (HMIS, ext+i, l1-GS; Chebyshev with a threaded
 /// hypre: resolvedSmoother) with the interpolation truncation measured for mixcon's operators.
 struct LinearSolverOptions {
@@ -75,15 +82,17 @@ struct LinearSolverOptions {
   int coarsestSize = 9;
   /// Robustness ladder of the AMG solver, in this order, whenever a solve does not converge within
   /// `escalationIterations` (or, for the AMG used as a preconditioner, when the method around it
-  /// asks through strengthen()): rebuild with the next coarsest size of `escalationCoarsestSizes`
-  /// (slender parts: coarse levels of long, thin elements lock in bending, so the hierarchy must
-  /// stop while the elements are still short: L/h = 100 needs about 400, L/h = 1000 about 3000
-  /// unknowns; the ladder stops at 2000: the coarsest level is a dense inverse), then the direct
-  /// solver where the system has at most `directFallbackUnknowns` unknowns on one rank. A step
-  /// whose coarsest size is not below the system's unknowns goes to that direct solver instead
-  /// (hypre would still coarsen once; the dense coarsest level would be no cheaper), both when a
-  /// solve fails and when it converges slowly (then from the next setup on). Each step is
-  /// reported (LinearSolveStats::note) and kept for the run.
+  /// asks through strengthen()): the rigid-body coarse space (`coarseSpace` OnStall, where it can
+  /// be built: slender parts, whose bending the hierarchy loses, are what makes BoomerAMG stall);
+  /// then a rebuild with the next coarsest size of `escalationCoarsestSizes` (coarse levels of
+  /// long, thin elements lock in bending, so the hierarchy must stop while the elements are still
+  /// short: L/h = 100 needs about 400, L/h = 1000 about 3000 unknowns; the ladder stops at 2000:
+  /// the coarsest level is a dense inverse), then the direct solver where the system has at most
+  /// `directFallbackUnknowns` unknowns on one rank. A step whose coarsest size is not below the
+  /// system's unknowns goes to that direct solver instead (hypre would still coarsen once; the
+  /// dense coarsest level would be no cheaper). Every step is taken both when a solve fails and
+  /// when it converges slowly (more than half of `escalationIterations`; then from the next
+  /// setup on). Each step is reported (LinearSolveStats::note) and kept for the run.
   int escalationIterations = 200;
   std::vector<int> escalationCoarsestSizes = {500, 2000};
   long directFallbackUnknowns = 200000; ///< 0: never fall back to the direct solver
@@ -99,10 +108,12 @@ struct LinearSolverOptions {
   /// A second level around the BoomerAMG V-cycle: the rigid-body modes of small node aggregates
   /// with their Galerkin operator factorized (solver/RigidCoarseSpace.hpp), applied by the
   /// balancing method in mixcon's CG (GMRES where not symmetric). For slender parts, whose
-  /// bending the classical hierarchy loses (docs/performance.md); one rank, at most
-  /// rigidCoarseSpaceLimit() coarse unknowns (2D 200,000, 3D 30,000). Off by default: 2 more
-  /// products with A and 2 coarse solves per iteration.
-  bool coarseSpace = false;
+  /// bending the classical hierarchy loses (docs/performance.md); one rank, node positions
+  /// given (setNearNullSpace), at most rigidCoarseSpaceLimit() coarse unknowns. It costs 2 more
+  /// products with A and 2 coarse solves per iteration, and its setup grows as the square of its
+  /// size on compact 3D meshes: by default (OnStall) it is the escalation ladder's first step,
+  /// taken only where BoomerAMG alone stalls or converges slowly.
+  CoarseSpace coarseSpace = CoarseSpace::OnStall;
 };
 
 /// Every solver also accepts a solution at the accuracy floor of floating point: normwise
@@ -158,6 +169,11 @@ public:
     (void)note;
     return false;
   }
+  /// The iterations a method around precondition() should give one attempt before it asks for
+  /// strengthen(): `maxIterations`, or fewer while the AMG's cheapest step, its coarse space
+  /// (CoarseSpace::OnStall), is still to be taken, so that a stall is found in
+  /// LinearSolverOptions::escalationIterations, not in `maxIterations`.
+  virtual int iterationsPerAttempt(int maxIterations) const { return maxIterations; }
   virtual std::string name() const = 0;
   virtual double setupSeconds() const = 0;
   /// Full setups (hierarchies built or factorizations) and setups that kept the hierarchy.

@@ -365,7 +365,7 @@ LinearSolveStats MixedModel::solveBlockTriangular(double loadFactor) {
   KrylovOptions ko;
   ko.tolerance = options_.linear.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
-  ko.maxIterations = options_.linear.maxIterations;
+  ko.maxIterations = amg_->iterationsPerAttempt(options_.linear.maxIterations);
   ko.restart = options_.restart;
   long inner = 0;
   const KrylovStats ks = blockTriangularSolve(system, ko, ConstDeviceVector(f),
@@ -413,7 +413,7 @@ LinearSolveStats MixedModel::solveSchur(double loadFactor) {
   ko.method = options_.krylov;
   ko.tolerance = options_.linear.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
-  ko.maxIterations = options_.linear.maxIterations;
+  ko.maxIterations = amg_->iterationsPerAttempt(options_.linear.maxIterations);
   // Initial guess: the prescribed values (exact on constrained rows), zero elsewhere.
   Kokkos::deep_copy(u_, g);
   const KrylovStats ks = krylovSolve(ko, op, prec, ConstDeviceVector(b), u_);

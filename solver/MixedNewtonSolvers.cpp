@@ -110,7 +110,7 @@ LinearSolveStats NonlinearMixedModel::solveSchur() {
   ko.method = KrylovMethod::Gmres;
   ko.tolerance = linearOptions_.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
-  ko.maxIterations = linearOptions_.maxIterations;
+  ko.maxIterations = solver_->iterationsPerAttempt(linearOptions_.maxIterations);
   const KrylovStats ks = krylovSolve(ko, constrainedSchur, amg, ConstVec(b), du);
   // dtau = M^-1 (C du + G_S).
   scatter<double>(du, kMixed, 0, kDisp, in5, true);
@@ -177,7 +177,7 @@ LinearSolveStats NonlinearMixedModel::solveBlockTriangular() {
   KrylovOptions ko;
   ko.tolerance = linearOptions_.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
-  ko.maxIterations = linearOptions_.maxIterations;
+  ko.maxIterations = solver_->iterationsPerAttempt(linearOptions_.maxIterations);
   ko.restart = mixedOptions_.restart;
   long inner = 0;
   const KrylovStats ks =

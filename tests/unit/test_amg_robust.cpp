@@ -60,6 +60,7 @@ double relativeDifference(const std::vector<double> &a, const std::vector<double
 
 LinearSolverOptions amgOnly() { // no ladder, no fall back: the AMG as configured, alone
   LinearSolverOptions o;
+  o.coarseSpace = CoarseSpace::None;
   o.escalationCoarsestSizes.clear();
   o.directFallbackUnknowns = 0;
   return o;
@@ -141,7 +142,8 @@ TEST(SlenderStrip, LadderEscalatesAndReports) {
   LinearSolverOptions direct;
   direct.type = LinearSolverType::Direct;
   const StripResult reference = solveSlenderStrip(100.0, direct);
-  LinearSolverOptions o; // defaults: the ladder 9 -> 500 -> 2000 -> direct
+  LinearSolverOptions o; // the ladder 9 -> 500 -> 2000 -> direct, without the coarse space
+  o.coarseSpace = CoarseSpace::None;
   o.escalationIterations = 100;
   const StripResult r = solveSlenderStrip(100.0, o);
   EXPECT_TRUE(r.stats.converged);
@@ -154,6 +156,7 @@ TEST(SlenderStrip, FallsBackToTheDirectSolverAndSaysSo) {
   direct.type = LinearSolverType::Direct;
   const StripResult reference = solveSlenderStrip(100.0, direct);
   LinearSolverOptions o;
+  o.coarseSpace = CoarseSpace::None;
   o.rigidBodyModes = false;
   o.escalationCoarsestSizes.clear();
   o.escalationIterations = 5; // the AMG cannot: straight to the direct solver
@@ -176,6 +179,7 @@ TEST(SlenderStrip, LadderStepHoldingTheProblemIsTheDirectSolver) {
   const StripResult reference = solveSlenderStrip(30.0, direct);
   ASSERT_LT(reference.u.size(), 2000u);
   LinearSolverOptions o;
+  o.coarseSpace = CoarseSpace::None;
   o.rigidBodyModes = false;
   o.escalationIterations = 3; // every AMG step fails
   const StripResult r = solveSlenderStrip(30.0, o);

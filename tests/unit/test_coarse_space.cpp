@@ -23,7 +23,7 @@ using Memory = LinearDisplacementModel::Memory;
 
 LinearSolverOptions coarseOnly() { // the coarse space, no ladder and no fall back behind it
   LinearSolverOptions o;
-  o.coarseSpace = true;
+  o.coarseSpace = CoarseSpace::RigidBody;
   o.escalationCoarsestSizes.clear();
   o.directFallbackUnknowns = 0;
   return o;
@@ -292,7 +292,7 @@ TEST(SlenderStrip, RigidBodyCoarseSpaceKeepsTheIterationsNearlyFlat) {
   }
   EXPECT_GT(first, 3);
   LinearSolverOptions plain = coarseOnly(); // the same AMG without it: 10x the iterations
-  plain.coarseSpace = false;
+  plain.coarseSpace = CoarseSpace::None;
   plain.maxIterations = 3000;
   const Solved alone = solveStrip(100.0, plain);
   EXPECT_GT(alone.stats.iterations, 5 * solveStrip(100.0, coarseOnly()).stats.iterations);
@@ -310,10 +310,96 @@ TEST(SlenderStrip, RigidBodyCoarseSpaceOnASolidBar) {
   EXPECT_LT(longBar.stats.iterations, 2 * shortBar.stats.iterations);
   EXPECT_LT(relativeDifference(longBar.u, solveStrip(50.0, direct, true).u), 1e-6);
   LinearSolverOptions plain = coarseOnly();
-  plain.coarseSpace = false;
+  plain.coarseSpace = CoarseSpace::None;
   plain.maxIterations = 1000;
   const Solved alone = solveStrip(50.0, plain, true);
   EXPECT_GT(alone.stats.iterations, 3 * longBar.stats.iterations);
+}
+
+// By default (`coarse_space: auto`) the coarse space is the escalation ladder's first step: the
+// strip of L/h = 100, where BoomerAMG alone does not reach 1e-5 within the ladder's first attempt
+// (cut to 50 iterations here), gets it and converges in about the coarse space's own count after
+// those 50; before this step the ladder went on to a coarsest level of 500 unknowns, as
+// `coarse_space: none` still does. A short strip converges at once and never gets it. (Above the
+// strip's accuracy floor, 4e-7, which every solver's check accepts.)
+TEST(SlenderStrip, StalledAmgTakesTheCoarseSpaceFirst) {
+  LinearSolverOptions direct;
+  direct.type = LinearSolverType::Direct;
+  LinearSolverOptions o; // the defaults, coarse_space: auto
+  o.tolerance = 1e-5;
+  o.escalationIterations = 50;
+  const Solved r = solveStrip(100.0, o);
+  EXPECT_TRUE(r.stats.converged) << r.stats.relativeResidual;
+  EXPECT_NE(r.stats.note.find("AMG stalled: a rigid-body coarse space of "), std::string::npos)
+      << r.stats.note;
+  EXPECT_EQ(r.stats.note.find("500 unknowns"), std::string::npos) << r.stats.note;
+  EXPECT_NE(r.name.find("rigid-body coarse space of"), std::string::npos) << r.name;
+  EXPECT_LT(relativeDifference(r.u, solveStrip(100.0, direct).u), 1e-6);
+  LinearSolverOptions coarse = coarseOnly();
+  coarse.tolerance = o.tolerance;
+  const Solved fromTheStart = solveStrip(100.0, coarse);
+  EXPECT_LE(r.stats.iterations, o.escalationIterations + 2 * fromTheStart.stats.iterations);
+
+  const Solved compact = solveStrip(2.0, o);
+  EXPECT_TRUE(compact.stats.converged);
+  EXPECT_TRUE(compact.stats.note.empty()) << compact.stats.note;
+  EXPECT_EQ(compact.name.find("coarse space"), std::string::npos) << compact.name;
+
+  LinearSolverOptions none = o;
+  none.coarseSpace = CoarseSpace::None;
+  const Solved ladder = solveStrip(100.0, none);
+  EXPECT_TRUE(ladder.stats.converged);
+  EXPECT_NE(ladder.stats.note.find("500 unknowns"), std::string::npos) << ladder.stats.note;
+  EXPECT_EQ(ladder.name.find("coarse space"), std::string::npos) << ladder.name;
+}
+
+// A solve that converges, but slowly (more than half of escalationIterations), sends the next
+// setups to the coarse space, as it sends them up the ladder: on the strip of L/h = 100 the next
+// solve of the same system (to 1e-5, above its accuracy floor) takes far fewer iterations and
+// agrees with the direct solve.
+TEST(SlenderStrip, SlowSolveAddsTheCoarseSpaceToTheNextSetups) {
+  const StripMatrix s = stripMatrix(100.0);
+  const DofMap dofs = DofMap::serial(static_cast<LocalIndex>(s.positions.extent(0)), 2);
+  Kokkos::View<double *, Memory> b("b", s.a.numRows), x("x", s.a.numRows);
+  Kokkos::deep_copy(b, 1.0);
+  const auto solveWith = [&](const LinearSolverOptions &o) {
+    auto solver = makeLinearSolver(o, dofs, MPI_COMM_WORLD);
+    solver->setNearNullSpace(s.positions);
+    solver->setup(s.a);
+    return solver;
+  };
+  LinearSolverOptions o;
+  o.tolerance = 1e-5;
+  o.escalationCoarsestSizes.clear();
+  o.directFallbackUnknowns = 0;
+  o.coarseSpace = CoarseSpace::None; // first BoomerAMG alone: how many iterations it takes
+  const LinearSolveStats alone = solveWith(o)->solve(b, x);
+  ASSERT_TRUE(alone.converged);
+  ASSERT_GE(alone.iterations, 20);
+  o.coarseSpace = CoarseSpace::OnStall;
+  o.escalationIterations = alone.iterations + 5; // converges, in more than half of that
+  auto amg = solveWith(o);
+  const LinearSolveStats first = amg->solve(b, x);
+  EXPECT_TRUE(first.converged);
+  EXPECT_NE(first.note.find("the next setups add a rigid-body coarse space"), std::string::npos)
+      << first.note;
+  EXPECT_EQ(amg->name().find("coarse space"), std::string::npos) << amg->name();
+  amg->setup(s.a);
+  const LinearSolveStats second = amg->solve(b, x);
+  EXPECT_TRUE(second.converged);
+  EXPECT_NE(amg->name().find("rigid-body coarse space of"), std::string::npos) << amg->name();
+  EXPECT_LT(3 * second.iterations, first.iterations);
+  const auto host = [](const Kokkos::View<double *, Memory> &v) {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+    return std::vector<double>(h.data(), h.data() + h.size());
+  };
+  const std::vector<double> u = host(x);
+  LinearSolverOptions direct;
+  direct.type = LinearSolverType::Direct;
+  auto lu = makeLinearSolver(direct, dofs, MPI_COMM_WORLD);
+  lu->setup(s.a);
+  ASSERT_TRUE(lu->solve(b, x).converged);
+  EXPECT_LT(relativeDifference(u, host(x)), 1e-6);
 }
 
 namespace {

@@ -432,17 +432,20 @@ TEST(SolidProblem, AmgSmootherKey) {
             std::string::npos);
 }
 
-// solver: {coarse_space: rigid_body} adds the rigid-body coarse space (off by default); an
-// unknown value is refused with file:line.
+// solver: {coarse_space: rigid_body} adds the rigid-body coarse space from the start, `auto` (the
+// default) as the escalation ladder's first step, `none` never; an unknown value is refused with
+// file:line.
 TEST(SolidProblem, CoarseSpaceKey) {
   const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
-  EXPECT_FALSE(parseProblem(amg, "solid.yaml", "").solver.coarseSpace);
-  EXPECT_TRUE(parseProblem(replaceText(amg, "type: amg", "type: amg, coarse_space: rigid_body"),
-                           "solid.yaml", "")
-                  .solver.coarseSpace);
-  EXPECT_FALSE(
-      parseProblem(replaceText(amg, "type: amg", "type: amg, coarse_space: none"), "solid.yaml", "")
-          .solver.coarseSpace);
+  const auto parsed = [&](const std::string &value) {
+    return parseProblem(replaceText(amg, "type: amg", "type: amg, coarse_space: " + value),
+                        "solid.yaml", "")
+        .solver.coarseSpace;
+  };
+  EXPECT_EQ(parseProblem(amg, "solid.yaml", "").solver.coarseSpace, CoarseSpace::OnStall);
+  EXPECT_EQ(parsed("auto"), CoarseSpace::OnStall);
+  EXPECT_EQ(parsed("rigid_body"), CoarseSpace::RigidBody);
+  EXPECT_EQ(parsed("none"), CoarseSpace::None);
   EXPECT_NE(
       refusal(replaceText(amg, "type: amg", "type: amg, coarse_space: yes")).find("solid.yaml:"),
       std::string::npos);

@@ -140,7 +140,10 @@ TEST(Solver, ReportsNonConvergence) {
   LinearSolverOptions o;
   o.maxIterations = 2;
   o.tolerance = 1e-14;
-  o.escalationCoarsestSizes.clear(); // no ladder, no direct fall back: the AMG alone reports
+  // No ladder (no coarse space, no larger coarsest levels, no direct fall back): the AMG alone
+  // reports.
+  o.coarseSpace = CoarseSpace::None;
+  o.escalationCoarsestSizes.clear();
   o.directFallbackUnknowns = 0;
   model.setup(o, MPI_COMM_WORLD);
   const auto s = model.solve(1.0);
