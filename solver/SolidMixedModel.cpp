@@ -167,6 +167,7 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
   if (iterative_ && !solver_) {
     s = iterative_->solve(flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
                           scaledCopy(target_, loadFactor), x_);
+    note = s.note; // the AMG's ladder steps
     int ranks = 1;
     MPI_Comm_size(comm_, &ranks);
     const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();

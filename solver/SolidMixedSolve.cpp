@@ -281,11 +281,23 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
   KrylovOptions ko;
   ko.tolerance = options_.tolerance;
   ko.backwardErrorFloor = true; // slender parts: the relative residual has a floor
-  ko.maxIterations = options_.maxIterations;
   ko.restart = restart_;
   inner_ = 0;
-  const KrylovStats ks = blockTriangularSolve(system, ko, f, target, x, inner_, &outerWork_);
-  return statsOf(ks, start);
+  const auto once = [&] {
+    ko.maxIterations = amg_->iterationsPerAttempt(options_.maxIterations);
+    return statsOf(blockTriangularSolve(system, ko, f, target, x, inner_, &outerWork_), start);
+  };
+  // The AMG on K^L is a preconditioner here: where the method around it fails, the AMG's
+  // escalation ladder (its coarse space, larger coarsest levels, its direct solver) is climbed
+  // step by step, each step reported, as in the 2D mixed models.
+  LinearSolveStats s = once();
+  std::string note;
+  int iterations = s.iterations;
+  s = climbLadder(*amg_, s, once, note, iterations);
+  s.iterations = iterations;
+  s.note = note;
+  s.solveSeconds = seconds(start);
+  return s;
 }
 
 std::string SolidMixedSolve::name() const {

@@ -275,7 +275,7 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
     o.type = LinearSolverType::Direct;
     solver_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kUnknowns), comm_);
     const int iterations = s.iterations;
-    std::string note;
+    std::string note = s.note; // the AMG's ladder steps
     appendNote(note, "the block-triangular solve did not converge (relative residual " +
                          std::to_string(s.relativeResidual) +
                          "): falling back to the direct LU of the Jacobian (" +
