@@ -1099,6 +1099,17 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
   return s;
 }
 
+LinearSolveStats solveOnLadder(LinearSolver &solver,
+                               const std::function<LinearSolveStats()> &attempt) {
+  LinearSolveStats s = attempt();
+  std::string note;
+  int iterations = s.iterations;
+  s = climbLadder(solver, s, attempt, note, iterations);
+  s.iterations = iterations;
+  s.note = note;
+  return s;
+}
+
 bool detail::hypreChebyshevEstimateIsSafe() {
 #if defined(HYPRE_USING_GPU)
   return false; // the patch fixes the host code only

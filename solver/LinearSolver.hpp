@@ -210,6 +210,12 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
                              const std::function<LinearSolveStats()> &attempt, std::string &note,
                              int &total);
 
+/// A solve whose method only calls solver.precondition(): attempt() and, while it has not
+/// converged, the solver's escalation ladder (climbLadder). Returns the last attempt with the
+/// iterations of all of them and the steps taken as its note.
+LinearSolveStats solveOnLadder(LinearSolver &solver,
+                               const std::function<LinearSolveStats()> &attempt);
+
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();
 

@@ -306,15 +306,9 @@ LinearSolveStats MixedModel::solve(double loadFactor) {
                                                          : solveSchur(loadFactor);
   };
   // The AMG is a preconditioner here: while the method around it fails, the AMG's escalation
-  // ladder (a larger coarsest level, then the direct solve of the preconditioner matrix) is
-  // climbed step by step, each step reported.
-  LinearSolveStats s = once();
-  std::string note;
-  int iterations = s.iterations;
-  s = climbLadder(*amg_, s, once, note, iterations);
-  s.iterations = iterations;
-  s.note = note;
-  return s;
+  // ladder (its coarse space, a larger coarsest level, then the direct solve of the
+  // preconditioner matrix) is climbed step by step, each step reported.
+  return solveOnLadder(*amg_, once);
 }
 
 void MixedModel::applySaddlePoint(const ConstDeviceVector &v, const DeviceVector &y) {

@@ -134,12 +134,12 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
   const auto once = [&] {
     return mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur() : solveBlockTriangular();
   };
-  LinearSolveStats s = once();
   // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
-  // escalation ladder (a larger coarsest level, then the direct solver) is taken step by step.
-  std::string note;
+  // escalation ladder (its coarse space, a larger coarsest level, then the direct solver) is
+  // taken step by step.
+  LinearSolveStats s = solveOnLadder(*solver_, once);
+  std::string note = s.note;
   int iterations = s.iterations;
-  s = climbLadder(*solver_, s, once, note, iterations);
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kMixed) * mesh_.numNodes();

@@ -290,12 +290,7 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
   // The AMG on K^L is a preconditioner here: where the method around it fails, the AMG's
   // escalation ladder (its coarse space, larger coarsest levels, its direct solver) is climbed
   // step by step, each step reported, as in the 2D mixed models.
-  LinearSolveStats s = once();
-  std::string note;
-  int iterations = s.iterations;
-  s = climbLadder(*amg_, s, once, note, iterations);
-  s.iterations = iterations;
-  s.note = note;
+  LinearSolveStats s = solveOnLadder(*amg_, once);
   s.solveSeconds = seconds(start);
   return s;
 }
