@@ -380,14 +380,14 @@ public:
     // First the rigid-body coarse space, the remedy for what stalls BoomerAMG most (slender
     // parts); where it cannot be built, why, and the next step.
     if (coarseStepLeft()) {
-      coarseOn_ = true;
       std::string why;
       if (makeCoarseSpace(why)) {
+        coarseOn_ = true;
         note = "AMG stalled: a rigid-body coarse space of " + std::to_string(coarse_->size()) +
                " unknowns added";
         return true;
       }
-      refuseCoarseStep();
+      coarseRefused_ = true;
       note = "no rigid-body coarse space: " + why;
     }
     // A step whose coarsest level would hold the whole problem is a dense direct solve behind
@@ -631,8 +631,10 @@ private:
       return;
     std::string why;
     if (!makeCoarseSpace(why)) {
-      if (options_.coarseSpace == CoarseSpace::OnStall)
-        refuseCoarseStep();
+      if (options_.coarseSpace == CoarseSpace::OnStall) { // the ladder goes on without it
+        coarseOn_ = false;
+        coarseRefused_ = true;
+      }
       // Said once per reason (a Newton run sets up every iteration), in the next solve's note.
       if (why != coarseRefusal_)
         appendNote(setupNote_, "no rigid-body coarse space: " + why);
@@ -667,12 +669,6 @@ private:
   bool coarseStepLeft() const {
     return options_.coarseSpace == CoarseSpace::OnStall && !coarseOn_ && !coarseRefused_ &&
            coarseSpacePossible();
-  }
-
-  /// The coarse space could not be built: the ladder goes on without it, for the run.
-  void refuseCoarseStep() {
-    coarseOn_ = false;
-    coarseRefused_ = true;
   }
 
   /// z = M^-1 r with the balancing preconditioner of the coarse space around one V-cycle B:
