@@ -49,6 +49,7 @@ long stressBlockSolve(const LinearMap &apply, const LinearMap &precondition,
   KrylovOptions o;
   o.tolerance = tolerance;
   o.maxIterations = 2000;
+  o.exactOperator = true; // M applied exactly: no true-residual product at start and end
   Kokkos::deep_copy(z, 0.0);
   const KrylovStats st = krylovSolve(o, apply, precondition, w, z, &workspace);
   if (!st.converged && !(st.relativeResidual <= acceptable))

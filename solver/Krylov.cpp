@@ -2,10 +2,53 @@
 #include <solver/Krylov.hpp>
 #include <solver/Rules.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+namespace mixcon::detail {
+
+/// N sums reduced together (the fused dots of Gram-Schmidt and CG). Both operator+= forms: Kokkos
+/// 3.x joins through volatile references, 4.x through plain ones.
+template <int N> struct Sums {
+  double v[N];
+  KOKKOS_INLINE_FUNCTION Sums() {
+    for (int c = 0; c < N; ++c)
+      v[c] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION Sums &operator+=(const Sums &o) {
+    for (int c = 0; c < N; ++c)
+      v[c] += o.v[c];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile Sums &o) volatile {
+    for (int c = 0; c < N; ++c)
+      v[c] += o.v[c];
+  }
+};
+
+/// Columns per pass of BlockOps::dots (one slot of the sums is w . w).
+constexpr int kDotsWidth = 16;
+
+/// One classical Gram-Schmidt pass leaves w' = (I - V V^T) w orthogonal to V up to about
+/// eps ||w|| / ||w'|| (Giraud, Langou, Rozloznik 2005, Comput. Math. Appl. 50); a second pass
+/// runs where ||w'|| < kSecondPass ||w||, so the basis stays orthogonal to about 1e-13, far below
+/// what GMRES to a relative residual of 1e-8 .. 1e-12 needs.
+constexpr double kSecondPass = 1e-3;
+
+} // namespace mixcon::detail
+
+namespace Kokkos {
+template <int N> struct reduction_identity<mixcon::detail::Sums<N>> {
+  KOKKOS_FORCEINLINE_FUNCTION static mixcon::detail::Sums<N> sum() {
+    return mixcon::detail::Sums<N>();
+  }
+};
+} // namespace Kokkos
 
 namespace mixcon {
 
@@ -38,6 +81,116 @@ DeviceVector KrylovWorkspace::get(std::size_t i, std::size_t n) {
   return vectors_[i];
 }
 
+DeviceBlock KrylovWorkspace::block(std::size_t i, std::size_t n, std::size_t columns,
+                                   std::size_t limit, std::size_t keep) {
+  if (blocks_.size() <= i)
+    blocks_.resize(i + 1);
+  DeviceBlock &b = blocks_[i];
+  const std::size_t have = b.extent(0) == n ? b.extent(1) : 0;
+  if (have >= columns)
+    return b;
+  const std::size_t cols = std::min(std::max(limit, columns), std::max(columns, 2 * have));
+  DeviceBlock grown(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::krylov::basis"), n,
+                    cols);
+  keep = std::min(keep, have);
+  if (keep > 0) {
+    const auto first = std::make_pair(std::size_t(0), keep);
+    Kokkos::deep_copy(Kokkos::subview(grown, Kokkos::ALL, first),
+                      Kokkos::subview(b, Kokkos::ALL, first));
+  }
+  b = grown;
+  return b;
+}
+
+namespace detail {
+
+Kokkos::View<double *, DeviceSpace> BlockOps::coefficients(const std::vector<double> &c, int k) {
+  if (coefficients_.extent(0) < static_cast<std::size_t>(k))
+    coefficients_ = Kokkos::View<double *, DeviceSpace>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::krylov::coefficients"),
+        std::max<std::size_t>(k, 2 * coefficients_.extent(0)));
+  const auto part = Kokkos::subview(coefficients_, std::make_pair(0, k));
+  Kokkos::deep_copy(part, Kokkos::View<const double *, Kokkos::HostSpace, Kokkos::MemoryUnmanaged>(
+                              c.data(), static_cast<std::size_t>(k)));
+  return coefficients_;
+}
+
+double BlockOps::dots(const DeviceBlock &v, int k, const ConstDeviceVector &w,
+                      std::vector<double> &h) {
+  double ww = 0.0;
+  // Passes of at most kDotsWidth - 1 columns; the first also sums w . w.
+  for (int j0 = 0, pass = 0; pass == 0 || j0 < k; ++pass) {
+    const bool norm = pass == 0;
+    const int count = std::min(k - j0, kDotsWidth - 1);
+    Sums<kDotsWidth> s;
+    Kokkos::parallel_reduce(
+        "mixcon::krylov::blockDots", Kokkos::RangePolicy<Exec>(0, w.extent(0)),
+        KOKKOS_LAMBDA(LocalIndex i, Sums<kDotsWidth> & acc) {
+          const double wi = w(i);
+          for (int c = 0; c < count; ++c)
+            acc.v[c] += v(i, j0 + c) * wi;
+          if (norm)
+            acc.v[kDotsWidth - 1] += wi * wi;
+        },
+        Kokkos::Sum<Sums<kDotsWidth>>(s));
+    for (int c = 0; c < count; ++c)
+      h[j0 + c] = s.v[c];
+    if (norm)
+      ww = s.v[kDotsWidth - 1];
+    j0 += count;
+  }
+  return ww;
+}
+
+double BlockOps::subtract(const DeviceBlock &v, int k, const std::vector<double> &c,
+                          const DeviceVector &w) {
+  const auto cd = coefficients(c, k);
+  double ww = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::krylov::blockSubtract", Kokkos::RangePolicy<Exec>(0, w.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, double &acc) {
+        double t = w(i);
+        for (int j = 0; j < k; ++j)
+          t -= cd(j) * v(i, j);
+        w(i) = t;
+        acc += t * t;
+      },
+      ww);
+  return ww;
+}
+
+void BlockOps::add(const DeviceBlock &v, int k, const std::vector<double> &c,
+                   const DeviceVector &x) {
+  if (k == 0)
+    return;
+  const auto cd = coefficients(c, k);
+  Kokkos::parallel_for(
+      "mixcon::krylov::blockAdd", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        double t = x(i);
+        for (int j = 0; j < k; ++j)
+          t += cd(j) * v(i, j);
+        x(i) = t;
+      });
+}
+
+double BlockOps::orthogonalize(const DeviceBlock &v, int k, const DeviceVector &w,
+                               std::vector<double> &h) {
+  const double before = dots(v, k, w, h);
+  double after = subtract(v, k, h, w);
+  if (k > 0 && after < kSecondPass * kSecondPass * before) { // cancelled: once more
+    ++reorthogonalizations_;
+    second_.resize(k);
+    dots(v, k, w, second_);
+    after = subtract(v, k, second_, w);
+    for (int j = 0; j < k; ++j)
+      h[j] += second_[j];
+  }
+  return std::sqrt(after);
+}
+
+} // namespace detail
+
 namespace {
 
 /// Hands out the workspace's vectors in order. Every vector is fully written (by the operator,
@@ -46,6 +199,10 @@ class Vectors {
 public:
   Vectors(KrylovWorkspace &w, std::size_t n) : workspace_(w), n_(n) {}
   DeviceVector next() { return workspace_.get(count_++, n_); }
+  /// Block `which` (0, 1, ...) with at least `columns` columns: KrylovWorkspace::block.
+  DeviceBlock block(std::size_t which, int columns, int limit, int keep) {
+    return workspace_.block(which, n_, columns, limit, keep);
+  }
 
 private:
   KrylovWorkspace &workspace_;
@@ -82,13 +239,58 @@ double operatorNormEstimate(const LinearMap &a, const DeviceVector &w, const Dev
   return std::sqrt(dot(y, y) / dot(w, w));
 }
 
+/// Whether every entry of x is zero (one pass, no product).
+bool isZero(const ConstDeviceVector &x) {
+  LocalIndex nonzero = 0;
+  Kokkos::parallel_reduce(
+      "mixcon::krylov::isZero", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, LocalIndex & acc) { acc += x(i) != 0.0 ? 1 : 0; }, nonzero);
+  return nonzero == 0;
+}
+
+/// r = b (the residual of x = 0); returns ||r||.
+double copyResidual(const ConstDeviceVector &b, const DeviceVector &r) {
+  Kokkos::deep_copy(r, b);
+  return std::sqrt(dot(r, r));
+}
+
+/// x += alpha d and r -= alpha q in one pass; returns ||r||^2 after.
+double updateIterate(double alpha, const ConstDeviceVector &d, const ConstDeviceVector &q,
+                     const DeviceVector &x, const DeviceVector &r) {
+  double rr = 0.0;
+  Kokkos::parallel_reduce(
+      "mixcon::krylov::cgUpdate", Kokkos::RangePolicy<Exec>(0, r.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, double &acc) {
+        x(i) += alpha * d(i);
+        const double t = r(i) - alpha * q(i);
+        r(i) = t;
+        acc += t * t;
+      },
+      rr);
+  return rr;
+}
+
+/// (z . r, z . q) in one pass.
+detail::Sums<2> twoDots(const ConstDeviceVector &z, const ConstDeviceVector &r,
+                        const ConstDeviceVector &q) {
+  detail::Sums<2> s;
+  Kokkos::parallel_reduce(
+      "mixcon::krylov::cgDots", Kokkos::RangePolicy<Exec>(0, z.extent(0)),
+      KOKKOS_LAMBDA(LocalIndex i, detail::Sums<2> & acc) {
+        acc.v[0] += z(i) * r(i);
+        acc.v[1] += z(i) * q(i);
+      },
+      Kokkos::Sum<detail::Sums<2>>(s));
+  return s;
+}
+
 KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
                        const ConstDeviceVector &b, double bnorm, const DeviceVector &x,
                        Vectors work) {
   KrylovStats s;
-  auto r = work.next(), rOld = work.next(), z = work.next(), d = work.next(), q = work.next();
+  auto r = work.next(), z = work.next(), d = work.next(), q = work.next();
   const double norm = o.backwardErrorFloor ? operatorNormEstimate(a, z, q) : 0.0;
-  double rnorm = residual(a, b, x, r);
+  double rnorm = o.exactOperator && isZero(x) ? copyResidual(b, r) : residual(a, b, x, r);
   // Restart from the true residual whenever the recursive one has converged but the true one
   // (operator applied with inner iterations) has not.
   while (rnorm > o.tolerance * bnorm && !atFloor(rnorm, norm, x, bnorm) &&
@@ -104,17 +306,18 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
         return s;
       }
       const double alpha = rz / dq;
-      axpby(alpha, d, 1.0, x);
-      Kokkos::deep_copy(rOld, r);
-      axpby(-alpha, q, 1.0, r);
-      rnorm = std::sqrt(dot(r, r));
+      rnorm = std::sqrt(updateIterate(alpha, d, q, x, r));
       ++s.iterations;
       p(r, z);
-      const double rzNew = dot(r, z);
-      const double beta = (rzNew - dot(z, rOld)) / rz; // flexible (Polak-Ribiere) beta
-      rz = rzNew;
+      // Flexible (Polak-Ribiere) beta = z . (r - r_old) / rz with r_old = r + alpha q (Notay
+      // 2000, SIAM J. Sci. Comput. 22), so no copy of r_old is kept.
+      const detail::Sums<2> zs = twoDots(z, r, q);
+      const double beta = -alpha * zs.v[1] / rz;
+      rz = zs.v[0];
       axpby(1.0, z, beta, d);
     }
+    if (o.exactOperator)
+      break;
     rnorm = residual(a, b, x, r);
   }
   s.relativeResidual = rnorm / bnorm;
@@ -123,43 +326,46 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
   return s;
 }
 
+DeviceVector column(const DeviceBlock &block, int j) {
+  return Kokkos::subview(block, Kokkos::ALL, j);
+}
+
+/// Columns of the basis allocated before the iterations need more (blocks grow by doubling).
+constexpr int kFirstColumns = 8;
+
 KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const LinearMap &p,
                           const ConstDeviceVector &b, double bnorm, const DeviceVector &x,
                           Vectors work) {
   const int m = o.restart;
   KrylovStats s;
-  // Basis vectors are allocated as the iterations reach them: memory follows the iterations
-  // taken, not the restart length.
-  std::vector<DeviceVector> v{work.next()}, z;
+  // V (m + 1 columns) and the preconditioned Z (m): allocated as the iterations reach them.
+  DeviceBlock v = work.block(0, std::min(m + 1, kFirstColumns), m + 1, 0);
+  DeviceBlock z = work.block(1, std::min(m, kFirstColumns), m, 0);
+  detail::BlockOps ops;
   std::vector<std::vector<double>> h(m + 1, std::vector<double>(m, 0.0));
-  std::vector<double> cs(m), sn(m), g(m + 1);
-  double norm = 0.0;
-  if (o.backwardErrorFloor) {
-    z.push_back(work.next());
-    v.push_back(work.next());
-    norm = operatorNormEstimate(a, z[0], v[1]);
-  }
-  double rnorm = residual(a, b, x, v[0]);
+  std::vector<double> cs(m), sn(m), g(m + 1), hk(m + 1);
+  const double norm =
+      o.backwardErrorFloor ? operatorNormEstimate(a, column(z, 0), column(v, 1)) : 0.0;
+  double rnorm = residual(a, b, x, column(v, 0));
   while (rnorm > o.tolerance * bnorm && !atFloor(rnorm, norm, x, bnorm) &&
          s.iterations < o.maxIterations) {
-    axpby(0.0, v[0], 1.0 / rnorm, v[0]);
+    axpby(0.0, column(v, 0), 1.0 / rnorm, column(v, 0));
     std::fill(g.begin(), g.end(), 0.0);
     g[0] = rnorm;
     int k = 0;
     for (; k < m && s.iterations < o.maxIterations; ++k) {
-      if (z.size() == static_cast<std::size_t>(k)) {
-        z.push_back(work.next());
-        v.push_back(work.next());
-      }
-      p(v[k], z[k]);
-      a(z[k], v[k + 1]);
-      for (int i = 0; i <= k; ++i) { // modified Gram-Schmidt
-        h[i][k] = dot(v[k + 1], v[i]);
-        axpby(-h[i][k], v[i], 1.0, v[k + 1]);
-      }
-      h[k + 1][k] = std::sqrt(dot(v[k + 1], v[k + 1]));
+      if (static_cast<std::size_t>(k + 2) > v.extent(1))
+        v = work.block(0, k + 2, m + 1, k + 1);
+      if (static_cast<std::size_t>(k + 1) > z.extent(1))
+        z = work.block(1, k + 1, m, k);
+      const DeviceVector w = column(v, k + 1);
+      p(column(v, k), column(z, k));
+      a(column(z, k), w);
+      h[k + 1][k] = ops.orthogonalize(v, k + 1, w, hk); // classical Gram-Schmidt, fused
+      for (int i = 0; i <= k; ++i)
+        h[i][k] = hk[i];
       if (h[k + 1][k] > 0.0)
-        axpby(0.0, v[k + 1], 1.0 / h[k + 1][k], v[k + 1]);
+        axpby(0.0, w, 1.0 / h[k + 1][k], w);
       for (int i = 0; i < k; ++i) { // previous Givens rotations
         const double t = cs[i] * h[i][k] + sn[i] * h[i + 1][k];
         h[i + 1][k] = -sn[i] * h[i][k] + cs[i] * h[i + 1][k];
@@ -186,10 +392,12 @@ KrylovStats flexibleGmres(const KrylovOptions &o, const LinearMap &a, const Line
         t -= h[i][j] * y[j];
       y[i] = h[i][i] != 0.0 ? t / h[i][i] : 0.0;
     }
-    for (int i = 0; i < k; ++i)
-      axpby(y[i], z[i], 1.0, x);
-    rnorm = residual(a, b, x, v[0]);
+    ops.add(z, k, y, x);
+    rnorm = residual(a, b, x, column(v, 0));
   }
+  if (std::getenv("MIXCON_DEBUG_REORTH"))
+    std::fprintf(stderr, "gmres: %d iterations, %ld second passes\n", s.iterations,
+                 ops.reorthogonalizations());
   s.relativeResidual = rnorm / bnorm;
   s.converged = std::isfinite(s.relativeResidual) &&
                 (s.relativeResidual <= o.tolerance || atFloor(rnorm, norm, x, bnorm));
@@ -204,6 +412,9 @@ KrylovStats krylovSolve(const KrylovOptions &options, const LinearMap &a, const 
   if (const auto why = rules::iterationLimit(options.maxIterations))
     throw std::invalid_argument("Krylov solver: max_iterations " + *why + " (got " +
                                 std::to_string(options.maxIterations) + ")");
+  if (options.method == KrylovMethod::Gmres && options.restart < 1)
+    throw std::invalid_argument("Krylov solver: the GMRES restart must be at least 1 (got " +
+                                std::to_string(options.restart) + ")");
   const double bnorm = std::sqrt(dot(b, b));
   if (bnorm == 0.0) { // the answer is x = 0 (relative residuals are undefined)
     Kokkos::deep_copy(x, 0.0);

@@ -274,6 +274,7 @@ long MixedModel::solveCompliance(const ConstDeviceVector &r, const DeviceVector 
   o.method = KrylovMethod::Cg;
   o.tolerance = tolerance;
   o.maxIterations = options_.innerMaxIterations;
+  o.exactOperator = true; // M applied exactly: no true-residual product at start and end
   Kokkos::deep_copy(s, 0.0);
   const auto st = krylovSolve(
       o, [&](const ConstDeviceVector &x, const DeviceVector &y) { applyComplianceBlock(x, y); },
