@@ -32,23 +32,57 @@ struct KrylovOptions {
   /// solve; an underestimate makes the test stricter). For outer solves of systems whose relative
   /// residual cannot reach the tolerance (slender parts, cond(A) ~ (L/h)^4).
   bool backwardErrorFloor = false;
-  /// CG only: the operator is applied exactly (an assembled or partially assembled matrix, no
-  /// inner iterations), so convergence is judged on CG's recursive residual, without the final
-  /// product that recomputes the true one; and a zero start x gives r = b without a product.
-  /// For short inner solves (the stress block's CG on M: 3-8 iterations) these are two of
-  /// every 5-10 products.
+  /// CG only (GMRES ignores it): the operator is applied exactly (an assembled or partially
+  /// assembled matrix, no inner iterations), so convergence is judged on CG's recursive residual,
+  /// without the final product that recomputes the true one; and a zero start x gives r = b without
+  /// a product. For short inner solves (the stress block's CG on M: 3-8 iterations) these are two
+  /// of every 5-10 products.
   bool exactOperator = false;
 };
 
 struct KrylovStats {
   int iterations = 0;
-  double relativeResidual = 0.0; ///< true residual recomputed at the end
+  /// The true residual recomputed at the end; CG's recursive one with exactOperator.
+  double relativeResidual = 0.0;
   bool converged = false;
 };
 
 /// Krylov basis vectors as the columns of one block (n rows, LayoutLeft: each column contiguous),
 /// so that GMRES's orthogonalization and its solution update read all of them in one pass.
 using DeviceBlock = Kokkos::View<double **, Kokkos::LayoutLeft, DeviceSpace>;
+
+namespace detail {
+
+/// The fused block operations of GMRES (classical Gram-Schmidt and the solution update), each
+/// one pass over the block's columns, with the few coefficients on the host. Against the
+/// 2 (k + 1) + 1 dot and axpy kernels (5 (k + 1) + 1 vector passes) of modified Gram-Schmidt
+/// per GMRES iteration: 2 reductions and 2k + 5 passes, twice that where the second pass runs,
+/// and one more reduction per 15 columns past the first 15.
+class BlockOps {
+public:
+  /// h[j] = V(:, j) . w for j < k; returns w . w (the same pass). h has at least k entries.
+  double dots(const DeviceBlock &v, int k, const ConstDeviceVector &w, std::vector<double> &h);
+  /// w -= V(:, 0:k) c; returns w . w after the update (the same pass).
+  double subtract(const DeviceBlock &v, int k, const std::vector<double> &c, const DeviceVector &w);
+  /// x += V(:, 0:k) c.
+  void add(const DeviceBlock &v, int k, const std::vector<double> &c, const DeviceVector &x);
+  /// Orthogonalizes w against the orthonormal columns V(:, 0:k) by classical Gram-Schmidt,
+  /// repeated once where the first pass left less than 1/sqrt(2) of ||w|| (Daniel, Gragg,
+  /// Kaufman, Stewart 1976; "twice is enough": Giraud et al. 2005, Numer. Math. 101); h[0:k]
+  /// receives the coefficients. Returns ||w||.
+  double orthogonalize(const DeviceBlock &v, int k, const DeviceVector &w, std::vector<double> &h);
+  /// How many second passes orthogonalize() took so far.
+  long reorthogonalizations() const { return reorthogonalizations_; }
+
+private:
+  Kokkos::View<double *, DeviceSpace> coefficients(const std::vector<double> &c, int k);
+
+  Kokkos::View<double *, DeviceSpace> coefficients_;
+  std::vector<double> second_;
+  long reorthogonalizations_ = 0;
+};
+
+} // namespace detail
 
 /// Work vectors kept from one solve to the next. A Krylov method called many times (an inner
 /// solve inside a preconditioner) otherwise allocates its vectors on every call, and the
@@ -62,10 +96,13 @@ public:
   /// of its first `keep` columns; a new n discards them.
   DeviceBlock block(std::size_t i, std::size_t n, std::size_t columns, std::size_t limit,
                     std::size_t keep);
+  /// The block operations with their coefficient buffer, kept like the vectors.
+  detail::BlockOps &blockOps() { return blockOps_; }
 
 private:
   std::vector<DeviceVector> vectors_;
   std::vector<DeviceBlock> blocks_;
+  detail::BlockOps blockOps_;
 };
 
 /// Solves A x = b with preconditioner P, starting from the given x; work vectors from
@@ -80,37 +117,5 @@ double dot(const ConstDeviceVector &a, const ConstDeviceVector &b);
 void multiply(const CsrMatrix<DeviceSpace> &a, const ConstDeviceVector &x, const DeviceVector &y);
 /// y = alpha x + beta y
 void axpby(double alpha, const ConstDeviceVector &x, double beta, const DeviceVector &y);
-
-namespace detail {
-
-/// The fused block operations of GMRES (classical Gram-Schmidt and the solution update), each
-/// one pass over the block's columns, with the few coefficients on the host. They replace the
-/// 2 (k + 1) separate dot and axpy kernels of modified Gram-Schmidt: about 2.5x fewer vector
-/// passes and 2 kernels (reductions) instead of 2 (k + 1) per GMRES iteration.
-class BlockOps {
-public:
-  /// h[j] = V(:, j) . w for j < k; returns w . w (the same pass). h has at least k entries.
-  double dots(const DeviceBlock &v, int k, const ConstDeviceVector &w, std::vector<double> &h);
-  /// w -= V(:, 0:k) c; returns w . w after the update (the same pass).
-  double subtract(const DeviceBlock &v, int k, const std::vector<double> &c, const DeviceVector &w);
-  /// x += V(:, 0:k) c.
-  void add(const DeviceBlock &v, int k, const std::vector<double> &c, const DeviceVector &x);
-  /// Orthogonalizes w against the orthonormal columns V(:, 0:k) by classical Gram-Schmidt,
-  /// repeated once ("twice is enough": Giraud et al. 2005, Numer. Math. 101) where the first pass
-  /// left less than 1e-3 of ||w||, i.e. where its loss of orthogonality, about
-  /// eps ||w|| / ||w'||, could exceed 1e-13; h[0:k] receives the coefficients. Returns ||w||.
-  double orthogonalize(const DeviceBlock &v, int k, const DeviceVector &w, std::vector<double> &h);
-  /// How many second passes orthogonalize() took so far.
-  long reorthogonalizations() const { return reorthogonalizations_; }
-
-private:
-  Kokkos::View<double *, DeviceSpace> coefficients(const std::vector<double> &c, int k);
-
-  Kokkos::View<double *, DeviceSpace> coefficients_;
-  std::vector<double> second_;
-  long reorthogonalizations_ = 0;
-};
-
-} // namespace detail
 
 } // namespace mixcon
