@@ -3,12 +3,18 @@
 // floating-point peak this build reaches (GFLOP/s) with independent multiply-add chains, scalar
 // (8 chains per work item, the shape of the element kernels' inner loops) and in a loop the
 // compiler vectorizes (32 chains). Both are what code compiled with mixcon's flags can reach
-// (no -march; see docs/performance.md), not the hardware's AVX2/FMA peak.
+// (no -march; see docs/performance.md), not the hardware's AVX2/FMA peak. And the sparse
+// product that bounds the 3D cube's PCG (docs/performance.md, issue 17's table 3g): y = K x on
+// the 27-point pattern of a grid of nodes with 3 unknowns each, stored as CSR with 32-bit
+// columns (hypre's layout, 12 bytes per nonzero) and as 3 x 3 blocks (BSR, 8 bytes per nonzero
+// and one column per block).
 #include <bench/BenchMain.hpp>
 
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
+#include <vector>
 
 using Exec = Kokkos::DefaultExecutionSpace;
 using Memory = Exec::memory_space;
@@ -66,6 +72,130 @@ template <int Width> void multiplyAdd(benchmark::State &state) {
                          benchmark::Counter::kIsIterationInvariantRate);
 }
 
+/// The 27-point, 3-unknowns-per-node pattern of an m^3 grid of nodes, with the entry of row r and
+/// column c equal to entry(r, c) in both layouts.
+struct GridMatrix {
+  int m;
+  std::vector<int> blockOffsets, blockColumns; // node graph (BSR)
+  static double entry(long r, long c) { return r == c ? 30.0 : -0.1 - 0.01 * ((r + 2 * c) % 7); }
+
+  explicit GridMatrix(int nodesPerSide) : m(nodesPerSide) {
+    blockOffsets.push_back(0);
+    for (int z = 0; z < m; ++z)
+      for (int y = 0; y < m; ++y)
+        for (int x = 0; x < m; ++x) {
+          for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                const int X = x + dx, Y = y + dy, Z = z + dz;
+                if (X >= 0 && Y >= 0 && Z >= 0 && X < m && Y < m && Z < m)
+                  blockColumns.push_back((Z * m + Y) * m + X);
+              }
+          blockOffsets.push_back(static_cast<int>(blockColumns.size()));
+        }
+  }
+  long numNodes() const { return long(m) * m * m; }
+  long numBlocks() const { return static_cast<long>(blockColumns.size()); }
+};
+
+/// y = K x on the grid's matrix; state.range(0): nodes per side, range(1): 0 CSR, 1 BSR.
+void sparseProduct(benchmark::State &state) {
+  const GridMatrix g(static_cast<int>(state.range(0)));
+  const bool blocks = state.range(1) == 1;
+  const long nodes = g.numNodes(), rows = 3 * nodes, nnz = 9 * g.numBlocks();
+  Kokkos::View<int *, Memory> offsets("offsets", blocks ? nodes + 1 : rows + 1),
+      columns("columns", blocks ? g.numBlocks() : nnz);
+  Kokkos::View<double *, Memory> values("values", nnz), x("x", rows), y("y", rows);
+  {
+    auto ho = Kokkos::create_mirror_view(offsets);
+    auto hc = Kokkos::create_mirror_view(columns);
+    auto hv = Kokkos::create_mirror_view(values);
+    long k = 0;
+    for (long node = 0; node < nodes; ++node) {
+      if (blocks) {
+        ho(node) = g.blockOffsets[node];
+        for (int b = g.blockOffsets[node]; b < g.blockOffsets[node + 1]; ++b) {
+          hc(b) = g.blockColumns[b];
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+              hv(9L * b + 3 * r + c) = GridMatrix::entry(3 * node + r, 3L * g.blockColumns[b] + c);
+        }
+      } else {
+        for (int r = 0; r < 3; ++r) {
+          ho(3 * node + r) = static_cast<int>(k);
+          for (int b = g.blockOffsets[node]; b < g.blockOffsets[node + 1]; ++b)
+            for (int c = 0; c < 3; ++c) {
+              hc(k) = 3 * g.blockColumns[b] + c;
+              hv(k++) = GridMatrix::entry(3 * node + r, 3L * g.blockColumns[b] + c);
+            }
+        }
+      }
+    }
+    ho(blocks ? nodes : rows) = blocks ? static_cast<int>(g.numBlocks()) : static_cast<int>(k);
+    Kokkos::deep_copy(offsets, ho);
+    Kokkos::deep_copy(columns, hc);
+    Kokkos::deep_copy(values, hv);
+  }
+  const auto product = [&] {
+    if (blocks)
+      Kokkos::parallel_for(
+          "mixcon::bench::bsrProduct", Kokkos::RangePolicy<Exec>(0, nodes), KOKKOS_LAMBDA(long n) {
+            double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+            for (int b = offsets(n); b < offsets(n + 1); ++b) {
+              const long c = 3L * columns(b), v = 9L * b;
+              const double x0 = x(c), x1 = x(c + 1), x2 = x(c + 2);
+              s0 += values(v) * x0 + values(v + 1) * x1 + values(v + 2) * x2;
+              s1 += values(v + 3) * x0 + values(v + 4) * x1 + values(v + 5) * x2;
+              s2 += values(v + 6) * x0 + values(v + 7) * x1 + values(v + 8) * x2;
+            }
+            y(3 * n) = s0;
+            y(3 * n + 1) = s1;
+            y(3 * n + 2) = s2;
+          });
+    else
+      Kokkos::parallel_for(
+          "mixcon::bench::csrProduct", Kokkos::RangePolicy<Exec>(0, rows), KOKKOS_LAMBDA(long r) {
+            double s = 0.0;
+            for (int k = offsets(r); k < offsets(r + 1); ++k)
+              s += values(k) * x(columns(k));
+            y(r) = s;
+          });
+  };
+  // Check before timing: for x_c = 1 + c mod 5, y against a plain host loop over the pattern.
+  Kokkos::parallel_for(
+      "mixcon::bench::productInput", Kokkos::RangePolicy<Exec>(0, rows),
+      KOKKOS_LAMBDA(long c) { x(c) = 1.0 + static_cast<double>(c % 5); });
+  product();
+  Exec().fence();
+  auto hy = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), y);
+  for (long node = 0; node < nodes; ++node)
+    for (int r = 0; r < 3; ++r) {
+      double ref = 0.0;
+      for (int b = g.blockOffsets[node]; b < g.blockOffsets[node + 1]; ++b)
+        for (int c = 0; c < 3; ++c) {
+          const long col = 3L * g.blockColumns[b] + c;
+          ref += GridMatrix::entry(3 * node + r, col) * (1.0 + static_cast<double>(col % 5));
+        }
+      if (std::fabs(hy(3 * node + r) - ref) > 1e-12 * std::fabs(ref) + 1e-12) {
+        state.SkipWithError("the product differs from the host reference");
+        return;
+      }
+    }
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    product();
+    Exec().fence();
+    state.SetIterationTime(seconds(t0));
+  }
+  // Bytes: values, columns, offsets, x once and y written.
+  const double bytes = 8.0 * nnz + 4.0 * columns.extent(0) + 4.0 * offsets.extent(0) + 16.0 * rows;
+  state.counters["GB/s"] =
+      benchmark::Counter(bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["Gnnz/s"] =
+      benchmark::Counter(nnz / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["bytes/nnz"] = bytes / nnz;
+}
+
 } // namespace machine_bench
 using namespace machine_bench;
 
@@ -81,6 +211,13 @@ BENCHMARK(multiplyAdd<8>)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(multiplyAdd<32>)
     ->Name("machine/flops-vector")
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK(sparseProduct)
+    ->Name("machine/sparse-product")
+    ->ArgsProduct({{16, 64}, {0, 1}})
+    ->ArgNames({"nodesPerSide", "bsr"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 
