@@ -251,12 +251,6 @@ bool isZero(const ConstDeviceVector &x) {
   return nonzero == 0;
 }
 
-/// r = b (the residual of x = 0); returns ||r||.
-double copyResidual(const ConstDeviceVector &b, const DeviceVector &r) {
-  Kokkos::deep_copy(r, b);
-  return std::sqrt(dot(r, r));
-}
-
 /// x += alpha d and r -= alpha q in one pass; returns ||r||^2 after.
 double updateIterate(double alpha, const ConstDeviceVector &d, const ConstDeviceVector &q,
                      const DeviceVector &x, const DeviceVector &r) {
@@ -293,7 +287,11 @@ KrylovStats flexibleCg(const KrylovOptions &o, const LinearMap &a, const LinearM
   KrylovStats s;
   auto r = work.next(), z = work.next(), d = work.next(), q = work.next();
   const double norm = o.backwardErrorFloor ? operatorNormEstimate(a, z, q) : 0.0;
-  double rnorm = o.exactOperator && isZero(x) ? copyResidual(b, r) : residual(a, b, x, r);
+  double rnorm = bnorm; // the residual of x = 0 is b, without a product
+  if (o.exactOperator && isZero(x))
+    Kokkos::deep_copy(r, b);
+  else
+    rnorm = residual(a, b, x, r);
   // Restart from the true residual whenever the recursive one has converged but the true one
   // (operator applied with inner iterations) has not.
   while (rnorm > o.tolerance * bnorm && !atFloor(rnorm, norm, x, bnorm) &&
