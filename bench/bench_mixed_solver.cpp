@@ -22,7 +22,8 @@
 // All but the exact (AMG(S_L)) cases also run on the displacement model's largest meshes
 // (about 1e6 displacement unknowns, 2.5e6 mixed). MIXCON_BENCH_STRESS_TOLERANCE sets the
 // block-triangular preconditioner's CG tolerance on M (default 1e-2), MIXCON_BENCH_RESTART its
-// GMRES restart (default 30).
+// GMRES restart (default 30), MIXCON_BENCH_AMG_CYCLE who runs the V-cycles (`amg_cycle`: hypre,
+// double, single; unset: auto).
 #include <bench/BenchMain.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
@@ -33,6 +34,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <memory>
+#include <string>
 
 using namespace mixcon;
 
@@ -83,6 +85,18 @@ void strip(benchmark::State &state) {
   lo.maxIterations = 5000;
   if (const char *t = std::getenv("MIXCON_STRONG_THRESHOLD"))
     lo.strongThreshold = std::atof(t);
+  // Who runs the V-cycle (amg_cycle): hypre, double, single; unset: the default (auto)
+  if (const char *c = std::getenv("MIXCON_BENCH_AMG_CYCLE")) {
+    const std::string v = c;
+    if (v != "hypre" && v != "double" && v != "single" && v != "auto") {
+      state.SkipWithError("MIXCON_BENCH_AMG_CYCLE: hypre, double, single or auto");
+      return;
+    }
+    lo.cycle = v == "hypre"    ? AmgCycleKind::Hypre
+               : v == "double" ? AmgCycleKind::MixconDouble
+               : v == "single" ? AmgCycleKind::MixconSingle
+                               : AmgCycleKind::Automatic;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   if (method == Displacement) {
     static_cast<LinearDisplacementModel &>(*model).setup(lo, MPI_COMM_WORLD);

@@ -41,6 +41,7 @@ SETTINGS = [
     ("(e) rigid-body coarse space", {"coarse_space": "rigid_body"}),
     ("(f) separate components", {"amg_matrix": "separate_components"}),
     ("(g) no coarse space (the default before 2026-11-29)", {"coarse_space": "none"}),
+    ("(h) hypre's V-cycle (the default before `amg_cycle`)", {"amg_cycle": "hypre"}),
 ]
 
 STEP = re.compile(r"^step (\d+)/(\d+).*?iterations (\d+)\s+cuts (\d+)\s+linear its (\d+)\s+"
@@ -230,8 +231,8 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--tolerance", type=float, default=None,
                     help="linear: the solver tolerance (default mixcon's, 1e-8)")
-    ap.add_argument("--settings", default="abcdefg",
-                    help="linear: the settings to run, by letter (default all: abcdefg)")
+    ap.add_argument("--settings", default="abcdefgh",
+                    help="linear: the settings to run, by letter (default all: abcdefgh)")
     ap.add_argument("--cases", default="",
                     help="nonlinear: the cases to run, by index, comma-separated (default all)")
     ap.add_argument("--timeout", type=float, default=600)

@@ -146,6 +146,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "interpolation_max_elements",
                  "nodal_coarsening",
                  "amg_matrix",
+                 "amg_cycle",
                  "method",
                  "stress_block_tolerance",
                  "jacobian",
@@ -165,7 +166,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                       "the block-triangular GMRES (type: amg) or the sparse LU (type: direct)");
       s.allowOnly({"type", "tolerance", "max_iterations", "stress_block_tolerance",
                    "direct_fallback", "strong_threshold", "aggressive_levels",
-                   "interpolation_max_elements", "nodal_coarsening", "amg_matrix",
+                   "interpolation_max_elements", "nodal_coarsening", "amg_matrix", "amg_cycle",
                    "rigid_body_modes", "coarsest_size", "smoother", "reuse_hierarchy",
                    "reuse_factorization", "print_level", "jacobian", "coarse_space"});
     }
@@ -289,6 +290,13 @@ void readSolver(const YamlItem &top, Problem &p) {
         s["rigid_body_modes"].fail("rigid_body_modes: true needs amg_matrix: full (the rotations "
                                    "couple the displacement components that "
                                    "separate_components drops)");
+    }
+    if (s.has("amg_cycle")) {
+      const std::string v = s["amg_cycle"].choice({"auto", "hypre", "double", "single"});
+      p.solver.cycle = v == "double"   ? AmgCycleKind::MixconDouble
+                       : v == "single" ? AmgCycleKind::MixconSingle
+                       : v == "hypre"  ? AmgCycleKind::Hypre
+                                       : AmgCycleKind::Automatic;
     }
     if (s.has("coarsest_size"))
       p.solver.coarsestSize = count("coarsest_size", 1);

@@ -22,6 +22,21 @@ bool solveSmallDense(const std::vector<double> &a, std::size_t n, const std::vec
   return true;
 }
 
+bool invertSmallDense(const std::vector<double> &a, std::size_t n, std::vector<double> &inverse,
+                      double threshold) {
+  const auto size = static_cast<Eigen::Index>(n);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const Eigen::PartialPivLU<RowMajor> lu(Eigen::Map<const RowMajor>(a.data(), size, size));
+  if (size > 0) {
+    const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
+    if (!(pivots.minCoeff() > threshold * pivots.maxCoeff()))
+      return false;
+  }
+  inverse.resize(n * n);
+  Eigen::Map<RowMajor>(inverse.data(), size, size) = lu.inverse();
+  return true;
+}
+
 struct HostSparseLu::Impl {
   SparseDirect lu;
   Eigen::Index n = 0;

@@ -1,5 +1,6 @@
 // hypre (IJ -> ParCSR, PCG + BoomerAMG) and SuiteSparse (CHOLMOD, UMFPACK) implementations.
 #include <core/Transfer.hpp>
+#include <solver/AmgCycle.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/RigidCoarseSpace.hpp>
@@ -92,6 +93,13 @@ double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
 constexpr int kGaussEliminationSize = 100;
 
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
+
+/// hypre built for a GPU keeps its hierarchy in device memory (AmgCycle reads it on the host).
+#if defined(HYPRE_USING_GPU)
+constexpr bool kGpuHypre = true;
+#else
+constexpr bool kGpuHypre = false;
+#endif
 
 class BorrowedVector {
 public:
@@ -271,13 +279,16 @@ public:
       direct_->setup(a);
       matrix_ = a;
       ++builds_;
-    } else if (options_.reuseHierarchy && amg_ && !rebuild_ && samePattern(a)) {
-      setValues(a, "IJMatrixSetValues (kept hierarchy)"); // the hierarchy stays
+    } else if (options_.reuseHierarchy && (amg_ || cycle_) && !rebuild_ && samePattern(a)) {
+      if (ij_) // the hierarchy stays (hypre's, or mixcon's copy of it)
+        setValues(a, "IJMatrixSetValues (kept hierarchy)");
       if (ijP_)
         setComponentValues(a, "IJMatrixSetValues (kept hierarchy, separate components)");
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
       matrix_ = a;
+      if (cycle_) // the copy's fine level follows, as hypre's level 0 did
+        cycle_->setFineMatrix(a);
       buildCoarseSpace(); // its Galerkin operator follows the values
       ++reuses_;
       kept_ = true;
@@ -355,6 +366,10 @@ public:
   /// x = B b: one BoomerAMG V-cycle from a zero initial guess.
   void vcycle(const Kokkos::View<const double *, DeviceSpace> &b,
               const Kokkos::View<double *, DeviceSpace> &x) {
+    if (cycle_) { // mixcon's kernels on the copy of the hierarchy
+      cycle_->apply(b, x);
+      return;
+    }
     // Once per iteration of the Krylov method around it: on the views' memory where hypre can.
     const HYPRE_Int n = dofs_.numOwned();
     if constexpr (kHypreReadsKokkosMemory) {
@@ -428,6 +443,17 @@ public:
                     : options_.symmetric ? "hypre PCG + BoomerAMG"
                                          : "hypre GMRES + BoomerAMG";
     n += " (" + smootherName(options_.smoother) + ")";
+    // Before the first setup, the cycle asked for (or the one auto takes where it applies); after
+    // it, the one taken.
+    if (cycle_ || (builds_ == 0 && cycleExpected()))
+      n = std::string(options_.symmetric ? "CG" : "GMRES") + " + BoomerAMG (" +
+          smootherName(options_.smoother) + "; its V-cycle by mixcon in " +
+          (cycle_ ? amgCyclePrecisionName(cycle_->precision())
+           : options_.cycle == AmgCycleKind::MixconDouble ? "double"
+                                                          : "single") +
+          " precision)";
+    else if (!cycleRefusal_.empty())
+      n += " (hypre's V-cycle: mixcon's takes " + cycleRefusal_ + ")";
     if (separate())
       n += " on the separate displacement components";
     else if (!rotations_.empty() || willUseRotations())
@@ -518,10 +544,7 @@ private:
     const HYPRE_Int n = a.numRows;
     const auto ro = hostReadable(a.rowOffsets);
 
-    check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
-    check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
     ncols_.resize(n);
-    std::vector<HYPRE_Int> offdSizes(n, 0);
     rows_.resize(n); // owned global rows, reused by every solve() and precondition()
     zero_.assign(n, 0.0);
     for (HYPRE_Int i = 0; i < n; ++i) {
@@ -531,14 +554,12 @@ private:
     builtRows_ = n;
     normInf_ = rowSumNorm(a);
     MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
-    check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, ncols_.data(), offdSizes.data()),
-          "IJMatrixSetDiagOffdSizes");
-    check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
-    setValues(a, "IJMatrixSetValues");
-    check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
-    check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
+    // hypre's copy of A: the hierarchy's matrix, or (separate components) only for hypre's
+    // Krylov method, which mixcon's cycle does not need (built below where that is not taken)
     if (separate())
       buildComponentMatrix(a);
+    else
+      buildHypreMatrix(a);
 
     for (HYPRE_IJVector *v : {&ijb_, &ijx_, &ijr_}) {
       check(HYPRE_IJVectorCreate(comm_, lo, hi, v), "IJVectorCreate");
@@ -581,18 +602,24 @@ private:
                                             rotations_.data()),
             "BoomerAMGSetInterpVectors");
 
-    // The Krylov method's preconditioner: BoomerAMG's own setup and V-cycle on A or, with
-    // separate components, the hierarchy built here on their matrix and a V-cycle on it
-    // (componentVcycle), which the method's setup leaves as it is (noSetup).
+    // BoomerAMG's hierarchy on A or, with separate components, on their matrix; then either
+    // mixcon's copy of it (copyCycle: mixcon's Krylov method on matrix_, no hypre A needed with
+    // separate components) or hypre's Krylov method around hypre's V-cycle (on the filtered
+    // matrix: componentVcycle), whose setup leaves the hierarchy as it is (noSetup).
+    if (retried(HYPRE_BoomerAMGSetup(amg_, hierarchyMatrix(), parb_, parx_),
+                parP_ ? "BoomerAMG setup (separate components)" : "BoomerAMG setup"))
+      return;
+    copyCycle();
+    if (cycle_) {
+      finishBuild();
+      return;
+    }
     auto precondSolve = reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve);
-    auto precondSetup = reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSetup);
+    const HYPRE_PtrToSolverFcn precondSetup = &noSetup;
     HYPRE_Solver precondData = amg_;
     if (parP_) {
-      if (retried(HYPRE_BoomerAMGSetup(amg_, parP_, parb_, parx_),
-                  "BoomerAMG setup (separate components)"))
-        return;
+      buildHypreMatrix(a);
       precondSolve = &componentVcycle;
-      precondSetup = &noSetup;
       precondData = reinterpret_cast<HYPRE_Solver>(this);
     }
     if (options_.symmetric) {
@@ -616,10 +643,126 @@ private:
       if (retried(HYPRE_ParCSRGMRESSetup(gmres_, parA_, parb_, parx_), "GMRES/BoomerAMG setup"))
         return;
     }
+    finishBuild();
+  }
+
+  /// What every build ends with: hypre's objects released where mixcon's cycle took a copy of
+  /// the hierarchy (from then on it holds what the solves need: the copy and matrix_; 3 GB of
+  /// hypre's A and its hierarchy at 3.1M unknowns), the coarse space, the counts.
+  void finishBuild() {
+    if (cycle_)
+      releaseHypre();
     buildCoarseSpace();
     ++builds_;
     kept_ = false;
     rebuild_ = false;
+  }
+
+  /// ij_ and parA_: hypre's copy of `a` (matrix_).
+  void buildHypreMatrix(const CsrMatrix<DeviceSpace> &a) {
+    const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
+    const std::vector<HYPRE_Int> offdSizes(a.numRows, 0);
+    check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
+    check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
+    check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, ncols_.data(), offdSizes.data()),
+          "IJMatrixSetDiagOffdSizes");
+    check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
+    setValues(a, "IJMatrixSetValues");
+    check(HYPRE_IJMatrixAssemble(ij_), "IJMatrixAssemble");
+    check(HYPRE_IJMatrixGetObject(ij_, reinterpret_cast<void **>(&parA_)), "IJMatrixGetObject");
+  }
+
+  /// Before a setup: mixcon's cycle is asked for, or left to auto where it will apply (one rank,
+  /// the Chebyshev smoother, a CPU hypre).
+  bool cycleExpected() const {
+    switch (options_.cycle) {
+    case AmgCycleKind::MixconDouble:
+    case AmgCycleKind::MixconSingle:
+      return true;
+    case AmgCycleKind::Automatic:
+      return !kGpuHypre && ranks_ == 1 &&
+             resolvedSmoother(options_.smoother) == AmgSmoother::Chebyshev;
+    default:
+      return false;
+    }
+  }
+
+  /// cycle_: BoomerAMG's hierarchy copied for mixcon's V-cycle (LinearSolverOptions::cycle),
+  /// where it is asked for (or left automatic) and the hierarchy is one this copy applies as
+  /// hypre would; otherwise hypre's cycle stays and, where the copy was asked for by name,
+  /// cycleRefusal_ says why (in the solver's name).
+  void copyCycle() {
+    cycle_.reset();
+    cycleRefusal_.clear();
+    if (options_.cycle == AmgCycleKind::Hypre)
+      return;
+    std::vector<HostAmgLevel> levels;
+    cycleRefusal_ = hostLevels(levels);
+    if (cycleRefusal_.empty()) {
+      const AmgCyclePrecision precision = options_.cycle == AmgCycleKind::MixconDouble
+                                              ? AmgCyclePrecision::Double
+                                              : AmgCyclePrecision::Single;
+      try {
+        cycle_ = std::make_unique<AmgCycle>(matrix_, separate() ? dofs_.dofsPerNode : 0, levels,
+                                            precision);
+      } catch (const std::runtime_error &e) {
+        cycleRefusal_ = e.what();
+      }
+    }
+    if (options_.cycle == AmgCycleKind::Automatic)
+      cycleRefusal_.clear(); // hypre's cycle where the copy does not apply, said nowhere
+  }
+
+  /// The levels of amg_'s hierarchy as AmgCycle takes them; empty where they all could be
+  /// described, else why not.
+  std::string hostLevels(std::vector<HostAmgLevel> &levels) const {
+    static_assert(std::is_same_v<HYPRE_Int, int>, "AmgCycle reads hypre's int indices");
+    if (ranks_ != 1)
+      return "one rank only";
+    if (kGpuHypre)
+      return "a CPU hypre (this one keeps its hierarchy in device memory)";
+    if (resolvedSmoother(options_.smoother) != AmgSmoother::Chebyshev)
+      return "the Chebyshev smoother only";
+    auto *data = reinterpret_cast<hypre_ParAMGData *>(amg_);
+    const int nl = hypre_ParAMGDataNumLevels(data);
+    const HYPRE_Int *relax = hypre_ParAMGDataGridRelaxType(data);
+    const HYPRE_Int *sweeps = hypre_ParAMGDataNumGridSweeps(data);
+    if (nl < 2)
+      return "a hierarchy of one level";
+    if (relax[1] != 16 || relax[2] != 16 || sweeps[1] != 1 || sweeps[2] != 1 || sweeps[3] != 1 ||
+        !(relax[3] == 9 || relax[3] == 99 || relax[3] == 199) ||
+        hypre_ParAMGDataCycleType(data) != 1 || hypre_ParAMGDataFCycle(data) ||
+        hypre_ParAMGDataRestriction(data) != 0 || hypre_ParAMGDataBlockMode(data) ||
+        hypre_ParAMGDataPartialCycleCoarsestLevel(data) >= 0 ||
+        hypre_ParAMGDataSmoothNumLevels(data) > 0 || hypre_ParAMGDataChebyScale(data) != 1 ||
+        hypre_ParAMGDataChebyVariant(data) != 0 ||
+        (hypre_ParAMGDataAdditive(data) >= 0 && hypre_ParAMGDataAdditive(data) < nl) ||
+        (hypre_ParAMGDataMultAdditive(data) >= 0 && hypre_ParAMGDataMultAdditive(data) < nl) ||
+        (hypre_ParAMGDataSimple(data) >= 0 && hypre_ParAMGDataSimple(data) < nl))
+      return "a V-cycle other than one scaled Chebyshev sweep per level";
+    const int order = std::clamp(static_cast<int>(hypre_ParAMGDataChebyOrder(data)), 1, 4);
+    const auto local = [](hypre_ParCSRMatrix *m) {
+      hypre_CSRMatrix *d = hypre_ParCSRMatrixDiag(m);
+      AmgHostCsr h;
+      h.rowOffsets = hypre_CSRMatrixI(d);
+      h.columns = hypre_CSRMatrixJ(d);
+      h.values = hypre_CSRMatrixData(d);
+      h.rows = hypre_CSRMatrixNumRows(d);
+      h.columnsCount = hypre_CSRMatrixNumCols(d);
+      return h;
+    };
+    levels.resize(nl);
+    for (int l = 0; l < nl; ++l) {
+      HostAmgLevel &h = levels[l];
+      h.a = local(hypre_ParAMGDataAArray(data)[l]);
+      if (l + 1 < nl) {
+        h.p = local(hypre_ParAMGDataPArray(data)[l]);
+        h.ds = hypre_VectorData(hypre_ParAMGDataChebyDS(data)[l]);
+        const HYPRE_Real *c = hypre_ParAMGDataChebyCoefs(data)[l];
+        h.coefficients.assign(c, c + order);
+      }
+    }
+    return {};
   }
 
   /// The rigid-body coarse space of LinearSolverOptions::coarseSpace on matrix_, where it is
@@ -703,11 +846,11 @@ private:
     }
   }
 
-  /// iterate() with the coarse space: mixcon's CG (GMRES for a nonsymmetric matrix) around
-  /// twoLevel(), on matrix_; the same convergence decision as hypre's Krylov methods.
-  LinearSolveStats iterateTwoLevel(const Kokkos::View<const double *, DeviceSpace> &b,
-                                   const Kokkos::View<double *, DeviceSpace> &x, double bnorm,
-                                   int cap) {
+  /// iterate() with the coarse space or the copied cycle: mixcon's CG (GMRES for a nonsymmetric
+  /// matrix) around twoLevel() or the V-cycle, on matrix_; the same convergence decision as
+  /// hypre's Krylov methods.
+  LinearSolveStats iterateOwn(const Kokkos::View<const double *, DeviceSpace> &b,
+                              const Kokkos::View<double *, DeviceSpace> &x, double bnorm, int cap) {
     KrylovOptions ko;
     ko.method = options_.symmetric ? KrylovMethod::Cg : KrylovMethod::Gmres;
     ko.tolerance = options_.tolerance;
@@ -717,7 +860,12 @@ private:
     const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
       multiply(matrix_, v, y);
     };
-    const LinearMap p = [&](const ConstDeviceVector &r, const DeviceVector &z) { twoLevel(r, z); };
+    const LinearMap p = [&](const ConstDeviceVector &r, const DeviceVector &z) {
+      if (coarse_)
+        twoLevel(r, z);
+      else
+        vcycle(r, z);
+    };
     Kokkos::deep_copy(x, 0.0);
     const KrylovStats k = krylovSolve(ko, a, p, b, x, &workspace_);
     const double xx = dot(ConstDeviceVector(x), ConstDeviceVector(x));
@@ -748,8 +896,8 @@ private:
     const int cap = canStrengthen()
                         ? std::min(options_.maxIterations, options_.escalationIterations)
                         : options_.maxIterations;
-    if (coarse_)
-      return iterateTwoLevel(b, x, bnorm, cap);
+    if (coarse_ || cycle_)
+      return iterateOwn(b, x, bnorm, cap);
     if (pcg_)
       HYPRE_PCGSetMaxIter(pcg_, cap);
     else
@@ -984,6 +1132,13 @@ private:
   }
 
   void release() {
+    cycle_.reset();
+    coarse_.reset();
+    releaseHypre();
+  }
+
+  /// hypre's matrices, vectors, hierarchy and Krylov method.
+  void releaseHypre() {
     if (ijP_)
       HYPRE_IJMatrixDestroy(ijP_);
     ijP_ = nullptr;
@@ -1006,7 +1161,6 @@ private:
       HYPRE_IJVectorDestroy(v);
     rotationVectors_.clear();
     rotations_.clear();
-    coarse_.reset();
     pcg_ = gmres_ = amg_ = nullptr;
     ij_ = nullptr;
     ijb_ = ijx_ = ijr_ = nullptr;
@@ -1020,6 +1174,8 @@ private:
   int ranks_ = 1;
   int coarsest_ = 9; ///< the coarsest size in use (grows along the escalation ladder)
   std::unique_ptr<RigidCoarseSpace> coarse_; ///< LinearSolverOptions::coarseSpace, when built
+  std::unique_ptr<AmgCycle> cycle_;          ///< LinearSolverOptions::cycle, when it applies
+  std::string cycleRefusal_; ///< why the last build kept hypre's cycle although asked not to
   /// Why a setup did not build what it was asked for (the coarse space, the direct solver), for
   /// the next solve's note.
   std::string setupNote_;
@@ -1027,7 +1183,7 @@ private:
   bool coarseOn_ = false;          ///< the ladder took the coarse space (CoarseSpace::OnStall)
   bool coarseRefused_ = false;     ///< it could not be built: the ladder goes on without it
   DeviceVector cw_, sw_, yw_, qw_; ///< twoLevel()'s work vectors
-  KrylovWorkspace workspace_;      ///< iterateTwoLevel()'s Krylov vectors
+  KrylovWorkspace workspace_;      ///< iterateOwn()'s Krylov vectors
   int variant_ = 2;                ///< interpolation-vector variant in use (0: none; see retried())
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual

@@ -27,6 +27,9 @@ enum class LinearSolverType { Amg, Direct };
 /// (resolvedSmoother).
 enum class AmgSmoother { Automatic, L1GaussSeidel, L1Jacobi, Chebyshev };
 
+/// Who applies BoomerAMG's V-cycle (LinearSolverOptions::cycle).
+enum class AmgCycleKind { Automatic, Hypre, MixconDouble, MixconSingle };
+
 /// When the AMG solver adds its rigid-body coarse space (LinearSolverOptions::coarseSpace).
 enum class CoarseSpace {
   None,     ///< never
@@ -62,6 +65,15 @@ struct LinearSolverOptions {
   /// iterations; for compact bodies (the 3D cube: docs/performance.md), not for slender parts,
   /// whose bending couples the components (Korn's inequality degrades with L/h).
   bool separateComponents = false;
+  /// Who runs BoomerAMG's V-cycle (problem key `amg_cycle`). Hypre: hypre's own cycle and
+  /// Krylov method. MixconDouble, MixconSingle: mixcon's kernels on a copy of the hierarchy hypre
+  /// built (solver/AmgCycle.hpp: the same levels, Chebyshev smoothing and coarsest solve, one
+  /// product fewer per level, in double or single precision) inside mixcon's flexible CG (GMRES
+  /// for a nonsymmetric matrix); where the copy does not apply (more than one rank, a smoother
+  /// other than Chebyshev, one level) hypre's cycle runs and the solver's name says why.
+  /// Automatic: MixconSingle where it applies, else hypre's, silently (docs/performance.md,
+  /// issue 17 table 3h: the same iterations and a 1.3-1.7x faster solve on the 3D cube).
+  AmgCycleKind cycle = AmgCycleKind::Automatic;
   int printLevel = 0; ///< hypre's own print level
   /// false for a nonsymmetric matrix (the exact tangent of the geometrically nonlinear
   /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of Cholesky

@@ -475,6 +475,25 @@ TEST(SolidProblem, AmgMatrixKey) {
             std::string::npos);
 }
 
+// solver: {amg_cycle: ...} says who runs BoomerAMG's V-cycle (default auto); an unknown value is
+// refused with file:line.
+TEST(SolidProblem, AmgCycleKey) {
+  const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
+  const auto parsed = [&](const std::string &value) {
+    return parseProblem(replaceText(amg, "type: amg", "type: amg, amg_cycle: " + value),
+                        "solid.yaml", "")
+        .solver.cycle;
+  };
+  EXPECT_EQ(parseProblem(amg, "solid.yaml", "").solver.cycle, AmgCycleKind::Automatic);
+  EXPECT_EQ(parsed("auto"), AmgCycleKind::Automatic);
+  EXPECT_EQ(parsed("hypre"), AmgCycleKind::Hypre);
+  EXPECT_EQ(parsed("double"), AmgCycleKind::MixconDouble);
+  EXPECT_EQ(parsed("single"), AmgCycleKind::MixconSingle);
+  EXPECT_NE(
+      refusal(replaceText(amg, "type: amg", "type: amg, amg_cycle: half")).find("solid.yaml:"),
+      std::string::npos);
+}
+
 // amg_matrix: separate_components from problem files: the 3D displacement model (hypre PCG) and
 // the 3D mixed model (its block-triangular GMRES applies the V-cycle) reach the direct solver's
 // displacements, and the start-up line says which matrix BoomerAMG was built on.
