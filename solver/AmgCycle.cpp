@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 namespace mixcon {
 
@@ -48,8 +50,10 @@ template <class S> struct detail::AmgLevels {
     Kokkos::View<S *, DeviceSpace> ds;
     S c[4] = {0, 0, 0, 0};
     int order = 0;
-    /// The right-hand side, the iterate, the scaled residual and two work vectors.
-    Kokkos::View<S *, DeviceSpace> f, u, res, t, t2;
+    /// The right-hand side (f, read; fw, its storage: the fine level in double reads b itself),
+    /// the iterate (the fine level in double: x itself), the scaled residual and two work vectors.
+    Kokkos::View<const S *, DeviceSpace> f;
+    Kokkos::View<S *, DeviceSpace> fw, u, res, t, t2;
   };
   std::vector<Level> level;
   /// The fine matrix's values where they are this copy's own (single precision, or filtered).
@@ -153,74 +157,114 @@ template <class S> struct detail::AmgLevels {
 
   // ---- the coarse levels, copied from the host ----
 
+  /// A matrix filled on the host (hypre's arrays are host memory) and then uploaded.
+  struct HostFill {
+    Kokkos::View<Offset *, DeviceSpace> ro;
+    Kokkos::View<LocalIndex *, DeviceSpace> co;
+    Kokkos::View<S *, DeviceSpace> va;
+    typename Kokkos::View<Offset *, DeviceSpace>::HostMirror hro;
+    typename Kokkos::View<LocalIndex *, DeviceSpace>::HostMirror hco;
+    typename Kokkos::View<S *, DeviceSpace>::HostMirror hva;
+    LocalIndex rows;
+    HostFill(LocalIndex n, Offset nnz, const std::string &label)
+        : ro(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), n + 1),
+          co(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz),
+          va(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz), hro(hostMirror(ro)),
+          hco(hostMirror(co)), hva(hostMirror(va)), rows(n) {}
+    Matrix upload() const {
+      mixcon::upload(ro, hro);
+      mixcon::upload(co, hco);
+      mixcon::upload(va, hva);
+      Matrix m;
+      m.rows = rows;
+      m.rowOffsets = ro;
+      m.columns = co;
+      m.values = va;
+      return m;
+    }
+  };
+
+  using HostRange = Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>;
+
+  // On the host's threads: the coarse levels of the full 3D stiffness hold tens of millions of
+  // entries.
   static Matrix copy(const AmgHostCsr &h, const std::string &label) {
-    Matrix m;
-    m.rows = h.rows;
-    const Offset nnz = h.rowOffsets[h.rows];
-    Kokkos::View<Offset *, DeviceSpace> ro(Kokkos::view_alloc(Kokkos::WithoutInitializing, label),
-                                           h.rows + 1);
-    Kokkos::View<LocalIndex *, DeviceSpace> co(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz);
-    Kokkos::View<S *, DeviceSpace> va(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz);
-    auto hro = hostMirror(ro);
-    auto hco = hostMirror(co);
-    auto hva = hostMirror(va);
-    // on the host's threads (hypre's arrays are host memory; the mirrors too): the coarse levels
-    // of the full 3D stiffness hold tens of millions of entries
+    HostFill m(h.rows, h.rowOffsets[h.rows], label);
     const int *hr = h.rowOffsets, *hc = h.columns;
     const double *hv = h.values;
-    Kokkos::parallel_for("mixcon::amg::cycle::copyLevel",
-                         Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, h.rows),
-                         [=](int i) {
-                           hro(i) = hr[i];
-                           for (int k = hr[i]; k < hr[i + 1]; ++k) {
-                             hco(k) = hc[k];
-                             hva(k) = static_cast<S>(hv[k]);
-                           }
-                         });
+    const auto ro = m.hro;
+    const auto co = m.hco;
+    const auto va = m.hva;
+    Kokkos::parallel_for("mixcon::amg::cycle::copyLevel", HostRange(0, h.rows), [=](int i) {
+      ro(i) = hr[i];
+      for (int k = hr[i]; k < hr[i + 1]; ++k) {
+        co(k) = hc[k];
+        va(k) = static_cast<S>(hv[k]);
+      }
+    });
     Kokkos::DefaultHostExecutionSpace().fence();
-    hro(h.rows) = nnz;
-    upload(ro, hro);
-    upload(co, hco);
-    upload(va, hva);
-    m.rowOffsets = ro;
-    m.columns = co;
-    m.values = va;
-    return m;
+    ro(h.rows) = hr[h.rows];
+    return m.upload();
   }
 
-  /// R = P^T of a host CSR P (rows: the finer level, columns: the coarser).
+  /// R = P^T of a host CSR P (rows: the finer level, columns: the coarser), each row of R in
+  /// ascending columns (the order of a serial transpose, so that sums are reproducible).
   static Matrix transpose(const AmgHostCsr &p, const std::string &label) {
-    Matrix m;
-    m.rows = p.columnsCount;
     const Offset nnz = p.rowOffsets[p.rows];
-    Kokkos::View<Offset *, DeviceSpace> ro(label, p.columnsCount + 1);
-    Kokkos::View<LocalIndex *, DeviceSpace> co(
-        Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz);
-    Kokkos::View<S *, DeviceSpace> va(Kokkos::view_alloc(Kokkos::WithoutInitializing, label), nnz);
-    auto hro = hostMirror(ro);
-    auto hco = hostMirror(co);
-    auto hva = hostMirror(va);
-    for (int j = 0; j <= p.columnsCount; ++j)
-      hro(j) = 0;
-    for (Offset k = 0; k < nnz; ++k)
-      ++hro(p.columns[k] + 1);
-    for (int j = 0; j < p.columnsCount; ++j)
-      hro(j + 1) += hro(j);
-    std::vector<Offset> at(hro.data(), hro.data() + p.columnsCount);
-    for (int i = 0; i < p.rows; ++i) // rows in order: each row of R comes out sorted
-      for (int k = p.rowOffsets[i]; k < p.rowOffsets[i + 1]; ++k) {
-        const Offset q = at[p.columns[k]]++;
-        hco(q) = i;
-        hva(q) = static_cast<S>(p.values[k]);
-      }
-    upload(ro, hro);
-    upload(co, hco);
-    upload(va, hva);
-    m.rowOffsets = ro;
-    m.columns = co;
-    m.values = va;
-    return m;
+    HostFill m(p.columnsCount, nnz, label);
+    const int *pr = p.rowOffsets, *pc = p.columns;
+    const double *pv = p.values;
+    const auto ro = m.hro;
+    const auto co = m.hco;
+    const auto va = m.hva;
+    Kokkos::deep_copy(ro, Offset(0));
+    Kokkos::parallel_for( // each column's count
+        "mixcon::amg::cycle::transposeCount", HostRange(0, nnz),
+        [=](Offset k) { Kokkos::atomic_increment(&ro(pc[k] + 1)); });
+    Kokkos::parallel_scan("mixcon::amg::cycle::transposeScan", HostRange(0, p.columnsCount + 1),
+                          [=](int j, Offset &sum, bool last) {
+                            sum += ro(j);
+                            if (last)
+                              ro(j) = sum;
+                          });
+    Kokkos::View<Offset *, Kokkos::HostSpace> at(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::amg::cycle::transposeAt"),
+        p.columnsCount);
+    Kokkos::parallel_for("mixcon::amg::cycle::transposeStart", HostRange(0, p.columnsCount),
+                         [=](int j) { at(j) = ro(j); });
+    Kokkos::parallel_for( // in any order ...
+        "mixcon::amg::cycle::transposeFill", HostRange(0, p.rows), [=](int i) {
+          for (int k = pr[i]; k < pr[i + 1]; ++k) {
+            const Offset q = Kokkos::atomic_fetch_add(&at(pc[k]), Offset(1));
+            co(q) = i;
+            va(q) = static_cast<S>(pv[k]);
+          }
+        });
+    Kokkos::parallel_for( // ... then each row sorted by its columns
+        "mixcon::amg::cycle::transposeSort", HostRange(0, p.columnsCount), [=](int j) {
+          if (ro(j + 1) - ro(j) > 32) { // long rows (aggressive coarsening): a general sort
+            std::vector<std::pair<LocalIndex, S>> row;
+            for (Offset k = ro(j); k < ro(j + 1); ++k)
+              row.emplace_back(co(k), va(k));
+            std::sort(row.begin(), row.end());
+            for (Offset k = ro(j); k < ro(j + 1); ++k)
+              std::tie(co(k), va(k)) = row[static_cast<std::size_t>(k - ro(j))];
+            return;
+          }
+          for (Offset k = ro(j) + 1; k < ro(j + 1); ++k) { // short rows: by insertion
+            const LocalIndex c = co(k);
+            const S v = va(k);
+            Offset q = k;
+            for (; q > ro(j) && co(q - 1) > c; --q) {
+              co(q) = co(q - 1);
+              va(q) = va(q - 1);
+            }
+            co(q) = c;
+            va(q) = v;
+          }
+        });
+    Kokkos::DefaultHostExecutionSpace().fence();
+    return m.upload();
   }
 
   void coarsestInverse(const AmgHostCsr &a) {
@@ -282,8 +326,11 @@ template <class S> struct detail::AmgLevels {
       } else {
         coarsestInverse(h.a);
       }
-      v.f = vector(n, "mixcon::amg::cycle::rightHandSide");
-      v.u = vector(n, "mixcon::amg::cycle::iterate");
+      if (l > 0 || !std::is_same_v<S, double>) {
+        v.fw = vector(n, "mixcon::amg::cycle::rightHandSide");
+        v.f = v.fw;
+        v.u = vector(n, "mixcon::amg::cycle::iterate");
+      }
     }
     setFine(fine);
   }
@@ -373,7 +420,7 @@ template <class S> struct detail::AmgLevels {
     rows(
         "mixcon::amg::cycle::residual", fine.a, fine.u,
         KOKKOS_LAMBDA(LocalIndex i, S s) { residual(i) = f(i) - s; });
-    const auto fc = coarse.f;
+    const auto fc = coarse.fw;
     rows(
         "mixcon::amg::cycle::restrict", fine.r, residual,
         KOKKOS_LAMBDA(LocalIndex i, S s) { fc(i) = s; });
@@ -387,15 +434,24 @@ template <class S> struct detail::AmgLevels {
 
   void apply(const Kokkos::View<const double *, DeviceSpace> &b,
              const Kokkos::View<double *, DeviceSpace> &x) {
-    const auto f = level[0].f;
-    Kokkos::parallel_for(
-        "mixcon::amg::cycle::toCyclePrecision", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
-        KOKKOS_LAMBDA(LocalIndex i) { f(i) = static_cast<S>(b(i)); });
-    cycle(0);
-    const auto u = level[0].u;
-    Kokkos::parallel_for(
-        "mixcon::amg::cycle::fromCyclePrecision", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
-        KOKKOS_LAMBDA(LocalIndex i) { x(i) = static_cast<double>(u(i)); });
+    Level &fine = level[0];
+    if constexpr (std::is_same_v<S, double>) { // the cycle reads b and writes x themselves
+      fine.f = b;
+      fine.u = x;
+      cycle(0);
+      fine.f = {}; // not kept past the call
+      fine.u = {};
+    } else {
+      const auto f = fine.fw;
+      Kokkos::parallel_for(
+          "mixcon::amg::cycle::toCyclePrecision", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
+          KOKKOS_LAMBDA(LocalIndex i) { f(i) = static_cast<S>(b(i)); });
+      cycle(0);
+      const auto u = fine.u;
+      Kokkos::parallel_for(
+          "mixcon::amg::cycle::fromCyclePrecision", Kokkos::RangePolicy<Exec>(0, f.extent(0)),
+          KOKKOS_LAMBDA(LocalIndex i) { x(i) = static_cast<double>(u(i)); });
+    }
   }
 
   std::size_t bytes() const {
@@ -410,7 +466,7 @@ template <class S> struct detail::AmgLevels {
       else if (!std::is_same_v<S, double>)
         b += v.a.values.span() * sizeof(S);
       b += v.p.bytes() + v.r.bytes();
-      for (const auto &w : {v.ds, v.f, v.u, v.res, v.t, v.t2})
+      for (const auto &w : {v.ds, v.fw, v.u, v.res, v.t, v.t2})
         b += w.span() * sizeof(S);
     }
     return b;

@@ -69,7 +69,8 @@ public:
   /// smoothing coefficients stay, as in hypre's cycle after IJMatrixSetValues on its level 0).
   void setFineMatrix(const CsrMatrix<DeviceSpace> &fine);
 
-  /// x = B b: one V-cycle from a zero initial guess.
+  /// x = B b: one V-cycle from a zero initial guess (x and b distinct: in double precision the
+  /// fine level reads b and iterates in x).
   void apply(const Kokkos::View<const double *, DeviceSpace> &b,
              const Kokkos::View<double *, DeviceSpace> &x);
 

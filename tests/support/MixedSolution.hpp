@@ -3,6 +3,7 @@
 // largest difference relative to the reference's largest entry; one solve of the DESIGN-NOTES
 // strip. Tests only.
 #pragma once
+#include <support/Differences.hpp>
 
 #include <mesh/Generators.hpp>
 #include <solver/MixedModel.hpp>
@@ -13,16 +14,6 @@
 #include <vector>
 
 namespace mixcon::test {
-
-/// max_i |a_i - b_i| / max_i |b_i| (b the reference; a and b of the same size).
-inline double maxRelativeDifference(const std::vector<double> &a, const std::vector<double> &b) {
-  double d = 0.0, s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, std::abs(a[i] - b[i]));
-    s = std::max(s, std::abs(b[i]));
-  }
-  return d / s;
-}
 
 /// One solve of a set-up MixedModel and its fields on the host.
 struct MixedSolution {

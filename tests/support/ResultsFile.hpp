@@ -1,6 +1,7 @@
-// Reading a run's results.h5 in tests: its step numbers, one dataset of a step, and the largest
-// relative difference of two arrays.
+// Reading a run's results.h5 in tests: its step numbers and one dataset of a step (compared with
+// support/Differences.hpp).
 #pragma once
+#include <support/Differences.hpp>
 
 #include <hdf5.h>
 
@@ -54,18 +55,6 @@ inline std::vector<double> readStep(const std::filesystem::path &dir, int step,
   }
   H5Fclose(f);
   return v;
-}
-
-/// Largest difference of two arrays relative to the largest entry of `ref`.
-inline double relativeDifference(const std::vector<double> &a, const std::vector<double> &ref) {
-  if (a.size() != ref.size() || ref.empty())
-    return INFINITY;
-  double d = 0.0, scale = 1e-300;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    d = std::max(d, std::abs(a[i] - ref[i]));
-    scale = std::max(scale, std::abs(ref[i]));
-  }
-  return d / scale;
 }
 
 } // namespace mixcon::test

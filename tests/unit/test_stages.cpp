@@ -22,8 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace mixcon;
+using mixcon::test::maxRelativeDifference;
 using mixcon::test::readStep;
-using mixcon::test::relativeDifference;
 using mixcon::test::stepsOf;
 
 /// Runs `yaml` through the C++ API into `dir`; returns the result.
@@ -211,8 +211,8 @@ steps: {load_factors: [0.5, 0.75, 1.0]}
   EXPECT_DOUBLE_EQ(a.steps[1].time, 1.5);
   for (int k = 1; k <= 3; ++k)
     for (const char *field : {"displacement", "stress"})
-      EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", k, field),
-                                   readStep(dir.path() / "proportional", k, field)),
+      EXPECT_LE(maxRelativeDifference(readStep(dir.path() / "staged", k, field),
+                                      readStep(dir.path() / "proportional", k, field)),
                 1e-9)
           << "step " << k << " " << field;
 }
@@ -295,14 +295,14 @@ TEST(Stages, ABodyLoadedHeldAndUnloadedReturnsToZero) {
       const auto loaded = readStep(out, 3, field);
       ASSERT_GT(maxAbs(loaded), 0.0) << c.name;
       // Held: the same state, to the equilibrium tolerance (a hold step iterates once more).
-      EXPECT_LE(relativeDifference(readStep(out, 4, field), loaded), 1e-5) << c.name << " hold";
+      EXPECT_LE(maxRelativeDifference(readStep(out, 4, field), loaded), 1e-5) << c.name << " hold";
       EXPECT_LE(maxAbs(readStep(out, 7, field)), 1e-9 * maxAbs(loaded))
           << c.name << " unloaded " << field;
       // On the way down, at a third and two thirds of the load: the states of the way up
       // (an elastic body's state depends on its load, not on the path).
-      EXPECT_LE(relativeDifference(readStep(out, 6, field), readStep(out, 1, field)), 1e-5)
+      EXPECT_LE(maxRelativeDifference(readStep(out, 6, field), readStep(out, 1, field)), 1e-5)
           << c.name << " unloading at 1/3";
-      EXPECT_LE(relativeDifference(readStep(out, 5, field), readStep(out, 2, field)), 1e-5)
+      EXPECT_LE(maxRelativeDifference(readStep(out, 5, field), readStep(out, 2, field)), 1e-5)
           << c.name << " unloading at 2/3";
     }
   }
@@ -333,7 +333,7 @@ stages:
   EXPECT_NEAR(readStep(dir.path(), 4, "displacement")[tip + 1], 0.5 * (loaded[tip + 1] - 0.05),
               1e-12);
   for (const char *field : {"displacement", "stress"})
-    EXPECT_LE(relativeDifference(readStep(dir.path(), 8, field), readStep(dir.path(), 3, field)),
+    EXPECT_LE(maxRelativeDifference(readStep(dir.path(), 8, field), readStep(dir.path(), 3, field)),
               1e-7)
         << field;
 }
@@ -357,8 +357,8 @@ stages:
                             dir.path() / "two");
   ASSERT_TRUE(one.converged && two.converged);
   for (int k : {4, 5})
-    EXPECT_LE(relativeDifference(readStep(dir.path() / "two", k, "displacement"),
-                                 readStep(dir.path() / "one", k, "displacement")),
+    EXPECT_LE(maxRelativeDifference(readStep(dir.path() / "two", k, "displacement"),
+                                    readStep(dir.path() / "one", k, "displacement")),
               1e-12)
         << "step " << k;
 }
@@ -423,7 +423,7 @@ boundary_conditions: [{boundary: xmin, ux: 0, uy: 0, uz: 0}]
     ASSERT_EQ(a.steps.size(), 3u) << c.name;
     // Half way through 'pull' the traction is (1.5, -0.5): the linear run's state.
     for (const char *field : {"displacement", "stress"})
-      EXPECT_LE(relativeDifference(readStep(staged, 2, field), readStep(linear, 1, field)),
+      EXPECT_LE(maxRelativeDifference(readStep(staged, 2, field), readStep(linear, 1, field)),
                 c.tolerance)
           << c.name << " " << field;
   }
@@ -506,8 +506,8 @@ stages:
         << "step " << k + 1;
   for (int k : {1, 2})
     for (const char *field : {"displacement", "contact/normal_force"})
-      EXPECT_LE(relativeDifference(readStep(dir.path() / "staged", k, field),
-                                   readStep(dir.path() / "proportional", k, field)),
+      EXPECT_LE(maxRelativeDifference(readStep(dir.path() / "staged", k, field),
+                                      readStep(dir.path() / "proportional", k, field)),
                 1e-8)
           << "step " << k << " " << field;
 }
