@@ -6,9 +6,11 @@
 // (no -march; see docs/performance.md), not the hardware's AVX2/FMA peak. And the sparse
 // product that bounds the 3D cube's PCG (docs/performance.md, issue 17's table 3g): y = K x on
 // the 27-point pattern of a grid of nodes with 3 unknowns each, stored as CSR with 32-bit
-// columns (hypre's layout, 12 bytes per nonzero) and as 3 x 3 blocks (BSR, 8 bytes per nonzero
-// and one column per block).
+// columns (hypre's layout, 12 bytes per nonzero), as 3 x 3 blocks (BSR, 8 bytes per nonzero
+// and one column per block) and as mixcon's CG multiplies K: the CSR's values read by its node
+// blocks (kernels/SparseMatrix.hpp: one column per block, the values in the CSR's order).
 #include <bench/BenchMain.hpp>
+#include <kernels/SparseMatrix.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -98,10 +100,12 @@ struct GridMatrix {
   long numBlocks() const { return static_cast<long>(blockColumns.size()); }
 };
 
-/// y = K x on the grid's matrix; state.range(0): nodes per side, range(1): 0 CSR, 1 BSR.
+/// y = K x on the grid's matrix; state.range(0): nodes per side, range(1): 0 CSR, 1 BSR, 2 the
+/// CSR's values by mixcon's node blocks (kernels/SparseMatrix.hpp, the CG's product with K).
 void sparseProduct(benchmark::State &state) {
   const GridMatrix g(static_cast<int>(state.range(0)));
   const bool blocks = state.range(1) == 1;
+  const bool nodeBlocked = state.range(1) == 2;
   const long nodes = g.numNodes(), rows = 3 * nodes, nnz = 9 * g.numBlocks();
   Kokkos::View<int *, Memory> offsets("offsets", blocks ? nodes + 1 : rows + 1),
       columns("columns", blocks ? g.numBlocks() : nnz);
@@ -136,8 +140,28 @@ void sparseProduct(benchmark::State &state) {
     Kokkos::deep_copy(columns, hc);
     Kokkos::deep_copy(values, hv);
   }
+  mixcon::NodeBlocks<Memory> nb;
+  if (nodeBlocked) { // mixcon's CSR of the same matrix (64-bit offsets), then its node blocks
+    mixcon::CsrMatrix<Memory> csr;
+    csr.numRows = csr.numColumns = static_cast<mixcon::LocalIndex>(rows);
+    csr.rowOffsets = Kokkos::View<mixcon::Offset *, Memory>("rowOffsets", rows + 1);
+    const auto ro = csr.rowOffsets;
+    Kokkos::parallel_for(
+        "mixcon::bench::rowOffsets", Kokkos::RangePolicy<Exec>(0, rows + 1),
+        KOKKOS_LAMBDA(long r) { ro(r) = offsets(r); });
+    csr.columns = columns;
+    csr.values = values;
+    nb = mixcon::nodeBlocks(Exec(), csr, 3);
+    if (nb.d != 3) {
+      state.SkipWithError("the grid's CSR has no 3 x 3 node blocks");
+      return;
+    }
+  }
   const auto product = [&] {
-    if (blocks)
+    if (nodeBlocked)
+      mixcon::multiply(Exec(), nb, Kokkos::View<const double *, Memory>(values),
+                       Kokkos::View<const double *, Memory>(x), y);
+    else if (blocks)
       Kokkos::parallel_for(
           "mixcon::bench::bsrProduct", Kokkos::RangePolicy<Exec>(0, nodes), KOKKOS_LAMBDA(long n) {
             double s0 = 0.0, s1 = 0.0, s2 = 0.0;
@@ -188,7 +212,10 @@ void sparseProduct(benchmark::State &state) {
     state.SetIterationTime(seconds(t0));
   }
   // Bytes: values, columns, offsets, x once and y written.
-  const double bytes = 8.0 * nnz + 4.0 * columns.extent(0) + 4.0 * offsets.extent(0) + 16.0 * rows;
+  const double bytes =
+      nodeBlocked
+          ? 8.0 * nnz + 4.0 * nb.columns.extent(0) + 8.0 * nb.offsets.extent(0) + 16.0 * rows
+          : 8.0 * nnz + 4.0 * columns.extent(0) + 4.0 * offsets.extent(0) + 16.0 * rows;
   state.counters["GB/s"] =
       benchmark::Counter(bytes / 1e9, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["Gnnz/s"] =
@@ -216,8 +243,8 @@ BENCHMARK(multiplyAdd<32>)
 
 BENCHMARK(sparseProduct)
     ->Name("machine/sparse-product")
-    ->ArgsProduct({{16, 64}, {0, 1}})
-    ->ArgNames({"nodesPerSide", "bsr"})
+    ->ArgsProduct({{16, 64}, {0, 1, 2}})
+    ->ArgNames({"nodesPerSide", "format"})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -113,4 +113,130 @@ void multiply(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a,
       });
 }
 
+/// The d x d node blocks of a CSR matrix whose pattern is a node graph expanded with d unknowns
+/// per node (expandGraph): row (I, a) holds, for each neighbour J of node I in ascending order,
+/// the d columns J d + b. Its values are then read in the CSR's own order (block row I starts at
+/// d^2 offsets(I), its row a at d^2 offsets(I) + a d deg(I)), and the columns from one node index
+/// per block: 8 + 4 / d^2 bytes per nonzero instead of the CSR's 12 (the product's traffic).
+template <class MemorySpace> struct NodeBlocks {
+  Kokkos::View<Offset *, MemorySpace> offsets;     ///< nodes + 1, in blocks
+  Kokkos::View<LocalIndex *, MemorySpace> columns; ///< each block's node column
+  int d = 0;                                       ///< 0: the matrix is not such an expansion
+  LocalIndex numNodes() const { return d > 0 ? static_cast<LocalIndex>(offsets.extent(0)) - 1 : 0; }
+};
+
+/// The node blocks of `a` with d (2 or 3) unknowns per node, or none (d = 0) where a's pattern is
+/// not a node graph expanded that way (every entry checked) or is not square.
+template <class ExecSpace, class MemorySpace>
+NodeBlocks<MemorySpace> nodeBlocks(const ExecSpace &exec, const CsrMatrix<MemorySpace> &a, int d) {
+  NodeBlocks<MemorySpace> blocks;
+  if ((d != 2 && d != 3) || a.numRows != a.numColumns || a.numRows % d != 0 || a.numRows == 0)
+    return blocks;
+  const LocalIndex nodes = a.numRows / d;
+  const auto ro = a.rowOffsets;
+  const auto co = a.columns;
+  Kokkos::View<Offset *, MemorySpace> offsets("mixcon::csr::nodeBlockOffsets", nodes + 1);
+  LocalIndex wrong = 0;
+  Kokkos::parallel_reduce(
+      "mixcon::csr::nodeBlockCheck", Kokkos::RangePolicy<ExecSpace>(exec, 0, nodes),
+      KOKKOS_LAMBDA(LocalIndex node, LocalIndex & bad) {
+        const Offset first = ro(d * node), length = ro(d * node + 1) - first;
+        if (length % d != 0 || (node == 0 && first != 0)) {
+          ++bad;
+          return;
+        }
+        const Offset degree = length / d;
+        for (int r = 0; r < d; ++r) {
+          const Offset row = ro(d * node + r);
+          if (ro(d * node + r + 1) - row != length) {
+            ++bad;
+            return;
+          }
+          for (Offset j = 0; j < degree; ++j) {
+            const LocalIndex c0 = co(first + d * j);
+            if (c0 % d != 0) {
+              ++bad;
+              return;
+            }
+            for (int c = 0; c < d; ++c)
+              if (co(row + d * j + c) != c0 + c) {
+                ++bad;
+                return;
+              }
+          }
+        }
+        offsets(node + 1) = degree;
+      },
+      wrong);
+  if (wrong > 0)
+    return blocks;
+  Kokkos::parallel_scan(
+      "mixcon::csr::nodeBlockScan", Kokkos::RangePolicy<ExecSpace>(exec, 0, nodes + 1),
+      KOKKOS_LAMBDA(LocalIndex i, Offset & sum, bool last) {
+        sum += offsets(i);
+        if (last)
+          offsets(i) = sum;
+      });
+  Offset count = 0;
+  Kokkos::deep_copy(exec, count, Kokkos::subview(offsets, nodes));
+  exec.fence();
+  Kokkos::View<LocalIndex *, MemorySpace> columns(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::csr::nodeBlockColumns"), count);
+  Kokkos::parallel_for(
+      "mixcon::csr::nodeBlockColumns", Kokkos::RangePolicy<ExecSpace>(exec, 0, nodes),
+      KOKKOS_LAMBDA(LocalIndex node) {
+        const Offset first = ro(d * node);
+        for (Offset j = offsets(node); j < offsets(node + 1); ++j)
+          columns(j) = co(first + d * (j - offsets(node))) / d;
+      });
+  blocks.offsets = offsets;
+  blocks.columns = columns;
+  blocks.d = d;
+  return blocks;
+}
+
+namespace detail {
+/// y = A x over node blocks of D unknowns: the CSR's values, its sums in the CSR's order (each row
+/// as the CSR product adds it).
+template <int D, class ExecSpace, class MemorySpace>
+void multiplyNodeBlocks(const ExecSpace &exec, const NodeBlocks<MemorySpace> &blocks,
+                        const Kokkos::View<const double *, MemorySpace> &values,
+                        const Kokkos::View<const double *, MemorySpace> &x,
+                        const Kokkos::View<double *, MemorySpace> &y) {
+  const auto bo = blocks.offsets;
+  const auto bc = blocks.columns;
+  Kokkos::parallel_for(
+      "mixcon::csr::multiplyNodeBlocks", Kokkos::RangePolicy<ExecSpace>(exec, 0, blocks.numNodes()),
+      KOKKOS_LAMBDA(LocalIndex node) {
+        // row after row, through the values in memory order (the node's D rows read side by
+        // side were 2.7x slower here: the prefetcher follows one stream, not D short ones)
+        const Offset first = bo(node), last = bo(node + 1);
+        Offset at = D * D * first;
+        for (int r = 0; r < D; ++r) {
+          double s = 0.0;
+          for (Offset j = first; j < last; ++j) {
+            const LocalIndex c = D * bc(j);
+            for (int k = 0; k < D; ++k)
+              s += values(at + k) * x(c + k);
+            at += D;
+          }
+          y(D * node + r) = s;
+        }
+      });
+}
+} // namespace detail
+
+/// y = A x for A's values in the CSR order of its node blocks (nodeBlocks(A), d = 2 or 3): the
+/// same sums as multiply() on A, with a third less traffic.
+template <class ExecSpace, class MemorySpace>
+void multiply(const ExecSpace &exec, const NodeBlocks<MemorySpace> &blocks,
+              const Kokkos::View<const double *, MemorySpace> &values,
+              const Kokkos::View<const double *, MemorySpace> &x,
+              const Kokkos::View<double *, MemorySpace> &y) {
+  if (blocks.d == 3)
+    detail::multiplyNodeBlocks<3>(exec, blocks, values, x, y);
+  else
+    detail::multiplyNodeBlocks<2>(exec, blocks, values, x, y);
+}
+
 } // namespace mixcon

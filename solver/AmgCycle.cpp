@@ -40,6 +40,9 @@ template <class S> struct detail::AmgLevels {
     Kokkos::View<const LocalIndex *, DeviceSpace> columns;
     Kokkos::View<const S *, DeviceSpace> values;
     LocalIndex rows = 0;
+    /// The unfiltered fine level read by node blocks (blocks.d > 0): whole d x d blocks, its
+    /// values in the CSR's order.
+    NodeBlocks<DeviceSpace> blocks;
     std::size_t bytes() const {
       return rowOffsets.span() * sizeof(Offset) + columns.span() * sizeof(LocalIndex) +
              values.span() * sizeof(S);
@@ -66,12 +69,16 @@ template <class S> struct detail::AmgLevels {
   /// The fine level's own pattern where it is filtered (else the caller's, shared).
   Kokkos::View<Offset *, DeviceSpace> fineOffsets;
   Kokkos::View<LocalIndex *, DeviceSpace> fineColumns;
+  /// The fine matrix's node blocks where it is not filtered (d = 0: none; else its products read
+  /// one column per block).
+  NodeBlocks<DeviceSpace> fineBlocks;
 
   // ---- the fine level ----
 
   void setFine(const CsrMatrix<DeviceSpace> &fine) {
     Matrix &a = level[0].a;
     a.rows = fine.numRows;
+    a.blocks = fineBlocks;
     if (components > 1) {
       if (fineColumns.extent(0) == 0)
         filterPattern(fine);
@@ -292,8 +299,13 @@ template <class S> struct detail::AmgLevels {
   }
 
   AmgLevels(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
-            const std::vector<HostAmgLevel> &host)
+            const std::vector<HostAmgLevel> &host, const NodeBlocks<DeviceSpace> &blocks)
       : components(filterComponents) {
+    // Only without the filter: the separate components' level read by the blocks' diagonals
+    // (its row (I, c) from d offsets(I) + c deg(I), one column per block) took longer than its
+    // own CSR on the cube (N = 100: solve 33.8-34.9 s against 31.3 s, docs/performance.md).
+    if (blocks.d > 0 && components <= 1 && blocks.numNodes() * blocks.d == fine.numRows)
+      fineBlocks = blocks;
     const std::size_t L = host.size();
     level.resize(L);
     for (std::size_t l = 0; l < L; ++l) {
@@ -337,10 +349,43 @@ template <class S> struct detail::AmgLevels {
 
   // ---- the cycle ----
 
+  /// rows() on node blocks of D unknowns: each node's D rows, their epilogues in row order.
+  template <int D, class F>
+  static void nodeRows(const char *label, const Matrix &a,
+                       const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
+    const auto bo = a.blocks.offsets;
+    const auto bc = a.blocks.columns;
+    const auto va = a.values;
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<Exec>(0, a.blocks.numNodes()), KOKKOS_LAMBDA(LocalIndex node) {
+          // row after row through the values in memory order (as multiply() on NodeBlocks)
+          const Offset first = bo(node), last = bo(node + 1);
+          Offset at = D * D * first;
+          for (int r = 0; r < D; ++r) {
+            S s = 0;
+            for (Offset j = first; j < last; ++j) {
+              const LocalIndex c = D * bc(j);
+              for (int k = 0; k < D; ++k)
+                s += va(at + k) * x(c + k);
+              at += D;
+            }
+            epilogue(D * node + r, s);
+          }
+        });
+  }
+
   /// For each row i: epilogue(i, (A x)_i).
   template <class F>
   static void rows(const char *label, const Matrix &a,
                    const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
+    if (a.blocks.d == 3) {
+      nodeRows<3>(label, a, x, epilogue);
+      return;
+    }
+    if (a.blocks.d == 2) {
+      nodeRows<2>(label, a, x, epilogue);
+      return;
+    }
     const auto ro = a.rowOffsets;
     const auto co = a.columns;
     const auto va = a.values;
@@ -474,14 +519,21 @@ template <class S> struct detail::AmgLevels {
 };
 
 AmgCycle::AmgCycle(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
-                   const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision)
+                   const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision,
+                   const NodeBlocks<DeviceSpace> &fineBlocks)
     : precision_(precision) {
   if (levels.size() < 2)
     throw std::invalid_argument("AmgCycle: a hierarchy of at least 2 levels");
   if (precision == AmgCyclePrecision::Double)
-    double_ = std::make_unique<detail::AmgLevels<double>>(fine, filterComponents, levels);
+    double_ =
+        std::make_unique<detail::AmgLevels<double>>(fine, filterComponents, levels, fineBlocks);
   else
-    single_ = std::make_unique<detail::AmgLevels<float>>(fine, filterComponents, levels);
+    single_ =
+        std::make_unique<detail::AmgLevels<float>>(fine, filterComponents, levels, fineBlocks);
+}
+
+bool AmgCycle::fineLevelByNodeBlocks() const {
+  return (double_ ? double_->level[0].a.blocks.d : single_->level[0].a.blocks.d) > 0;
 }
 
 AmgCycle::~AmgCycle() = default;

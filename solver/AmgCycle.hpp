@@ -57,10 +57,13 @@ public:
   /// with filterComponents = d > 1 only its entries (i, j) with i % d == j % d, the matrix of
   /// LinearSolverOptions::separateComponents); levels.back() is the coarsest, solved exactly by a
   /// dense inverse formed here. In double precision without the filter the fine level shares
-  /// `fine`'s views (its values changed in place are seen). Throws std::runtime_error where the
-  /// levels do not fit together or the coarsest matrix is singular to working precision.
+  /// `fine`'s views (its values changed in place are seen). With fineBlocks (nodeBlocks(fine, d))
+  /// and no filter the fine level's products read one column per node block (a filtered level
+  /// keeps its own CSR). Throws std::runtime_error
+  /// where the levels do not fit together or the coarsest matrix is singular to working precision.
   AmgCycle(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
-           const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision);
+           const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision,
+           const NodeBlocks<DeviceSpace> &fineBlocks = {});
   ~AmgCycle();
   AmgCycle(const AmgCycle &) = delete;
   AmgCycle &operator=(const AmgCycle &) = delete;
@@ -75,6 +78,8 @@ public:
              const Kokkos::View<double *, DeviceSpace> &x);
 
   int levels() const;
+  /// Whether the fine level's products go by node blocks (the blocks given fit).
+  bool fineLevelByNodeBlocks() const;
   /// Bytes held on the device by the copy (matrices, transposes, vectors, the dense inverse).
   std::size_t bytes() const;
   AmgCyclePrecision precision() const { return precision_; }

@@ -267,6 +267,7 @@ public:
     Kokkos::fence();
     if (directNext_ && !direct_) { // an earlier solve found the AMG no cheaper than it
       matrix_ = a;
+      ++patterns_;
       directNext_ = false;
       std::string why;
       if (fallBackToDirect(why)) {
@@ -278,6 +279,7 @@ public:
     } else if (direct_) { // the fall back of an earlier solve stays for the run
       direct_->setup(a);
       matrix_ = a;
+      ++patterns_;
       ++builds_;
     } else if (options_.reuseHierarchy && (amg_ || cycle_) && !rebuild_ && samePattern(a)) {
       if (ij_) // the hierarchy stays (hypre's, or mixcon's copy of it)
@@ -294,6 +296,7 @@ public:
       kept_ = true;
     } else {
       matrix_ = a;
+      ++patterns_;
       build();
     }
     setupSeconds_ = seconds(start);
@@ -704,13 +707,22 @@ private:
                                               : AmgCyclePrecision::Single;
       try {
         cycle_ = std::make_unique<AmgCycle>(matrix_, separate() ? dofs_.dofsPerNode : 0, levels,
-                                            precision);
+                                            precision, matrixBlocks());
       } catch (const std::runtime_error &e) {
         cycleRefusal_ = e.what();
       }
     }
     if (options_.cycle == AmgCycleKind::Automatic)
       cycleRefusal_.clear(); // hypre's cycle where the copy does not apply, said nowhere
+  }
+
+  /// matrix_'s node blocks (d = 0 where its pattern has none), found once per pattern.
+  const NodeBlocks<DeviceSpace> &matrixBlocks() {
+    if (blocksPattern_ != patterns_) {
+      blocks_ = nodeBlocks(Kokkos::DefaultExecutionSpace(), matrix_, dofs_.dofsPerNode);
+      blocksPattern_ = patterns_;
+    }
+    return blocks_;
   }
 
   /// The levels of amg_'s hierarchy as AmgCycle takes them; empty where they all could be
@@ -857,8 +869,12 @@ private:
     ko.maxIterations = cap;
     ko.restart = options_.gmresRestart;
     ko.backwardErrorFloor = true; // stops there; converged or not is decided below
+    const NodeBlocks<DeviceSpace> &blocks = matrixBlocks();
     const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-      multiply(matrix_, v, y);
+      if (blocks.d > 0) // a third less traffic than the CSR product, the same sums
+        multiply(Kokkos::DefaultExecutionSpace(), blocks, ConstDeviceVector(matrix_.values), v, y);
+      else
+        multiply(matrix_, v, y);
     };
     const LinearMap p = [&](const ConstDeviceVector &r, const DeviceVector &z) {
       if (coarse_)
@@ -1184,7 +1200,12 @@ private:
   bool coarseRefused_ = false;     ///< it could not be built: the ladder goes on without it
   DeviceVector cw_, sw_, yw_, qw_; ///< twoLevel()'s work vectors
   KrylovWorkspace workspace_;      ///< iterateOwn()'s Krylov vectors
-  int variant_ = 2;                ///< interpolation-vector variant in use (0: none; see retried())
+  /// matrix_'s node blocks for iterateOwn()'s products and the copied cycle's fine level (d = 0:
+  /// its pattern has none), found for the pattern numbered blocksPattern_; patterns_ counts the
+  /// setups that may change it (matrixBlocks()).
+  NodeBlocks<DeviceSpace> blocks_;
+  int patterns_ = 0, blocksPattern_ = -1;
+  int variant_ = 2; ///< interpolation-vector variant in use (0: none; see retried())
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
   HYPRE_ParCSRMatrix parA_ = nullptr;

@@ -419,6 +419,37 @@ TEST(AmgCycle, LongRowsOfTheTransposeKeepTheHostVcycle) {
   EXPECT_LT(relativeDifference2(applyCycle(cycle, b), referenceCycle(levels, 0, b)), 1e-13);
 }
 
+// The fine level read by node blocks (nodeBlocks of the fine matrix, as the solver gives them):
+// the same cycle as the host's in double and single precision and after a kept hierarchy's new
+// values; with the separate components' filter the blocks are not used and the cycle is the same.
+TEST(AmgCycle, NodeBlocksOfTheFineLevelKeepTheHostVcycle) {
+  const std::vector<std::vector<double>> two = {{2.0, 0.6}, {0.6, 1.0}};
+  const HostMatrix a = chain(63, 2, two);
+  const CsrMatrix<Memory> fine = toDevice(a);
+  const NodeBlocks<Memory> blocks = nodeBlocks(Exec(), fine, 2);
+  ASSERT_EQ(blocks.d, 2);
+  const std::vector<double> b = testVector(a.rows);
+  for (int filter : {0, 2}) {
+    std::vector<RefLevel> levels = hierarchy(filter > 0 ? sameComponent(a, 2) : a, 2, 2);
+    const std::vector<double> ref = referenceCycle(levels, 0, b);
+    AmgCycle dp(fine, filter, describe(levels), AmgCyclePrecision::Double, blocks);
+    AmgCycle sp(fine, filter, describe(levels), AmgCyclePrecision::Single, blocks);
+    EXPECT_EQ(dp.fineLevelByNodeBlocks(), filter == 0) << filter;
+    EXPECT_EQ(sp.fineLevelByNodeBlocks(), filter == 0) << filter;
+    EXPECT_LT(relativeDifference2(applyCycle(dp, b), ref), 1e-13) << filter;
+    const double es = relativeDifference2(applyCycle(sp, b), ref);
+    EXPECT_LT(es, 1e-5) << filter;
+    EXPECT_GT(es, 1e-10) << filter;
+    HostMatrix stiffer = a;
+    for (double &v : stiffer.va)
+      v *= 3.0;
+    dp.setFineMatrix(toDevice(stiffer));
+    levels[0].a = filter > 0 ? sameComponent(stiffer, 2) : stiffer;
+    EXPECT_LT(relativeDifference2(applyCycle(dp, b), referenceCycle(levels, 0, b)), 1e-13)
+        << filter;
+  }
+}
+
 // A singular coarsest level is refused with its size named.
 TEST(AmgCycle, RefusesASingularCoarsestLevel) {
   const HostMatrix a = chain(63, 1, {{1.0}});

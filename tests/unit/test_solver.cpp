@@ -150,3 +150,116 @@ TEST(Solver, ReportsNonConvergence) {
   EXPECT_FALSE(s.converged);
   EXPECT_EQ(s.iterations, 2);
 }
+
+namespace {
+using Memory = Kokkos::DefaultExecutionSpace::memory_space;
+
+/// The CSR pattern of a mesh with d unknowns per node, its values 1 + ((7 k) mod 13) / 8 (all
+/// different along a row, none zero).
+CsrMatrix<Memory> patternWithValues(const Mesh &mesh, int d) {
+  CsrMatrix<Memory> a = expandGraph<Memory>(buildNodeGraph(mesh), d);
+  const auto va = a.values;
+  Kokkos::parallel_for(
+      "test::values", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, va.extent(0)),
+      KOKKOS_LAMBDA(std::size_t k) { va(k) = 1.0 + static_cast<double>((7 * k) % 13) / 8.0; });
+  Kokkos::fence();
+  return a;
+}
+
+/// y = A x by a plain host loop over A's rows.
+std::vector<double> hostProduct(const CsrMatrix<Memory> &a, const std::vector<double> &x) {
+  const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  const auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  std::vector<double> y(a.numRows, 0.0);
+  for (LocalIndex i = 0; i < a.numRows; ++i)
+    for (Offset k = ro(i); k < ro(i + 1); ++k)
+      y[i] += va(k) * x[co(k)];
+  return y;
+}
+
+std::vector<double> blockProduct(const NodeBlocks<Memory> &blocks, const CsrMatrix<Memory> &a,
+                                 const std::vector<double> &x) {
+  Kokkos::View<double *, Memory> xd("x", x.size()), yd("y", x.size());
+  auto hx = Kokkos::create_mirror_view(xd);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    hx(i) = x[i];
+  Kokkos::deep_copy(xd, hx);
+  multiply(Kokkos::DefaultExecutionSpace(), blocks, Kokkos::View<const double *, Memory>(a.values),
+           Kokkos::View<const double *, Memory>(xd), yd);
+  const auto hy = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), yd);
+  return std::vector<double>(hy.data(), hy.data() + hy.extent(0));
+}
+} // namespace
+
+// The product by node blocks (the CG's product with K, kernels/SparseMatrix.hpp) against a plain
+// host loop over the CSR, on the patterns of a Quad8 mesh (d = 2, nodes of 9 to 21 neighbours)
+// and a Hex8 box (d = 3, 8 to 27): the same sums in the same order, so equal to round-off.
+TEST(NodeBlocks, ProductIsTheCsrProductOnExpandedNodeGraphs) {
+  const Mesh quads = rectangleMesh(3.0, 2.0, 5, 3, ElementType::Quad8);
+  const Mesh hexes = boxMesh(1.0, 1.0, 1.0, 4, 3, 2, ElementType::Hex8);
+  for (const auto &[mesh, d] : {std::pair{&quads, 2}, std::pair{&hexes, 3}}) {
+    const CsrMatrix<Memory> a = patternWithValues(*mesh, d);
+    const NodeBlocks<Memory> blocks = nodeBlocks(Kokkos::DefaultExecutionSpace(), a, d);
+    ASSERT_EQ(blocks.d, d);
+    ASSERT_EQ(blocks.numNodes(), mesh->numNodes());
+    EXPECT_EQ(static_cast<Offset>(blocks.columns.extent(0)) * d * d, a.numNonzeros());
+    std::vector<double> x(a.numRows);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      x[i] = std::sin(0.7 * static_cast<double>(i)) + 0.1;
+    const std::vector<double> ref = hostProduct(a, x), y = blockProduct(blocks, a, x);
+    double largest = 0.0, diff = 0.0;
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      largest = std::max(largest, std::abs(ref[i]));
+      diff = std::max(diff, std::abs(y[i] - ref[i]));
+    }
+    EXPECT_GT(largest, 1.0) << d;
+    EXPECT_LE(diff, 1e-14 * largest) << d;
+  }
+}
+
+// Patterns that are not a node graph expanded with d unknowns per node have no node blocks: the
+// other d, one entry dropped, a column out of its place, a rectangular matrix, d = 4.
+TEST(NodeBlocks, OtherPatternsHaveNone) {
+  const Mesh hexes = boxMesh(1.0, 1.0, 1.0, 2, 2, 2, ElementType::Hex8);
+  const CsrMatrix<Memory> a = patternWithValues(hexes, 3);
+  const auto exec = Kokkos::DefaultExecutionSpace();
+  EXPECT_EQ(nodeBlocks(exec, a, 3).d, 3);
+  EXPECT_EQ(nodeBlocks(exec, a, 2).d, 0);
+  EXPECT_EQ(nodeBlocks(exec, a, 4).d, 0);
+  const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  const auto copy = [&](const std::vector<Offset> &offsets, const std::vector<LocalIndex> &cols) {
+    CsrMatrix<Memory> b;
+    b.numRows = b.numColumns = a.numRows;
+    b.rowOffsets = Kokkos::View<Offset *, Memory>("ro", offsets.size());
+    b.columns = Kokkos::View<LocalIndex *, Memory>("co", cols.size());
+    b.values = Kokkos::View<double *, Memory>("va", cols.size());
+    auto hr = Kokkos::create_mirror_view(b.rowOffsets);
+    auto hc = Kokkos::create_mirror_view(b.columns);
+    for (std::size_t i = 0; i < offsets.size(); ++i)
+      hr(i) = offsets[i];
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      hc(k) = cols[k];
+    Kokkos::deep_copy(b.rowOffsets, hr);
+    Kokkos::deep_copy(b.columns, hc);
+    return b;
+  };
+  std::vector<Offset> offsets(ro.data(), ro.data() + ro.extent(0));
+  std::vector<LocalIndex> cols(co.data(), co.data() + co.extent(0));
+  EXPECT_EQ(nodeBlocks(exec, copy(offsets, cols), 3).d, 3); // the copy itself has them
+  // row 4 (node 1, component 1) without its last entry
+  std::vector<LocalIndex> dropped = cols;
+  dropped.erase(dropped.begin() + offsets[5] - 1);
+  std::vector<Offset> shorter = offsets;
+  for (std::size_t i = 5; i < shorter.size(); ++i)
+    --shorter[i];
+  EXPECT_EQ(nodeBlocks(exec, copy(shorter, dropped), 3).d, 0);
+  // two columns of row 7 swapped
+  std::vector<LocalIndex> swapped = cols;
+  std::swap(swapped[offsets[7]], swapped[offsets[7] + 1]);
+  EXPECT_EQ(nodeBlocks(exec, copy(offsets, swapped), 3).d, 0);
+  CsrMatrix<Memory> wide = a;
+  wide.numColumns = a.numRows + 3;
+  EXPECT_EQ(nodeBlocks(exec, wide, 3).d, 0);
+}
