@@ -298,6 +298,27 @@ template <class S> struct detail::AmgLevels {
                                           n);
   }
 
+  /// Level l's Chebyshev smoother (coefficients, scaling) and its work vectors.
+  void chebyshevLevel(std::size_t l, const HostAmgLevel &h, LocalIndex n) {
+    Level &v = level[l];
+    v.order = static_cast<int>(h.coefficients.size());
+    if (v.order < 1 || v.order > 4 || h.ds == nullptr)
+      throw std::runtime_error("AMG level " + std::to_string(l) +
+                               ": a Chebyshev order of 1 to 4 and its scaling, not order " +
+                               std::to_string(v.order));
+    for (int m = 0; m < v.order; ++m)
+      v.c[m] = static_cast<S>(h.coefficients[m]);
+    v.ds = vector(n, "mixcon::amg::cycle::chebyshevScaling");
+    auto hds = hostMirror(v.ds);
+    for (LocalIndex i = 0; i < n; ++i)
+      hds(i) = static_cast<S>(h.ds[i]);
+    upload(v.ds, hds);
+    v.res = vector(n, "mixcon::amg::cycle::scaledResidual");
+    v.t = vector(n, "mixcon::amg::cycle::work");
+    if (v.order > 2)
+      v.t2 = vector(n, "mixcon::amg::cycle::work");
+  }
+
   AmgLevels(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
             const std::vector<HostAmgLevel> &host, const NodeBlocks<DeviceSpace> &blocks)
       : components(filterComponents) {
@@ -315,28 +336,17 @@ template <class S> struct detail::AmgLevels {
       if (h.a.rows != n || (l + 1 < L && (h.p.rows != n || h.p.columnsCount != host[l + 1].a.rows)))
         throw std::runtime_error("AMG level " + std::to_string(l) +
                                  ": its matrix and interpolation do not fit the levels beside it");
+      // smoothed: every level but the coarsest, which is inverted unless it comes with its
+      // smoother (hypre's coarsest solve where its coarsening stopped early)
+      if (l + 1 < L || !h.coefficients.empty())
+        chebyshevLevel(l, h, n);
+      else
+        coarsestInverse(h.a);
+      if (l > 0 && v.order > 0)
+        v.a = copy(h.a, "mixcon::amg::cycle::levelMatrix");
       if (l + 1 < L) {
-        v.order = static_cast<int>(h.coefficients.size());
-        if (v.order < 1 || v.order > 4)
-          throw std::runtime_error("AMG level " + std::to_string(l) +
-                                   ": a Chebyshev order of 1 to 4, not " + std::to_string(v.order));
-        for (int m = 0; m < v.order; ++m)
-          v.c[m] = static_cast<S>(h.coefficients[m]);
-        v.ds = vector(n, "mixcon::amg::cycle::chebyshevScaling");
-        auto hds = hostMirror(v.ds);
-        for (LocalIndex i = 0; i < n; ++i)
-          hds(i) = static_cast<S>(h.ds[i]);
-        upload(v.ds, hds);
-        if (l > 0)
-          v.a = copy(h.a, "mixcon::amg::cycle::levelMatrix");
         v.p = copy(h.p, "mixcon::amg::cycle::interpolation");
         v.r = transpose(h.p, "mixcon::amg::cycle::restriction");
-        v.res = vector(n, "mixcon::amg::cycle::scaledResidual");
-        v.t = vector(n, "mixcon::amg::cycle::work");
-        if (v.order > 2)
-          v.t2 = vector(n, "mixcon::amg::cycle::work");
-      } else {
-        coarsestInverse(h.a);
       }
       if (l > 0 || !std::is_same_v<S, double>) {
         v.fw = vector(n, "mixcon::amg::cycle::rightHandSide");
@@ -358,19 +368,7 @@ template <class S> struct detail::AmgLevels {
     const auto va = a.values;
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<Exec>(0, a.blocks.numNodes()), KOKKOS_LAMBDA(LocalIndex node) {
-          // row after row through the values in memory order (as multiply() on NodeBlocks)
-          const Offset first = bo(node), last = bo(node + 1);
-          Offset at = D * D * first;
-          for (int r = 0; r < D; ++r) {
-            S s = 0;
-            for (Offset j = first; j < last; ++j) {
-              const LocalIndex c = D * bc(j);
-              for (int k = 0; k < D; ++k)
-                s += va(at + k) * x(c + k);
-              at += D;
-            }
-            epilogue(D * node + r, s);
-          }
+          detail::nodeBlockRows<D>(node, bo, bc, va, x, epilogue);
         });
   }
 
@@ -443,6 +441,10 @@ template <class S> struct detail::AmgLevels {
   }
 
   void cycle(std::size_t l) {
+    if (l + 1 == level.size() && level[l].order > 0) { // one sweep from zero, as hypre's
+      smooth(level[l], true);
+      return;
+    }
     if (l + 1 == level.size()) {
       const auto inv = inverse;
       const auto f = level[l].f;
@@ -511,8 +513,9 @@ template <class S> struct detail::AmgLevels {
       else if (!std::is_same_v<S, double>)
         b += v.a.values.span() * sizeof(S);
       b += v.p.bytes() + v.r.bytes();
-      for (const auto &w : {v.ds, v.fw, v.u, v.res, v.t, v.t2})
-        b += w.span() * sizeof(S);
+      // (a sum, not a range-for over a braced list of the views: nvcc 13 misparses that)
+      b += (v.ds.span() + v.fw.span() + v.u.span() + v.res.span() + v.t.span() + v.t2.span()) *
+           sizeof(S);
     }
     return b;
   }

@@ -39,7 +39,8 @@ struct AmgHostCsr {
 /// One coarse level as hypre holds it after its setup: the level's matrix (unused for level 0,
 /// which is the fine matrix given separately), the interpolation P to it from the coarser level
 /// below (absent on the coarsest), the Chebyshev scaling ds = 1 / sqrt(|a_ii|) and the polynomial
-/// coefficients (order = coefficients' count, 1 to 4) of hypre_ParCSRRelax_Cheby_Solve.
+/// coefficients (order = coefficients' count, 1 to 4) of hypre_ParCSRRelax_Cheby_Solve (on the
+/// coarsest: none where it is solved exactly, hypre's usual coarsest solve).
 struct HostAmgLevel {
   AmgHostCsr a;
   AmgHostCsr p;
@@ -56,11 +57,13 @@ public:
   /// Copies the hierarchy: levels[0] describes the fine level, whose matrix is `fine` (device;
   /// with filterComponents = d > 1 only its entries (i, j) with i % d == j % d, the matrix of
   /// LinearSolverOptions::separateComponents); levels.back() is the coarsest, solved exactly by a
-  /// dense inverse formed here. In double precision without the filter the fine level shares
-  /// `fine`'s views (its values changed in place are seen). With fineBlocks (nodeBlocks(fine, d))
-  /// and no filter the fine level's products read one column per node block (a filtered level
-  /// keeps its own CSR). Throws std::runtime_error
-  /// where the levels do not fit together or the coarsest matrix is singular to working precision.
+  /// dense inverse formed here, or, where it carries Chebyshev coefficients and a scaling (hypre's
+  /// coarsest solve where its coarsening stopped early: one sweep of the smoother, relax type 16
+  /// on the coarsest level), smoothed once from zero. In double precision without the filter the
+  /// fine level shares `fine`'s views (its values changed in place are seen). With fineBlocks
+  /// (nodeBlocks(fine, d)) and no filter the fine level's products read one column per node block
+  /// (a filtered level keeps its own CSR). Throws std::runtime_error where the levels do not fit
+  /// together or the coarsest matrix is singular to working precision.
   AmgCycle(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
            const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision,
            const NodeBlocks<DeviceSpace> &fineBlocks = {});

@@ -742,7 +742,7 @@ private:
     if (nl < 2)
       return "a hierarchy of one level";
     if (relax[1] != 16 || relax[2] != 16 || sweeps[1] != 1 || sweeps[2] != 1 || sweeps[3] != 1 ||
-        !(relax[3] == 9 || relax[3] == 99 || relax[3] == 199) ||
+        !(relax[3] == 9 || relax[3] == 99 || relax[3] == 199 || relax[3] == 16) ||
         hypre_ParAMGDataCycleType(data) != 1 || hypre_ParAMGDataFCycle(data) ||
         hypre_ParAMGDataRestriction(data) != 0 || hypre_ParAMGDataBlockMode(data) ||
         hypre_ParAMGDataPartialCycleCoarsestLevel(data) >= 0 ||
@@ -767,8 +767,13 @@ private:
     for (int l = 0; l < nl; ++l) {
       HostAmgLevel &h = levels[l];
       h.a = local(hypre_ParAMGDataAArray(data)[l]);
-      if (l + 1 < nl) {
+      if (l + 1 < nl)
         h.p = local(hypre_ParAMGDataPArray(data)[l]);
+      // the coarsest level too where hypre smooths it (relax type 16 there: its coarsening
+      // stopped early, e.g. HMIS on 16 threads at the cube's N = 100, docs/performance.md)
+      if (l + 1 < nl || relax[3] == 16) {
+        if (!hypre_ParAMGDataChebyDS(data)[l] || !hypre_ParAMGDataChebyCoefs(data)[l])
+          return "Chebyshev coefficients on every level";
         h.ds = hypre_VectorData(hypre_ParAMGDataChebyDS(data)[l]);
         const HYPRE_Real *c = hypre_ParAMGDataChebyCoefs(data)[l];
         h.coefficients.assign(c, c + order);

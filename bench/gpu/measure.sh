@@ -5,7 +5,8 @@
 #   usage: measure.sh BUNDLE.tar.xz OUT [STAGES]
 #   STAGES: any of machine tests sanitizer kernels kernels-large team newton newton-large
 #           operators search cube mixed3d
-# Sizes: CUBE_SIZES (default 100), NEWTON_LARGE_N (the 2D mixed step, default 2000; its builds:
+# Sizes: CUBE_SIZES (default 100; also CUBE_KEYS, CUBE_VARIANTS, CUBE_TIMEOUT),
+# NEWTON_LARGE_N (the 2D mixed step, default 2000; its builds:
 # NEWTON_LARGE_VARIANTS, default cuda),
 # MIXED3D_RUNS (element:N pairs of the 3D mixed Newton increment, default hex8:48).
 # DEADLINE (seconds since the epoch), if set, cuts every run's time limit to end before it.
@@ -47,7 +48,8 @@ timed_run() { # variant name timeout command...: run, with wall time, peak host 
     "$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$out/$n.log") kB, peak GPU" \
     "$(sort -n "$out/$n.gpumem" | tail -1) MiB"
 }
-cube_yaml() { # N FILE: bench/cube_hex8.py's problem
+cube_yaml() { # N FILE [SOLVER_KEYS]: bench/cube_hex8.py's problem, extra solver keys (e.g.
+  # "amg_cycle: hypre") appended to its solver line
   cat > "$2" <<YAML
 title: unit cube $1^3 Hex8 (bench/cube_hex8.py)
 mesh:
@@ -58,7 +60,7 @@ boundary_conditions:
   - {boundary: xmin, ux: 0, uy: 0, uz: 0}
 loads:
   - {boundary: xmax, traction: [0, -1e-3, 0]}
-solver: {type: amg, tolerance: 1e-8}
+solver: {type: amg, tolerance: 1e-8${3:+, $3}}
 output: {directory: $(dirname "$2")/out, hdf5: false}
 YAML
 }
@@ -142,11 +144,17 @@ search) # the node-to-segment grid: build and query, 1e6 and 1e7 segments
   for v in cuda omp; do
     bench $v search-$v 120 mixcon_bench_search 'grid(Build|Query)/(1000000|10000000)'
   done ;;
-cube)
+cube) # CUBE_KEYS: solver-key sets separated by ';' (default: one run with the defaults), each
+  # run as cube<N>-<variant>-k<index> (index 0: the defaults)
+  IFS=';' read -ra keysets <<< "${CUBE_KEYS:-}"
+  [ ${#keysets[@]} -eq 0 ] && keysets=("")
   for n in ${CUBE_SIZES:-100}; do
-    mkdir -p /tmp/cube$n && cube_yaml $n /tmp/cube$n/cube.yaml
-    for v in ${CUBE_VARIANTS:-cuda omp}; do
-      timed_run $v cube$n-$v 400 mixcon run /tmp/cube$n/cube.yaml
+    for k in "${!keysets[@]}"; do
+      mkdir -p /tmp/cube$n-k$k && cube_yaml $n /tmp/cube$n-k$k/cube.yaml "${keysets[$k]}"
+      echo "cube$n-*-k$k: solver keys '${keysets[$k]}'"
+      for v in ${CUBE_VARIANTS:-cuda omp}; do
+        timed_run $v cube$n-$v-k$k ${CUBE_TIMEOUT:-400} mixcon run /tmp/cube$n-k$k/cube.yaml
+      done
     done
   done ;;
 mixed3d) # one Newton increment of the 3D mixed model
