@@ -193,6 +193,9 @@ stages:
 solver: {type: direct}
 )",
      false},
+    // Released to a gap of 0.001 at the end, not 0: at gap 0 a node's status is round-off, and
+    // the threaded assembly's sums differ between runs (a fresh clone's CI-like run under load
+    // saw the status differ at step 6 with the release to 0, 2026-11-30).
     {"stages_rigid_contact_friction", R"(
 mesh: {generator: {type: quarter_disk, radius: 1.0, divisions: [6, 4], element: quad4}}
 model: {formulation: displacement, analysis: plane_strain, thickness: 1.0}
@@ -201,7 +204,7 @@ boundary_conditions: [{boundary: left, ux: 0}, {boundary: bottom, uy: 0}]
 contact: [{type: rigid_half_plane, boundary: arc, point: [0, 1], normal: [0, -1], friction: 0.3}]
 stages:
   - {name: press, increments: 3, contact: [{boundary: arc, drive: {displacement: [0, -0.016]}}]}
-  - {name: release, increments: 3, contact: [{boundary: arc, drive: {displacement: [0, 0]}}]}
+  - {name: release, increments: 3, contact: [{boundary: arc, drive: {displacement: [0, 0.001]}}]}
 solver: {type: direct}
 )",
      true},
