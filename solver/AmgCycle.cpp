@@ -40,9 +40,11 @@ template <class S> struct detail::AmgLevels {
     Kokkos::View<const LocalIndex *, DeviceSpace> columns;
     Kokkos::View<const S *, DeviceSpace> values;
     LocalIndex rows = 0;
-    /// The unfiltered fine level read by node blocks (blocks.d > 0): whole d x d blocks, its
-    /// values in the CSR's order.
+    /// The fine level read by node blocks (blocks.d > 0): unfiltered, whole d x d blocks, its
+    /// values in the CSR's order; filtered (`diagonals`), each block's d diagonal entries side by
+    /// side (rowOffsets and columns then empty: the blocks' own).
     NodeBlocks<DeviceSpace> blocks;
+    bool diagonals = false;
     std::size_t bytes() const {
       return rowOffsets.span() * sizeof(Offset) + columns.span() * sizeof(LocalIndex) +
              values.span() * sizeof(S);
@@ -69,9 +71,10 @@ template <class S> struct detail::AmgLevels {
   /// The fine level's own pattern where it is filtered (else the caller's, shared).
   Kokkos::View<Offset *, DeviceSpace> fineOffsets;
   Kokkos::View<LocalIndex *, DeviceSpace> fineColumns;
-  /// The fine matrix's node blocks where it is not filtered (d = 0: none; else its products read
-  /// one column per block).
+  /// The fine matrix's node blocks (d = 0: none; else its products read one column per block).
   NodeBlocks<DeviceSpace> fineBlocks;
+  /// The filtered fine level as its blocks' diagonals (fineBlocks.d == components).
+  bool fineDiagonals = false;
 
   // ---- the fine level ----
 
@@ -79,7 +82,26 @@ template <class S> struct detail::AmgLevels {
     Matrix &a = level[0].a;
     a.rows = fine.numRows;
     a.blocks = fineBlocks;
-    if (components > 1) {
+    a.diagonals = fineDiagonals;
+    if (fineDiagonals) {
+      const int d = components;
+      const auto v = ownValues(fineBlocks.columns.extent(0) * d);
+      const auto bo = fineBlocks.offsets;
+      const auto ro = fine.rowOffsets;
+      const auto values = fine.values;
+      Kokkos::parallel_for( // block j of node I: row dI + c holds its entry c at (j - bo(I)) d + c
+          "mixcon::amg::cycle::blockDiagonals", Kokkos::RangePolicy<Exec>(0, fineBlocks.numNodes()),
+          KOKKOS_LAMBDA(LocalIndex node) {
+            for (int c = 0; c < d; ++c) {
+              const Offset row = ro(d * node + c);
+              for (Offset j = bo(node); j < bo(node + 1); ++j)
+                v(d * j + c) = static_cast<S>(values(row + (j - bo(node)) * d + c));
+            }
+          });
+      a.rowOffsets = {};
+      a.columns = {};
+      a.values = v;
+    } else if (components > 1) {
       if (fineColumns.extent(0) == 0)
         filterPattern(fine);
       const auto v = ownValues(fineColumns.extent(0));
@@ -322,11 +344,17 @@ template <class S> struct detail::AmgLevels {
   AmgLevels(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
             const std::vector<HostAmgLevel> &host, const NodeBlocks<DeviceSpace> &blocks)
       : components(filterComponents) {
-    // Only without the filter: the separate components' level read by the blocks' diagonals
-    // (its row (I, c) from d offsets(I) + c deg(I), one column per block) took longer than its
-    // own CSR on the cube (N = 100: solve 33.8-34.9 s against 31.3 s, docs/performance.md).
-    if (blocks.d > 0 && components <= 1 && blocks.numNodes() * blocks.d == fine.numRows)
+    // The separate components' level by blocks: their diagonals copied side by side (read in
+    // place from the whole blocks, every cache line of the matrix was read, and the cube's solve
+    // took longer than with the level's own CSR, docs/performance.md table 3i). On the host only:
+    // not yet measured on a GPU, where the CSR's rows are the measured path.
+    const bool fits = blocks.d > 0 && blocks.numNodes() * blocks.d == fine.numRows;
+    if (fits && components <= 1)
       fineBlocks = blocks;
+    if (fits && components == blocks.d && kHostAccessible<DeviceSpace>) {
+      fineBlocks = blocks;
+      fineDiagonals = true;
+    }
     const std::size_t L = host.size();
     level.resize(L);
     for (std::size_t l = 0; l < L; ++l) {
@@ -372,16 +400,43 @@ template <class S> struct detail::AmgLevels {
         });
   }
 
+  /// rows() on the filtered level's block diagonals: a node's D rows in one pass (D sums side by
+  /// side, each in the order of the filtered CSR's row), their epilogues in row order.
+  template <int D, class F>
+  static void diagonalRows(const char *label, const Matrix &a,
+                           const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
+    const auto bo = a.blocks.offsets;
+    const auto bc = a.blocks.columns;
+    const auto va = a.values;
+    Kokkos::parallel_for(
+        label, Kokkos::RangePolicy<Exec>(0, a.blocks.numNodes()), KOKKOS_LAMBDA(LocalIndex node) {
+          S s[D] = {};
+          for (Offset j = bo(node); j < bo(node + 1); ++j) {
+            const LocalIndex c = D * bc(j);
+            for (int k = 0; k < D; ++k)
+              s[k] += va(D * j + k) * x(c + k);
+          }
+          for (int k = 0; k < D; ++k)
+            epilogue(D * node + k, s[k]);
+        });
+  }
+
   /// For each row i: epilogue(i, (A x)_i).
   template <class F>
   static void rows(const char *label, const Matrix &a,
                    const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
     if (a.blocks.d == 3) {
-      nodeRows<3>(label, a, x, epilogue);
+      if (a.diagonals)
+        diagonalRows<3>(label, a, x, epilogue);
+      else
+        nodeRows<3>(label, a, x, epilogue);
       return;
     }
     if (a.blocks.d == 2) {
-      nodeRows<2>(label, a, x, epilogue);
+      if (a.diagonals)
+        diagonalRows<2>(label, a, x, epilogue);
+      else
+        nodeRows<2>(label, a, x, epilogue);
       return;
     }
     const auto ro = a.rowOffsets;

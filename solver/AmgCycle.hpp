@@ -61,9 +61,11 @@ public:
   /// coarsest solve where its coarsening stopped early: one sweep of the smoother, relax type 16
   /// on the coarsest level), smoothed once from zero. In double precision without the filter the
   /// fine level shares `fine`'s views (its values changed in place are seen). With fineBlocks
-  /// (nodeBlocks(fine, d)) and no filter the fine level's products read one column per node block
-  /// (a filtered level keeps its own CSR). Throws std::runtime_error where the levels do not fit
-  /// together or the coarsest matrix is singular to working precision.
+  /// (nodeBlocks(fine, d)) and no filter the fine level's products read one column per node block;
+  /// with the filter (d = fineBlocks.d) on a host-accessible space the filtered level keeps each
+  /// block's d diagonal entries side by side, one column per block, and reads a node's d rows in
+  /// one pass (elsewhere it keeps its own CSR). Throws std::runtime_error where the levels do not
+  /// fit together or the coarsest matrix is singular to working precision.
   AmgCycle(const CsrMatrix<DeviceSpace> &fine, int filterComponents,
            const std::vector<HostAmgLevel> &levels, AmgCyclePrecision precision,
            const NodeBlocks<DeviceSpace> &fineBlocks = {});
