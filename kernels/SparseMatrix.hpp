@@ -51,17 +51,21 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int rowDofs, int colu
   auto hr = hostMirror(a.rowOffsets);
   auto hc = hostMirror(a.columns);
   hr(0) = 0;
-  for (LocalIndex n = 0; n < nn; ++n) {
-    const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
-    for (int c = 0; c < rowDofs; ++c) {
-      const LocalIndex row = n * rowDofs + c;
-      Offset k = hr(row);
-      for (Offset j = 0; j < len; ++j)
-        for (int d = 0; d < columnDofs; ++d)
-          hc(k++) = graph.columns[begin + j] * columnDofs + d;
-      hr(row + 1) = k;
-    }
-  }
+  // node n's rows start at rowDofs columnDofs graph.rowOffsets[n], each len columnDofs long: the
+  // nodes are independent (on the host's threads)
+  Kokkos::parallel_for(
+      "mixcon::csr::expandGraph", Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, nn),
+      [&](LocalIndex n) {
+        const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
+        Offset k = begin * rowDofs * columnDofs;
+        for (int c = 0; c < rowDofs; ++c) {
+          for (Offset j = 0; j < len; ++j)
+            for (int d = 0; d < columnDofs; ++d)
+              hc(k++) = graph.columns[begin + j] * columnDofs + d;
+          hr(n * rowDofs + c + 1) = k;
+        }
+      });
+  Kokkos::DefaultHostExecutionSpace().fence();
   copyToDevice(a.rowOffsets, hr);
   copyToDevice(a.columns, hc);
   return a;
@@ -83,14 +87,19 @@ Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const 
   Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> map("mixcon::assembly::scatterMap",
                                                               mesh.numElements(), npe, npe);
   auto h = hostMirror(map);
-  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-    for (int a = 0; a < npe; ++a) {
-      const LocalIndex row = mesh.node(e, a);
-      const auto first = graph.columns.begin() + graph.rowOffsets[row];
-      const auto last = graph.columns.begin() + graph.rowOffsets[row + 1];
-      for (int b = 0; b < npe; ++b)
-        h(e, a, b) = static_cast<int>(std::lower_bound(first, last, mesh.node(e, b)) - first);
-    }
+  Kokkos::parallel_for( // the elements are independent (on the host's threads)
+      "mixcon::assembly::scatterMap",
+      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, mesh.numElements()),
+      [&](LocalIndex e) {
+        for (int a = 0; a < npe; ++a) {
+          const LocalIndex row = mesh.node(e, a);
+          const auto first = graph.columns.begin() + graph.rowOffsets[row];
+          const auto last = graph.columns.begin() + graph.rowOffsets[row + 1];
+          for (int b = 0; b < npe; ++b)
+            h(e, a, b) = static_cast<int>(std::lower_bound(first, last, mesh.node(e, b)) - first);
+        }
+      });
+  Kokkos::DefaultHostExecutionSpace().fence();
   copyToDevice(map, h);
   return map;
 }

@@ -66,17 +66,22 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
          backward <= kBackwardErrorFloor;
 }
 
-/// The row-sum norm of the owned rows.
+using HostRange = Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>;
+
+/// The row-sum norm of the owned rows (on the host's threads).
 double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
   const auto ro = hostReadable(a.rowOffsets);
   const auto va = hostReadable(a.values);
   double norm = 0.0;
-  for (LocalIndex i = 0; i < a.numRows; ++i) {
-    double sum = 0.0;
-    for (Offset k = ro(i); k < ro(i + 1); ++k)
-      sum += std::fabs(va(k));
-    norm = std::max(norm, sum);
-  }
+  Kokkos::parallel_reduce(
+      "mixcon::solver::rowSumNorm", HostRange(0, a.numRows),
+      [=](LocalIndex i, double &largest) {
+        double sum = 0.0;
+        for (Offset k = ro(i); k < ro(i + 1); ++k)
+          sum += std::fabs(va(k));
+        largest = std::max(largest, sum);
+      },
+      Kokkos::Max<double, Kokkos::HostSpace>(norm));
   return norm;
 }
 
@@ -284,8 +289,10 @@ public:
     } else if (options_.reuseHierarchy && (amg_ || cycle_) && !rebuild_ && samePattern(a)) {
       if (ij_) // the hierarchy stays (hypre's, or mixcon's copy of it)
         setValues(a, "IJMatrixSetValues (kept hierarchy)");
-      if (ijP_)
-        setComponentValues(a, "IJMatrixSetValues (kept hierarchy, separate components)");
+      if (ijP_) {
+        std::vector<HYPRE_Int> counts = componentCounts(a);
+        setComponentValues(a, counts, "IJMatrixSetValues (kept hierarchy, separate components)");
+      }
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
       matrix_ = a;
@@ -667,6 +674,9 @@ private:
     const std::vector<HYPRE_Int> offdSizes(a.numRows, 0);
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ij_, HYPRE_PARCSR), "IJMatrixSetObjectType");
+    // the rows of one SetValues call are distinct (each owned row once): hypre may fill them on
+    // its threads (hypre_IJMatrixSetValuesOMPParCSR; serial in a hypre without OpenMP)
+    check(HYPRE_IJMatrixSetOMPFlag(ij_, 1), "IJMatrixSetOMPFlag");
     check(HYPRE_IJMatrixSetDiagOffdSizes(ij_, ncols_.data(), offdSizes.data()),
           "IJMatrixSetDiagOffdSizes");
     check(HYPRE_IJMatrixInitialize(ij_), "IJMatrixInitialize");
@@ -1091,7 +1101,20 @@ private:
 
   /// True for the entry (i, j) of a matrix with `d` interleaved unknowns per node that couples
   /// a component with the same component (the first owned row is a node's first unknown).
-  static bool sameComponent(LocalIndex i, LocalIndex j, int d) { return i % d == j % d; }
+  /// (The usual d as constants: their remainders are multiplications, not a division for each
+  /// of the 250M entries of the 3.1M-unknown cube's K.)
+  static bool sameComponent(LocalIndex i, LocalIndex j, int d) {
+    switch (d) {
+    case 1:
+      return true;
+    case 2:
+      return i % 2 == j % 2;
+    case 3:
+      return i % 3 == j % 3;
+    default:
+      return i % d == j % d;
+    }
+  }
 
   /// The entries per row of the filtered matrix of `a` (sameComponent).
   std::vector<HYPRE_Int> componentCounts(const CsrMatrix<DeviceSpace> &a) const {
@@ -1099,16 +1122,23 @@ private:
     const auto co = hostReadable(a.columns);
     const int d = dofs_.dofsPerNode;
     std::vector<HYPRE_Int> counts(a.numRows, 0);
-    for (LocalIndex i = 0; i < a.numRows; ++i)
-      for (auto k = ro(i); k < ro(i + 1); ++k)
-        counts[i] += sameComponent(i, co(k), d);
+    Kokkos::parallel_for("mixcon::solver::componentCounts", HostRange(0, a.numRows),
+                         [&](LocalIndex i) {
+                           HYPRE_Int c = 0;
+                           for (auto k = ro(i); k < ro(i + 1); ++k)
+                             c += sameComponent(i, co(k), d);
+                           counts[i] = c;
+                         });
+    Kokkos::DefaultHostExecutionSpace().fence();
     return counts;
   }
 
   /// Hands the entries of `a` that couple equal components (sameComponent) to ijP_, in chunks of
   /// rows so that the copy stays small (its global columns and values: 1/d of A's entries at
   /// once would be 1.3 GB for the 3.1M-unknown cube).
-  void setComponentValues(const CsrMatrix<DeviceSpace> &a, const char *what) {
+  /// counts: componentCounts(a) (not const: hypre's SetValues takes them so).
+  void setComponentValues(const CsrMatrix<DeviceSpace> &a, std::vector<HYPRE_Int> &counts,
+                          const char *what) {
     const auto ro = hostReadable(a.rowOffsets);
     const auto co = hostReadable(a.columns);
     const auto va = hostReadable(a.values);
@@ -1116,22 +1146,27 @@ private:
     const HYPRE_BigInt lo = dofs_.ownedBegin;
     const LocalIndex n = a.numRows;
     constexpr LocalIndex kChunk = 1 << 16;
-    std::vector<HYPRE_Int> nc;
+    std::vector<std::size_t> at; // where each row's entries start in cols and vals
     std::vector<HYPRE_BigInt> cols;
     std::vector<double> vals;
     for (LocalIndex first = 0; first < n; first += kChunk) {
       const LocalIndex last = std::min(n, first + kChunk);
-      nc.assign(last - first, 0);
-      cols.clear();
-      vals.clear();
+      at.assign(last - first + 1, 0);
       for (LocalIndex i = first; i < last; ++i)
-        for (auto k = ro(i); k < ro(i + 1); ++k)
-          if (sameComponent(i, co(k), d)) {
-            ++nc[i - first];
-            cols.push_back(lo + co(k)); // serial numbering, as setValues()
-            vals.push_back(va(k));
-          }
-      check(HYPRE_IJMatrixSetValues(ijP_, last - first, nc.data(), rows_.data() + first,
+        at[i - first + 1] = at[i - first] + static_cast<std::size_t>(counts[i]);
+      cols.resize(at.back());
+      vals.resize(at.back());
+      Kokkos::parallel_for( // the rows are independent (on the host's threads)
+          "mixcon::solver::componentValues", HostRange(first, last), [&](LocalIndex i) {
+            std::size_t q = at[i - first];
+            for (auto k = ro(i); k < ro(i + 1); ++k)
+              if (sameComponent(i, co(k), d)) {
+                cols[q] = lo + co(k); // serial numbering, as setValues()
+                vals[q++] = va(k);
+              }
+          });
+      Kokkos::DefaultHostExecutionSpace().fence();
+      check(HYPRE_IJMatrixSetValues(ijP_, last - first, counts.data() + first, rows_.data() + first,
                                     cols.data(), vals.data()),
             what);
     }
@@ -1140,14 +1175,15 @@ private:
   /// ijP_ and parP_: the filtered matrix of LinearSolverOptions::separateComponents.
   void buildComponentMatrix(const CsrMatrix<DeviceSpace> &a) {
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
-    const std::vector<HYPRE_Int> counts = componentCounts(a);
+    std::vector<HYPRE_Int> counts = componentCounts(a);
     const std::vector<HYPRE_Int> offdSizes(counts.size(), 0);
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ijP_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ijP_, HYPRE_PARCSR), "IJMatrixSetObjectType");
+    check(HYPRE_IJMatrixSetOMPFlag(ijP_, 1), "IJMatrixSetOMPFlag"); // as buildHypreMatrix's
     check(HYPRE_IJMatrixSetDiagOffdSizes(ijP_, counts.data(), offdSizes.data()),
           "IJMatrixSetDiagOffdSizes");
     check(HYPRE_IJMatrixInitialize(ijP_), "IJMatrixInitialize");
-    setComponentValues(a, "IJMatrixSetValues (separate components)");
+    setComponentValues(a, counts, "IJMatrixSetValues (separate components)");
     check(HYPRE_IJMatrixAssemble(ijP_), "IJMatrixAssemble");
     check(HYPRE_IJMatrixGetObject(ijP_, reinterpret_cast<void **>(&parP_)), "IJMatrixGetObject");
   }

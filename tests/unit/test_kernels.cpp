@@ -11,6 +11,7 @@
 
 #include <set>
 #include <utility>
+#include <vector>
 
 using namespace mixcon;
 using namespace mixcon::test;
@@ -265,4 +266,57 @@ TEST_P(KernelTest, StressRecoveryIsExactForLinearDisplacement) {
   for (LocalIndex i = 0; i < f.mesh.numNodes(); ++i)
     for (int c = 0; c < 3; ++c)
       ASSERT_NEAR(hn(i, c), sig[c], 1e-9 * std::abs(sig[0])) << "node " << i;
+}
+
+// The node graph, its expansion and the element scatter map are built on the host's threads, a
+// node graph row by chunks of nodes: on a mesh of several chunks (9,261 nodes of Hex8, and Tet10's
+// 9,261 with 6 tetrahedra per cell) against the connectivity by brute force (each node's
+// neighbours as a set), the expansion against its definition (node I's rows (I, c) list, for each
+// neighbour J in order, J's columnDofs unknowns) and the map against the graph's own rows.
+TEST(NodeGraph, ThreadedBuildMatchesTheConnectivityAcrossChunks) {
+  for (ElementType type : {ElementType::Hex8, ElementType::Tet10}) {
+    const int n = type == ElementType::Hex8 ? 20 : 10;
+    const Mesh mesh = boxMesh(1.0, 1.0, 1.0, n, n, n, type);
+    ASSERT_GT(mesh.numNodes(), 2 * 4096);
+    std::vector<std::set<LocalIndex>> neighbours(mesh.numNodes());
+    for (LocalIndex i = 0; i < mesh.numNodes(); ++i)
+      neighbours[i].insert(i);
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int a = 0; a < mesh.nodesPerElement; ++a)
+        for (int b = 0; b < mesh.nodesPerElement; ++b)
+          neighbours[mesh.node(e, a)].insert(mesh.node(e, b));
+    const NodeGraph g = buildNodeGraph(mesh);
+    ASSERT_EQ(g.numNodes(), mesh.numNodes());
+    for (LocalIndex i = 0; i < mesh.numNodes(); ++i)
+      ASSERT_EQ(std::vector<LocalIndex>(g.columns.begin() + g.rowOffsets[i],
+                                        g.columns.begin() + g.rowOffsets[i + 1]),
+                std::vector<LocalIndex>(neighbours[i].begin(), neighbours[i].end()))
+          << "node " << i;
+    EXPECT_EQ(g.rowOffsets.back(), static_cast<Offset>(g.columns.size()));
+
+    const int rowDofs = 3, columnDofs = 2; // rectangular: rows and columns expand differently
+    const CsrMatrix<Memory> a = expandGraph<Memory>(g, rowDofs, columnDofs);
+    auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+    auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+    ASSERT_EQ(a.numRows, rowDofs * mesh.numNodes());
+    ASSERT_EQ(a.numColumns, columnDofs * mesh.numNodes());
+    Offset k = 0;
+    for (LocalIndex i = 0; i < mesh.numNodes(); ++i)
+      for (int c = 0; c < rowDofs; ++c) {
+        ASSERT_EQ(ro(rowDofs * i + c), k) << "row " << rowDofs * i + c;
+        for (LocalIndex j : neighbours[i])
+          for (int d = 0; d < columnDofs; ++d)
+            ASSERT_EQ(co(k++), columnDofs * j + d) << "row " << rowDofs * i + c;
+      }
+    EXPECT_EQ(ro(a.numRows), k);
+    EXPECT_EQ(a.numNonzeros(), k);
+
+    const auto map = elementScatterMap<Memory>(mesh, g);
+    auto hm = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), map);
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int p = 0; p < mesh.nodesPerElement; ++p)
+        for (int q = 0; q < mesh.nodesPerElement; ++q)
+          ASSERT_EQ(g.columns[g.rowOffsets[mesh.node(e, p)] + hm(e, p, q)], mesh.node(e, q))
+              << "element " << e;
+  }
 }
