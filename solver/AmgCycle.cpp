@@ -387,29 +387,22 @@ template <class S> struct detail::AmgLevels {
 
   // ---- the cycle ----
 
-  /// rows() on node blocks of D unknowns: each node's D rows, their epilogues in row order.
+  /// rows() on node blocks of D unknowns: each node's D rows, their epilogues in row order. Whole
+  /// blocks (detail::nodeBlockRows), or the filtered level's block diagonals: a node's D rows in
+  /// one pass, D sums side by side, each in the order of the filtered CSR's row.
   template <int D, class F>
   static void nodeRows(const char *label, const Matrix &a,
                        const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
     const auto bo = a.blocks.offsets;
     const auto bc = a.blocks.columns;
     const auto va = a.values;
+    const bool diagonals = a.diagonals;
     Kokkos::parallel_for(
         label, Kokkos::RangePolicy<Exec>(0, a.blocks.numNodes()), KOKKOS_LAMBDA(LocalIndex node) {
-          detail::nodeBlockRows<D>(node, bo, bc, va, x, epilogue);
-        });
-  }
-
-  /// rows() on the filtered level's block diagonals: a node's D rows in one pass (D sums side by
-  /// side, each in the order of the filtered CSR's row), their epilogues in row order.
-  template <int D, class F>
-  static void diagonalRows(const char *label, const Matrix &a,
-                           const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
-    const auto bo = a.blocks.offsets;
-    const auto bc = a.blocks.columns;
-    const auto va = a.values;
-    Kokkos::parallel_for(
-        label, Kokkos::RangePolicy<Exec>(0, a.blocks.numNodes()), KOKKOS_LAMBDA(LocalIndex node) {
+          if (!diagonals) {
+            detail::nodeBlockRows<D>(node, bo, bc, va, x, epilogue);
+            return;
+          }
           S s[D] = {};
           for (Offset j = bo(node); j < bo(node + 1); ++j) {
             const LocalIndex c = D * bc(j);
@@ -426,17 +419,11 @@ template <class S> struct detail::AmgLevels {
   static void rows(const char *label, const Matrix &a,
                    const Kokkos::View<const S *, DeviceSpace> &x, const F &epilogue) {
     if (a.blocks.d == 3) {
-      if (a.diagonals)
-        diagonalRows<3>(label, a, x, epilogue);
-      else
-        nodeRows<3>(label, a, x, epilogue);
+      nodeRows<3>(label, a, x, epilogue);
       return;
     }
     if (a.blocks.d == 2) {
-      if (a.diagonals)
-        diagonalRows<2>(label, a, x, epilogue);
-      else
-        nodeRows<2>(label, a, x, epilogue);
+      nodeRows<2>(label, a, x, epilogue);
       return;
     }
     const auto ro = a.rowOffsets;
