@@ -578,10 +578,12 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
               "strain) from the displacements"
             : "Cauchy stress C e(u) from the Almansi strain of the displacements (Eq. (26))";
     f.reaction = model.reactionHost(lambda);
-    model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
-                               f.gaussGradient, f.gaussCurrentCoordinates);
-    if (mixedModel)
-      f.gaussInterpolatedStress = mixedModel->interpolatedGaussStressHost();
+    if (p.writeHdf5) { // only results.h5 holds the Gauss-point fields
+      model.gaussPointFieldsHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement,
+                                 f.gaussGradient, f.gaussCurrentCoordinates);
+      if (mixedModel)
+        f.gaussInterpolatedStress = mixedModel->interpolatedGaussStressHost();
+    }
     if (contact) {
       contactFields(*contact, p, model.displacementHost(), f, r);
       for (std::size_t sp = 0; sp < contact->specs().size(); ++sp)
@@ -745,8 +747,10 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     f.stressSource = mixed ? "nodal stress unknowns of the mixed model (no smoothing)"
                            : nodalStressSource(p.mesh.elementType);
     f.gaussStressSource = "C eps(u) from the displacements";
-    f.reaction = model.reactionHost(lambda);
-    model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
+    if (p.writeHdf5) { // only results.h5 holds the reactions and the Gauss-point fields
+      f.reaction = model.reactionHost(lambda);
+      model.gaussPointStressHost(f.gaussCoordinates, f.gaussStress, f.pointsPerElement);
+    }
     r.totalSeconds =
         std::chrono::duration<double>(clock::now() - stepStart).count() + r.setupSeconds;
     recordStep(writer, result, r, f, log, verbose, p.contact, nsteps, 1, start);

@@ -403,11 +403,15 @@ template <class S> struct detail::AmgLevels {
             detail::nodeBlockRows<D>(node, bo, bc, va, x, epilogue);
             return;
           }
+          // 64-bit positions: with an int column sign-extended per block this loop took 1.5x the
+          // time (perf, the cube's solve at N = 100; docs/performance.md table 3l)
           S s[D] = {};
-          for (Offset j = bo(node); j < bo(node + 1); ++j) {
-            const LocalIndex c = D * bc(j);
+          const Offset first = bo(node), last = bo(node + 1);
+          Offset at = D * first;
+          for (Offset j = first; j < last; ++j, at += D) {
+            const Offset c = D * static_cast<Offset>(bc(j));
             for (int k = 0; k < D; ++k)
-              s[k] += va(D * j + k) * x(c + k);
+              s[k] += va(at + k) * x(c + k);
           }
           for (int k = 0; k < D; ++k)
             epilogue(D * node + k, s[k]);
