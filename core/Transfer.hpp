@@ -156,6 +156,9 @@ template <class H, class D> void copyToHost(const H &dst, const D &src) {
   Kokkos::deep_copy(dst, src);
 }
 
+/// A range of the host's threads (the setup's loops over host data: graphs, maps, copies).
+using HostRange = Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>;
+
 /// True where host code may read and write the memory of views in `Space` directly (OpenMP,
 /// Serial, CUDA UVM), so a host library such as hypre can work on their memory without a copy.
 template <class Space>

@@ -53,18 +53,16 @@ CsrMatrix<MemorySpace> expandGraph(const NodeGraph &graph, int rowDofs, int colu
   hr(0) = 0;
   // node n's rows start at rowDofs columnDofs graph.rowOffsets[n], each len columnDofs long: the
   // nodes are independent (on the host's threads)
-  Kokkos::parallel_for(
-      "mixcon::csr::expandGraph", Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, nn),
-      [&](LocalIndex n) {
-        const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
-        Offset k = begin * rowDofs * columnDofs;
-        for (int c = 0; c < rowDofs; ++c) {
-          for (Offset j = 0; j < len; ++j)
-            for (int d = 0; d < columnDofs; ++d)
-              hc(k++) = graph.columns[begin + j] * columnDofs + d;
-          hr(n * rowDofs + c + 1) = k;
-        }
-      });
+  Kokkos::parallel_for("mixcon::csr::expandGraph", HostRange(0, nn), [&](LocalIndex n) {
+    const Offset begin = graph.rowOffsets[n], len = graph.rowOffsets[n + 1] - begin;
+    Offset k = begin * rowDofs * columnDofs;
+    for (int c = 0; c < rowDofs; ++c) {
+      for (Offset j = 0; j < len; ++j)
+        for (int d = 0; d < columnDofs; ++d)
+          hc(k++) = graph.columns[begin + j] * columnDofs + d;
+      hr(n * rowDofs + c + 1) = k;
+    }
+  });
   Kokkos::DefaultHostExecutionSpace().fence();
   copyToDevice(a.rowOffsets, hr);
   copyToDevice(a.columns, hc);
@@ -88,9 +86,7 @@ Kokkos::View<int ***, Kokkos::LayoutRight, MemorySpace> elementScatterMap(const 
                                                               mesh.numElements(), npe, npe);
   auto h = hostMirror(map);
   Kokkos::parallel_for( // the elements are independent (on the host's threads)
-      "mixcon::assembly::scatterMap",
-      Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>(0, mesh.numElements()),
-      [&](LocalIndex e) {
+      "mixcon::assembly::scatterMap", HostRange(0, mesh.numElements()), [&](LocalIndex e) {
         for (int a = 0; a < npe; ++a) {
           const LocalIndex row = mesh.node(e, a);
           const auto first = graph.columns.begin() + graph.rowOffsets[row];

@@ -213,8 +213,6 @@ template <class S> struct detail::AmgLevels {
     }
   };
 
-  using HostRange = Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>;
-
   // On the host's threads: the coarse levels of the full 3D stiffness hold tens of millions of
   // entries.
   static Matrix copy(const AmgHostCsr &h, const std::string &label) {

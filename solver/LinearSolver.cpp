@@ -66,8 +66,6 @@ bool trueResidualConverged(double relativeResidual, double xNormSquared, double 
          backward <= kBackwardErrorFloor;
 }
 
-using HostRange = Kokkos::RangePolicy<Kokkos::DefaultHostExecutionSpace>;
-
 /// The row-sum norm of the owned rows (on the host's threads).
 double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
   const auto ro = hostReadable(a.rowOffsets);

@@ -271,7 +271,8 @@ TEST_P(KernelTest, StressRecoveryIsExactForLinearDisplacement) {
 // The node graph, its expansion and the element scatter map are built on the host's threads, a
 // node graph row by chunks of nodes: on a mesh of several chunks (9,261 nodes of Hex8, and Tet10's
 // 9,261 with 6 tetrahedra per cell) against the connectivity by brute force (each node's
-// neighbours as a set), the expansion against its definition (node I's rows (I, c) list, for each
+// neighbours as a set), the second-neighbour graph against the neighbours' neighbours (every 7th
+// node), the expansion against its definition (node I's rows (I, c) list, for each
 // neighbour J in order, J's columnDofs unknowns) and the map against the graph's own rows.
 TEST(NodeGraph, ThreadedBuildMatchesTheConnectivityAcrossChunks) {
   for (ElementType type : {ElementType::Hex8, ElementType::Tet10}) {
@@ -293,6 +294,20 @@ TEST(NodeGraph, ThreadedBuildMatchesTheConnectivityAcrossChunks) {
                 std::vector<LocalIndex>(neighbours[i].begin(), neighbours[i].end()))
           << "node " << i;
     EXPECT_EQ(g.rowOffsets.back(), static_cast<Offset>(g.columns.size()));
+
+    // the second neighbours (the lumped Schur complement's pattern), by the same chunks
+    const NodeGraph g2 = secondNeighbourGraph(g);
+    ASSERT_EQ(g2.numNodes(), mesh.numNodes());
+    for (LocalIndex i = 0; i < mesh.numNodes(); i += 7) {
+      std::set<LocalIndex> two;
+      for (LocalIndex j : neighbours[i])
+        two.insert(neighbours[j].begin(), neighbours[j].end());
+      ASSERT_EQ(std::vector<LocalIndex>(g2.columns.begin() + g2.rowOffsets[i],
+                                        g2.columns.begin() + g2.rowOffsets[i + 1]),
+                std::vector<LocalIndex>(two.begin(), two.end()))
+          << "node " << i;
+    }
+    EXPECT_EQ(g2.rowOffsets.back(), static_cast<Offset>(g2.columns.size()));
 
     const int rowDofs = 3, columnDofs = 2; // rectangular: rows and columns expand differently
     const CsrMatrix<Memory> a = expandGraph<Memory>(g, rowDofs, columnDofs);
