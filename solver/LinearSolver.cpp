@@ -1,5 +1,6 @@
 // hypre (IJ -> ParCSR, PCG + BoomerAMG) and SuiteSparse (CHOLMOD, UMFPACK) implementations.
 #include <core/Transfer.hpp>
+#include <kernels/SymmetricBlocks.hpp>
 #include <solver/AmgCycle.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
@@ -268,6 +269,8 @@ public:
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     Kokkos::fence();
+    ++setups_;
+    upper_ = {}; // the old values' copy, released before the new setup's allocations
     if (directNext_ && !direct_) { // an earlier solve found the AMG no cheaper than it
       matrix_ = a;
       ++patterns_;
@@ -724,6 +727,19 @@ private:
       cycleRefusal_.clear(); // hypre's cycle where the copy does not apply, said nowhere
   }
 
+  /// matrix_'s upper block triangle (d = 0 where there is none: a matrix not said to be symmetric
+  /// (LinearSolverOptions::symmetric, the word the Cholesky factorization takes too), several
+  /// ranks, device memory, a numbering too wide for the host's threads), copied at the first solve
+  /// after each setup. The CG's product from it reads half the bytes of K's (the
+  /// cube's N = 100: 1.1 of 2.2 GB per product, docs/performance.md table 3l).
+  const SymmetricBlocks<DeviceSpace> &upperBlocks() {
+    if (upperSetup_ != setups_ && options_.symmetric && ranks_ == 1)
+      upper_ = symmetricBlocks(matrixBlocks(), ConstDeviceVector(matrix_.values),
+                               2 * Kokkos::DefaultHostExecutionSpace().concurrency());
+    upperSetup_ = setups_;
+    return upper_;
+  }
+
   /// matrix_'s node blocks (d = 0 where its pattern has none), found once per pattern.
   const NodeBlocks<DeviceSpace> &matrixBlocks() {
     if (blocksPattern_ != patterns_) {
@@ -847,10 +863,10 @@ private:
       if (v->extent(0) != n)
         *v = DeviceVector("mixcon::amg::twoLevel", n);
     coarseApply(r, cw_);
-    multiply(matrix_, ConstDeviceVector(cw_), sw_);
+    product(ConstDeviceVector(cw_), sw_);
     axpby(1.0, r, -1.0, sw_);
     vcycle(sw_, yw_);
-    multiply(matrix_, ConstDeviceVector(yw_), qw_);
+    product(ConstDeviceVector(yw_), qw_);
     coarseApply(qw_, sw_);
     Kokkos::deep_copy(z, cw_);
     axpby(1.0, yw_, 1.0, z);
@@ -871,6 +887,19 @@ private:
     }
   }
 
+  /// y = matrix_ x for iterateOwn() and twoLevel(): from its upper block triangle where it has
+  /// one (half the traffic), else by its node blocks (a third less than the CSR's, the same sums).
+  void product(const ConstDeviceVector &x, const DeviceVector &y) {
+    const SymmetricBlocks<DeviceSpace> &upper = upperBlocks();
+    const NodeBlocks<DeviceSpace> &blocks = matrixBlocks();
+    if (upper.d > 0)
+      multiply(upper, x, y);
+    else if (blocks.d > 0)
+      multiply(Kokkos::DefaultExecutionSpace(), blocks, ConstDeviceVector(matrix_.values), x, y);
+    else
+      multiply(matrix_, x, y);
+  }
+
   /// iterate() with the coarse space or the copied cycle: mixcon's CG (GMRES for a nonsymmetric
   /// matrix) around twoLevel() or the V-cycle, on matrix_; the same convergence decision as
   /// hypre's Krylov methods.
@@ -882,13 +911,7 @@ private:
     ko.maxIterations = cap;
     ko.restart = options_.gmresRestart;
     ko.backwardErrorFloor = true; // stops there; converged or not is decided below
-    const NodeBlocks<DeviceSpace> &blocks = matrixBlocks();
-    const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) {
-      if (blocks.d > 0) // a third less traffic than the CSR product, the same sums
-        multiply(Kokkos::DefaultExecutionSpace(), blocks, ConstDeviceVector(matrix_.values), v, y);
-      else
-        multiply(matrix_, v, y);
-    };
+    const LinearMap a = [&](const ConstDeviceVector &v, const DeviceVector &y) { product(v, y); };
     const LinearMap p = [&](const ConstDeviceVector &r, const DeviceVector &z) {
       if (coarse_)
         twoLevel(r, z);
@@ -1244,6 +1267,10 @@ private:
   /// setups that may change it (matrixBlocks()).
   NodeBlocks<DeviceSpace> blocks_;
   int patterns_ = 0, blocksPattern_ = -1;
+  /// matrix_'s upper block triangle for iterateOwn()'s products on the host's threads (d = 0:
+  /// none), built at the first solve after each setup (upperBlocks()); setups_ counts them.
+  SymmetricBlocks<DeviceSpace> upper_;
+  int setups_ = 0, upperSetup_ = -1;
   int variant_ = 2; ///< interpolation-vector variant in use (0: none; see retried())
   HYPRE_IJMatrix ij_ = nullptr;
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual

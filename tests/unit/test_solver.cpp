@@ -1,4 +1,5 @@
 // Linear solvers: hypre AMG-PCG against the direct solve; Dirichlet rows; the DisplacementModel.
+#include <kernels/SymmetricBlocks.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <support/Reference.hpp>
@@ -178,6 +179,26 @@ std::vector<double> hostProduct(const CsrMatrix<Memory> &a, const std::vector<do
   return y;
 }
 
+/// The products' test vector: x_i = sin(0.7 i) + 0.1.
+std::vector<double> testVector(LocalIndex n) {
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = std::sin(0.7 * static_cast<double>(i)) + 0.1;
+  return x;
+}
+
+/// y is the reference product `ref` to 1e-14 of its largest entry (which is above 1).
+void expectSameProduct(const std::vector<double> &ref, const std::vector<double> &y, int d) {
+  ASSERT_EQ(y.size(), ref.size());
+  double largest = 0.0, diff = 0.0;
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    largest = std::max(largest, std::abs(ref[i]));
+    diff = std::max(diff, std::abs(y[i] - ref[i]));
+  }
+  EXPECT_GT(largest, 1.0) << d;
+  EXPECT_LE(diff, 1e-14 * largest) << d;
+}
+
 std::vector<double> blockProduct(const NodeBlocks<Memory> &blocks, const CsrMatrix<Memory> &a,
                                  const std::vector<double> &x) {
   Kokkos::View<double *, Memory> xd("x", x.size()), yd("y", x.size());
@@ -204,18 +225,112 @@ TEST(NodeBlocks, ProductIsTheCsrProductOnExpandedNodeGraphs) {
     ASSERT_EQ(blocks.d, d);
     ASSERT_EQ(blocks.numNodes(), mesh->numNodes());
     EXPECT_EQ(static_cast<Offset>(blocks.columns.extent(0)) * d * d, a.numNonzeros());
-    std::vector<double> x(a.numRows);
-    for (std::size_t i = 0; i < x.size(); ++i)
-      x[i] = std::sin(0.7 * static_cast<double>(i)) + 0.1;
-    const std::vector<double> ref = hostProduct(a, x), y = blockProduct(blocks, a, x);
-    double largest = 0.0, diff = 0.0;
-    for (std::size_t i = 0; i < ref.size(); ++i) {
-      largest = std::max(largest, std::abs(ref[i]));
-      diff = std::max(diff, std::abs(y[i] - ref[i]));
-    }
-    EXPECT_GT(largest, 1.0) << d;
-    EXPECT_LE(diff, 1e-14 * largest) << d;
+    const std::vector<double> x = testVector(a.numRows);
+    expectSameProduct(hostProduct(a, x), blockProduct(blocks, a, x), d);
   }
+}
+
+namespace {
+/// The CSR pattern of a mesh with d unknowns per node and symmetric values: entry (i, j)
+/// 1 + ((7 min(i, j) + 3 max(i, j)) mod 13) / 8.
+CsrMatrix<Memory> symmetricPattern(const Mesh &mesh, int d) {
+  CsrMatrix<Memory> a = expandGraph<Memory>(buildNodeGraph(mesh), d);
+  const auto ro = a.rowOffsets;
+  const auto co = a.columns;
+  const auto va = a.values;
+  Kokkos::parallel_for(
+      "test::symmetricValues", Kokkos::RangePolicy<Kokkos::DefaultExecutionSpace>(0, a.numRows),
+      KOKKOS_LAMBDA(LocalIndex i) {
+        for (Offset k = ro(i); k < ro(i + 1); ++k) {
+          const LocalIndex j = co(k), lo = i < j ? i : j, hi = i < j ? j : i;
+          va(k) = 1.0 + static_cast<double>((7 * lo + 3 * hi) % 13) / 8.0;
+        }
+      });
+  Kokkos::fence();
+  return a;
+}
+
+std::vector<double> upperProduct(const SymmetricBlocks<Memory> &s, const std::vector<double> &x) {
+  Kokkos::View<double *, Memory> xd("x", x.size()), yd("y", x.size());
+  auto hx = Kokkos::create_mirror_view(xd);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    hx(i) = x[i];
+  Kokkos::deep_copy(xd, hx);
+  multiply(s, Kokkos::View<const double *, Memory>(xd), yd);
+  const auto hy = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), yd);
+  return std::vector<double>(hy.data(), hy.data() + hy.extent(0));
+}
+
+/// One entry of row `row` of `a` times 1 + `relative`: the first one past its diagonal (`upper`),
+/// else the first one.
+void perturb(const CsrMatrix<Memory> &a, LocalIndex row, double relative, bool upper) {
+  auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+  auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  for (Offset k = ro(row); k < ro(row + 1); ++k)
+    if (!upper || co(k) > row) {
+      ASSERT_EQ(co(k) > row, upper);
+      va(k) *= 1.0 + relative;
+      break;
+    }
+  Kokkos::deep_copy(a.values, va);
+}
+} // namespace
+
+// The product from the upper block triangle (the CG's product with K on the host's threads,
+// kernels/SymmetricBlocks.hpp) against a plain host loop over the whole CSR, on symmetric values
+// of a Quad8 mesh's pattern (d = 2) and a Hex8 box's (d = 3), cut into several chunks whose
+// spills reach into the next chunk's rows: equal to round-off (the same terms in another order).
+// It fails where a block or its transpose is read from the wrong place, a spill is lost or added
+// twice, or a chunk writes a row of another.
+TEST(SymmetricBlocks, ProductIsTheCsrProduct) {
+  if (!kHostAccessible<Memory>)
+    GTEST_SKIP() << "the symmetric product runs on host memory only";
+  const Mesh quads = rectangleMesh(3.0, 2.0, 24, 5, ElementType::Quad8);
+  const Mesh hexes = boxMesh(1.0, 1.0, 1.0, 4, 5, 12, ElementType::Hex8);
+  for (const auto &[mesh, d] : {std::pair{&quads, 2}, std::pair{&hexes, 3}}) {
+    const CsrMatrix<Memory> a = symmetricPattern(*mesh, d);
+    const NodeBlocks<Memory> blocks = nodeBlocks(Kokkos::DefaultExecutionSpace(), a, d);
+    const SymmetricBlocks<Memory> upper =
+        symmetricBlocks(blocks, Kokkos::View<const double *, Memory>(a.values), 2);
+    ASSERT_EQ(upper.d, d);
+    const auto nodes = static_cast<Offset>(mesh->numNodes());
+    EXPECT_EQ(static_cast<Offset>(upper.columns.extent(0)),
+              (static_cast<Offset>(blocks.columns.extent(0)) + nodes) / 2);
+    EXPECT_GE(upper.chunks, 4) << d;
+    const auto spills = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), upper.spillStart);
+    EXPECT_GT(spills(upper.chunks - 1), 0) << d; // the chunks before the last one spill
+    const std::vector<double> x = testVector(a.numRows), y = upperProduct(upper, x);
+    expectSameProduct(hostProduct(a, x), y, d);
+    EXPECT_EQ(upperProduct(upper, x), y) << d; // the same sums again
+  }
+}
+
+// The caller says the matrix is symmetric: a change below the diagonal does not reach the product
+// (the same vector, to the bit), one above it does. And there is no upper triangle where the
+// numbering leaves fewer chunks than asked for.
+TEST(SymmetricBlocks, ReadsTheUpperTriangleOnlyAndNeedsEnoughChunks) {
+  if (!kHostAccessible<Memory>)
+    GTEST_SKIP() << "the symmetric product runs on host memory only";
+  const Mesh hexes = boxMesh(1.0, 1.0, 1.0, 3, 3, 8, ElementType::Hex8);
+  const auto exec = Kokkos::DefaultExecutionSpace();
+  const CsrMatrix<Memory> a = symmetricPattern(hexes, 3);
+  const auto upperOf = [&](int minChunks) {
+    return symmetricBlocks(nodeBlocks(exec, a, 3), Kokkos::View<const double *, Memory>(a.values),
+                           minChunks);
+  };
+  const SymmetricBlocks<Memory> upper = upperOf(2);
+  ASSERT_EQ(upper.d, 3);
+  EXPECT_EQ(upperOf(upper.chunks).d, 3);
+  EXPECT_EQ(upperOf(upper.chunks + 1).d, 0);
+  std::vector<double> x(a.numRows);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = std::cos(0.3 * static_cast<double>(i));
+  const std::vector<double> y = upperProduct(upper, x);
+  perturb(a, 40, 1e-3, false);
+  EXPECT_EQ(upperProduct(upperOf(2), x), y);
+  perturb(a, 40, 1e-3, true);
+  EXPECT_NE(upperProduct(upperOf(2), x), y);
 }
 
 // Patterns that are not a node graph expanded with d unknowns per node have no node blocks: the
