@@ -37,10 +37,10 @@ template <class MemorySpace> struct SymmetricBlocks {
   Kokkos::View<LocalIndex *, MemorySpace> columns; ///< each block's node column (at least its row)
   Kokkos::View<double *, MemorySpace> values;      ///< d^2 per block, row-major
   LocalIndex chunkNodes = 0;                       ///< nodes per chunk (the last one may be short)
-  LocalIndex chunks = 0;
-  Kokkos::View<Offset *, MemorySpace> spillStart; ///< chunks + 1, in unknowns
-  Kokkos::View<double *, MemorySpace> spill;      ///< what each chunk adds past its last node
-  int d = 0;                                      ///< 0: none
+  LocalIndex chunks = 0;                           ///< at least the minChunks asked for
+  Kokkos::View<Offset *, MemorySpace> spillStart;  ///< chunks + 1, in unknowns
+  Kokkos::View<double *, MemorySpace> spill;       ///< what each chunk adds past its last node
+  int d = 0;                                       ///< 0: none
   LocalIndex numNodes() const { return d > 0 ? static_cast<LocalIndex>(offsets.extent(0)) - 1 : 0; }
 };
 
