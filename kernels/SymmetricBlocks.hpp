@@ -45,24 +45,25 @@ template <class MemorySpace> struct SymmetricBlocks {
 };
 
 /// The upper block triangle of the matrix with node blocks `blocks` and values `values` (in the
-/// CSR's order), which the caller says is symmetric (its lower triangle is not read, as by a
-/// Cholesky factorization), or none (d = 0) where the memory is not the host's, a node has no
-/// diagonal block, or the numbering's bandwidth leaves fewer than `minChunks` chunks (too few to
-/// share among the host's threads). A chunk has nodes / kMaxChunks nodes, at least the bandwidth
-/// plus one: the sums do not depend on the thread count.
+/// CSR's order), which the caller says is symmetric (the blocks below the diagonal are not read,
+/// as a Cholesky factorization does not read that triangle), or none (d = 0) where the memory is
+/// not the host's, a node has no diagonal block, or there would be fewer than `minChunks` chunks.
+/// A chunk has `minChunkNodes` nodes, more where the numbering's bandwidth needs it: the chunks
+/// and so the product's sums depend on the mesh only, not on the host's threads.
 template <class MemorySpace>
 SymmetricBlocks<MemorySpace>
 symmetricBlocks(const NodeBlocks<MemorySpace> &blocks,
-                const Kokkos::View<const double *, MemorySpace> &values, int minChunks) {
-  constexpr LocalIndex kMaxChunks = 64;
+                const Kokkos::View<const double *, MemorySpace> &values, int minChunks,
+                LocalIndex minChunkNodes = 16384) {
   SymmetricBlocks<MemorySpace> s;
   const int d = blocks.d;
   const LocalIndex nodes = blocks.numNodes();
   if (!kHostAccessible<MemorySpace> || d == 0 || nodes == 0)
     return s;
+  Kokkos::DefaultExecutionSpace().fence(); // the blocks and values, where a device wrote them
   const auto bo = blocks.offsets;
   const auto bc = blocks.columns;
-  // each node's diagonal block, and the numbering's bandwidth
+  // each node's diagonal block (so no row is empty), then the numbering's bandwidth
   Kokkos::View<Offset *, MemorySpace> diagonal("mixcon::csr::symmetricDiagonal", nodes);
   LocalIndex missing = 0, bandwidth = 0;
   Kokkos::parallel_reduce(
@@ -74,13 +75,13 @@ symmetricBlocks(const NodeBlocks<MemorySpace> &blocks,
           ++bad;
       },
       missing);
+  if (missing > 0)
+    return s;
   Kokkos::parallel_reduce(
       "mixcon::csr::symmetricBandwidth", HostRange(0, nodes),
       [=](LocalIndex i, LocalIndex &band) { band = std::max(band, bc(bo(i + 1) - 1) - i); },
       Kokkos::Max<LocalIndex>(bandwidth));
-  if (missing > 0)
-    return s;
-  const LocalIndex chunkNodes = std::max((nodes + kMaxChunks - 1) / kMaxChunks, bandwidth + 1);
+  const LocalIndex chunkNodes = std::max(minChunkNodes, bandwidth + 1);
   const LocalIndex chunks = (nodes + chunkNodes - 1) / chunkNodes;
   if (chunks < minChunks)
     return s;
@@ -124,6 +125,7 @@ symmetricBlocks(const NodeBlocks<MemorySpace> &blocks,
   }
   s.spill =
       Kokkos::View<double *, MemorySpace>("mixcon::csr::symmetricSpill", s.spillStart(chunks));
+  Kokkos::DefaultHostExecutionSpace().fence();
   s.chunkNodes = chunkNodes;
   s.chunks = chunks;
   s.d = d;
@@ -141,6 +143,7 @@ void multiplySymmetric(const SymmetricBlocks<MemorySpace> &s,
   const auto start = s.spillStart;
   const auto spill = s.spill;
   const LocalIndex nodes = s.numNodes(), chunkNodes = s.chunkNodes;
+  Kokkos::DefaultExecutionSpace().fence(); // x, where a device wrote it
   Kokkos::parallel_for("mixcon::csr::symmetricZero", HostRange(0, D * nodes),
                        [=](LocalIndex i) { y(i) = 0.0; });
   Kokkos::deep_copy(Kokkos::DefaultHostExecutionSpace(), spill, 0.0);

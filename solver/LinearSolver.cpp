@@ -729,13 +729,14 @@ private:
 
   /// matrix_'s upper block triangle (d = 0 where there is none: a matrix not said to be symmetric
   /// (LinearSolverOptions::symmetric, the word the Cholesky factorization takes too), several
-  /// ranks, device memory, a numbering too wide for the host's threads), copied at the first solve
-  /// after each setup. The CG's product from it reads half the bytes of K's (the
+  /// ranks, device memory, fewer chunks than the host has threads: a small mesh or a wide
+  /// numbering; whether it is used so depends on the thread count, its sums do not), copied at the
+  /// first solve after each setup. The CG's product from it reads half the bytes of K's (the
   /// cube's N = 100: 1.1 of 2.2 GB per product, docs/performance.md table 3l).
   const SymmetricBlocks<DeviceSpace> &upperBlocks() {
     if (upperSetup_ != setups_ && options_.symmetric && ranks_ == 1)
       upper_ = symmetricBlocks(matrixBlocks(), ConstDeviceVector(matrix_.values),
-                               2 * Kokkos::DefaultHostExecutionSpace().concurrency());
+                               Kokkos::DefaultHostExecutionSpace().concurrency());
     upperSetup_ = setups_;
     return upper_;
   }

@@ -261,18 +261,20 @@ std::vector<double> upperProduct(const SymmetricBlocks<Memory> &s, const std::ve
   return std::vector<double>(hy.data(), hy.data() + hy.extent(0));
 }
 
-/// One entry of row `row` of `a` times 1 + `relative`: the first one past its diagonal (`upper`),
-/// else the first one.
-void perturb(const CsrMatrix<Memory> &a, LocalIndex row, double relative, bool upper) {
+/// One entry of row `row` of `a` (d unknowns per node) times 1 + `relative`: the first one in a
+/// block right of the diagonal block (`upper`), else the first one in a block left of it.
+void perturb(const CsrMatrix<Memory> &a, LocalIndex row, int d, double relative, bool upper) {
   auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
   auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
   auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
-  for (Offset k = ro(row); k < ro(row + 1); ++k)
-    if (!upper || co(k) > row) {
-      ASSERT_EQ(co(k) > row, upper);
-      va(k) *= 1.0 + relative;
-      break;
-    }
+  Offset k = ro(row); // the row's first entry: left of the diagonal block, if any entry is
+  if (upper)
+    while (k < ro(row + 1) && co(k) / d <= row / d)
+      ++k;
+  else if (co(k) / d >= row / d)
+    k = ro(row + 1);
+  ASSERT_LT(k, ro(row + 1)) << "no such block in row " << row;
+  va(k) *= 1.0 + relative;
   Kokkos::deep_copy(a.values, va);
 }
 } // namespace
@@ -282,7 +284,7 @@ void perturb(const CsrMatrix<Memory> &a, LocalIndex row, double relative, bool u
 // of a Quad8 mesh's pattern (d = 2) and a Hex8 box's (d = 3), cut into several chunks whose
 // spills reach into the next chunk's rows: equal to round-off (the same terms in another order).
 // It fails where a block or its transpose is read from the wrong place, a spill is lost or added
-// twice, or a chunk writes a row of another.
+// twice, or a spill is sized wrongly.
 TEST(SymmetricBlocks, ProductIsTheCsrProduct) {
   if (!kHostAccessible<Memory>)
     GTEST_SKIP() << "the symmetric product runs on host memory only";
@@ -291,24 +293,41 @@ TEST(SymmetricBlocks, ProductIsTheCsrProduct) {
   for (const auto &[mesh, d] : {std::pair{&quads, 2}, std::pair{&hexes, 3}}) {
     const CsrMatrix<Memory> a = symmetricPattern(*mesh, d);
     const NodeBlocks<Memory> blocks = nodeBlocks(Kokkos::DefaultExecutionSpace(), a, d);
+    // chunks as short as the numbering allows
     const SymmetricBlocks<Memory> upper =
-        symmetricBlocks(blocks, Kokkos::View<const double *, Memory>(a.values), 2);
+        symmetricBlocks(blocks, Kokkos::View<const double *, Memory>(a.values), 2, 1);
     ASSERT_EQ(upper.d, d);
-    const auto nodes = static_cast<Offset>(mesh->numNodes());
+    const LocalIndex nodes = mesh->numNodes();
     EXPECT_EQ(static_cast<Offset>(upper.columns.extent(0)),
               (static_cast<Offset>(blocks.columns.extent(0)) + nodes) / 2);
+    // chunks one node longer than the bandwidth; each one's spill from its end to the farthest
+    // column of its rows, inside the next chunk (the last one has none)
+    const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+    const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.rowOffsets);
+    const auto farthest = [&](LocalIndex i) { return co(ro(d * i + 1) - 1) / d; };
+    LocalIndex bandwidth = 0;
+    for (LocalIndex i = 0; i < nodes; ++i)
+      bandwidth = std::max(bandwidth, farthest(i) - i);
+    EXPECT_EQ(upper.chunkNodes, bandwidth + 1) << d;
     EXPECT_GE(upper.chunks, 4) << d;
     const auto spills = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), upper.spillStart);
-    EXPECT_GT(spills(upper.chunks - 1), 0) << d; // the chunks before the last one spill
-    const std::vector<double> x = testVector(a.numRows), y = upperProduct(upper, x);
-    expectSameProduct(hostProduct(a, x), y, d);
-    EXPECT_EQ(upperProduct(upper, x), y) << d; // the same sums again
+    for (LocalIndex c = 0; c < upper.chunks; ++c) {
+      const LocalIndex end = std::min(nodes, (c + 1) * upper.chunkNodes);
+      LocalIndex reach = end;
+      for (LocalIndex i = c * upper.chunkNodes; i < end; ++i)
+        reach = std::max(reach, farthest(i) + 1);
+      EXPECT_EQ(spills(c + 1) - spills(c), d * static_cast<Offset>(reach - end)) << c;
+      EXPECT_LE(reach, std::min(nodes, end + upper.chunkNodes)) << c;
+      EXPECT_EQ(reach > end, c + 1 < upper.chunks) << c;
+    }
+    const std::vector<double> x = testVector(a.numRows);
+    expectSameProduct(hostProduct(a, x), upperProduct(upper, x), d);
   }
 }
 
-// The caller says the matrix is symmetric: a change below the diagonal does not reach the product
-// (the same vector, to the bit), one above it does. And there is no upper triangle where the
-// numbering leaves fewer chunks than asked for.
+// The caller says the matrix is symmetric: a change in a block left of the diagonal block does not
+// reach the product (the same vector, to the bit), one in a block right of it does. And there is no
+// upper triangle where the numbering leaves fewer chunks than asked for.
 TEST(SymmetricBlocks, ReadsTheUpperTriangleOnlyAndNeedsEnoughChunks) {
   if (!kHostAccessible<Memory>)
     GTEST_SKIP() << "the symmetric product runs on host memory only";
@@ -327,9 +346,9 @@ TEST(SymmetricBlocks, ReadsTheUpperTriangleOnlyAndNeedsEnoughChunks) {
   for (std::size_t i = 0; i < x.size(); ++i)
     x[i] = std::cos(0.3 * static_cast<double>(i));
   const std::vector<double> y = upperProduct(upper, x);
-  perturb(a, 40, 1e-3, false);
+  perturb(a, 40, 3, 1e-3, false);
   EXPECT_EQ(upperProduct(upperOf(2), x), y);
-  perturb(a, 40, 1e-3, true);
+  perturb(a, 40, 3, 1e-3, true);
   EXPECT_NE(upperProduct(upperOf(2), x), y);
 }
 
