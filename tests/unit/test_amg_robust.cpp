@@ -441,6 +441,32 @@ TEST(SeparateComponents, VcycleIsBoomerAmgOnTheComponentBlocks) {
   EXPECT_EQ(s->reuses(), 1);
 }
 
+// On a mesh of more chunks of 16,384 nodes than the host has threads (up to 4), mixcon's CG
+// multiplies K from its upper block triangle (kernels/SymmetricBlocks.hpp): the direct solver's
+// solution after a fresh setup and after a second one that keeps the hierarchy and changes the
+// values (a copy of the first values kept past its setup would solve the first matrix).
+TEST(SeparateComponents, LargerMeshSolvesAsTheDirectSolverAfterEachSetup) {
+  const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
+  const int chunks = std::min(threads, 4) + 1;
+  const int ny = static_cast<int>(std::sqrt((chunks - 1) * 16384 / 4.0)) + 1; // nx = 4 ny
+  const Mesh mesh = rectangleMesh(4.0, 1.0, 4 * ny, ny, ElementType::Quad4);
+  ASSERT_GT(mesh.numNodes(), (chunks - 1) * 16384);
+  const DofMap dofs = DofMap::serial(mesh.numNodes(), 2);
+  LinearSolverOptions d, o = amgOnly();
+  d.type = LinearSolverType::Direct;
+  o.separateComponents = true;
+  auto direct = makeLinearSolver(d, dofs, MPI_COMM_WORLD);
+  auto s = makeLinearSolver(o, dofs, MPI_COMM_WORLD);
+  for (double stiffer : {2.0, 3.0}) {
+    const CsrMatrix<Memory> a = squareStiffness(mesh, stiffer);
+    LinearSolveStats st, ds;
+    const auto ref = solveWith(*direct, a, ds);
+    const auto x = solveWith(*s, a, st);
+    EXPECT_TRUE(st.converged) << stiffer;
+    EXPECT_LT(relativeDifference2(x, ref), 1e-6) << stiffer;
+  }
+}
+
 // The Krylov solves around it (PCG; GMRES for a matrix declared nonsymmetric) run on A and reach
 // the direct solver's solution, in 2D on the clamped square, with more iterations than the full
 // matrix with its rigid-body modes takes (the couplings it drops), but converged.
