@@ -441,15 +441,15 @@ TEST(SeparateComponents, VcycleIsBoomerAmgOnTheComponentBlocks) {
   EXPECT_EQ(s->reuses(), 1);
 }
 
-// On a mesh of more chunks of 16,384 nodes than the host has threads (up to 4), mixcon's CG
+// On a mesh of as many chunks of 16,384 nodes as the host has threads (up to 4), mixcon's CG
 // multiplies K from its upper block triangle (kernels/SymmetricBlocks.hpp): the direct solver's
 // solution after a fresh setup and after a second one that keeps the hierarchy and changes the
 // values (a copy of the first values kept past its setup would solve the first matrix).
 TEST(SeparateComponents, LargerMeshSolvesAsTheDirectSolverAfterEachSetup) {
   const int threads = Kokkos::DefaultHostExecutionSpace().concurrency();
-  const int chunks = std::min(threads, 4) + 1;
-  const int ny = static_cast<int>(std::sqrt((chunks - 1) * 16384 / 4.0)) + 1; // nx = 4 ny
-  const Mesh mesh = rectangleMesh(4.0, 1.0, 4 * ny, ny, ElementType::Quad4);
+  const int chunks = std::min(threads, 4);
+  const int n = static_cast<int>(std::sqrt((chunks - 1) * 16384.0)) + 1;
+  const Mesh mesh = rectangleMesh(1.0, 1.0, n, n, ElementType::Quad4);
   ASSERT_GT(mesh.numNodes(), (chunks - 1) * 16384);
   const DofMap dofs = DofMap::serial(mesh.numNodes(), 2);
   LinearSolverOptions d, o = amgOnly();
