@@ -10,23 +10,6 @@
 
 namespace mixcon {
 
-namespace detail {
-/// The position of `value` in the ascending columns(first .. last - 1), counted from `first`, or
-/// -1 where it is not there.
-template <class Columns>
-Offset findSorted(const Columns &columns, Offset first, Offset last, LocalIndex value) {
-  Offset lo = first, hi = last;
-  while (lo < hi) {
-    const Offset mid = lo + (hi - lo) / 2;
-    if (columns(mid) < value)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo < last && columns(lo) == value ? lo - first : -1;
-}
-} // namespace detail
-
 /// The blocks (I, J >= I) of a matrix with symmetric node blocks (nodeBlocks), for y = A x. The
 /// nodes are cut into chunks of consecutive nodes, run by the host's threads: a chunk adds into its
 /// own rows, and keeps what it adds to rows past its last node in its spill, which lies in the next
@@ -68,10 +51,11 @@ symmetricBlocks(const NodeBlocks<MemorySpace> &blocks,
   LocalIndex missing = 0, bandwidth = 0;
   Kokkos::parallel_reduce(
       "mixcon::csr::symmetricDiagonals", HostRange(0, nodes),
-      [=](LocalIndex i, LocalIndex &bad) {
-        const Offset first = bo(i);
-        diagonal(i) = detail::findSorted(bc, first, bo(i + 1), i);
-        if (diagonal(i) < 0)
+      [=](LocalIndex i, LocalIndex &bad) { // host memory: the row's columns are in order
+        const LocalIndex *first = bc.data() + bo(i), *last = bc.data() + bo(i + 1);
+        const LocalIndex *at = std::lower_bound(first, last, i);
+        diagonal(i) = at - first;
+        if (at == last || *at != i)
           ++bad;
       },
       missing);
