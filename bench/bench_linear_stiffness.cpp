@@ -93,13 +93,15 @@ void timeHostReference(benchmark::State &state, LocalIndex numElements, Element 
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
-/// Floating-point operations of one K^L element (kernels/ElementDriver.hpp, stiffnessLanes),
+/// Floating-point operations of one K^L element (kernels/ElementStiffness.hpp, stiffnessLanes),
 /// counted from the code, each multiply, add and divide one: per quadrature point the Jacobian
-/// (8n), its inverse (8), the physical gradients (6n), the weight (2), C B_b for every node (24n)
-/// and the 2 x 2 blocks of B_a^T (C B_b) for a <= b (16 per block, n(n+1)/2 blocks). Shape
-/// function evaluation and the mirror copy are not counted, so the rate is a lower bound.
+/// (8n), its inverse (8), the physical gradients (6n), the weight (2), the weighted gradients
+/// (2n) and the gradient products of the node pairs a <= b (4 multiply-adds per pair, n(n+1)/2
+/// pairs); per element the contraction of each pair's products with C (4 entries of 4
+/// multiply-adds). Shape function evaluation and the mirror copy are not counted, so the rate is
+/// a lower bound. Quad4: 936 per element (1,288 when each point formed B_a^T (C B_b)).
 constexpr double stiffnessFlops(int n, int quadraturePoints) {
-  return quadraturePoints * (8.0 * n * n + 46.0 * n + 10.0);
+  return quadraturePoints * (4.0 * n * n + 20.0 * n + 10.0) + 16.0 * n * (n + 1);
 }
 
 /// Which stiffness kernel a benchmark times: the one the build chooses for the execution space
@@ -423,17 +425,17 @@ template <class View> double solidMismatch(const SolidSetup &s, const View &ke) 
   return worst;
 }
 
-/// Floating-point operations of one 3D K^L element (stiffnessLanes with Dim = 3 and 6 Voigt
-/// components), counted from the code as stiffnessFlops (each multiply, add and divide one): per
-/// quadrature point the Jacobian (18n), its adjugate inverse (42: 9 cofactor terms of 3, det 5,
-/// 1 divide, 24 for the scaled entries), the physical gradients (15n), the weight (2), f D B_b for
-/// every node (18 entries of 6: one product, two shear terms of 2, the factor f: 108n) and the
-/// 3 x 3 blocks B_a^T (f D B_b) for a <= b (9 entries of 6: one product, two shear terms, the
-/// accumulation: 54 per block, n(n+1)/2 blocks). Shape functions and the mirror copy are not
-/// counted: a lower bound. Hex8: 3,116 per point, 24,928 per element. The same loops serve
+/// Floating-point operations of one 3D K^L element (stiffnessLanes with Dim = 3), counted from the
+/// code as stiffnessFlops (each multiply, add and divide one): per quadrature point the Jacobian
+/// (18n), its adjugate inverse (42: 9 cofactor terms of 3, det 5, 1 divide, 24 for the scaled
+/// entries), the physical gradients (15n), the weight (2), the weighted gradients (3n) and the
+/// gradient products of the node pairs a <= b (9 multiply-adds per pair, n(n+1)/2 pairs); per
+/// element the contraction of each pair's products with the tangent tensor (9 entries of 9
+/// multiply-adds). Shape functions and the mirror copy are not counted: a lower bound. Hex8:
+/// 13,672 per element (24,928 when each point formed B_a^T (f D B_b)). The same loops serve
 /// Hex20, Tet4 and Tet10 with their n and rule.
 constexpr double solidStiffnessFlops(int n, int quadraturePoints) {
-  return quadraturePoints * (27.0 * n * n + 168.0 * n + 44.0);
+  return quadraturePoints * (9.0 * n * n + 45.0 * n + 44.0) + 81.0 * n * (n + 1);
 }
 
 /// Largest violation, over the first, a middle and the last element, of two properties every
