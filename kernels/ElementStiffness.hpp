@@ -96,8 +96,10 @@ KOKKOS_INLINE_FUNCTION void addElementBlock(const CsrMatrix<MemorySpace> &a, con
 /// products of every node pair a <= b (Dim^2 per pair and point), then each block contracts
 /// them with D once (contractTangent). Against forming B_a^T (f D B_b) at every point, as
 /// before: 1.8x fewer floating-point operations for Hex8 (13,672 against 24,928 per element),
-/// 2.4x for Hex20, 1.4-1.6x for Quad4 and Quad8 (bench/bench_linear_stiffness.cpp counts them).
-/// The lower blocks are mirrored at the end (D is symmetric).
+/// 2.4x for Hex20, 1.2x for Tet10, 1.4-1.6x for Quad4 and Quad8, but 1.7x more for Tet4 (one
+/// point: 1,988 against 1,148), whose kernel is bound by writing its matrices and still ran 1.1x
+/// faster (bench/bench_linear_stiffness.cpp counts them; docs/performance.md table 3m). The
+/// lower blocks are mirrored at the end (D is symmetric).
 template <class Elem, int W, class Law, class MemorySpace>
 KOKKOS_INLINE_FUNCTION void
 stiffnessLanes(const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness, const Law &law,
@@ -187,7 +189,9 @@ KOKKOS_INLINE_FUNCTION void scatterElementStiffness(
 /// (docs/gpu.md, 2026-11-28): the team form writes the element matrices of Hex8, Hex20 and Tet10
 /// 1.36x, 2.38x and 1.06x faster and assembles the Hex8 CSR 4.7x faster; it is slower for Quad4,
 /// Quad8 and Tet4 (0.15x, 0.81x, 0.42x), whose matrices one thread holds without much spilling.
-/// On CPUs the lanes are always taken.
+/// Those figures are of the arithmetic before the gradient products (stiffnessLanes), which has
+/// not run on a GPU yet: it holds the pairs' products beside the element matrix. On CPUs the
+/// lanes are always taken.
 template <class ExecSpace, class Elem>
 constexpr bool kTeamStiffness =
     !Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible && Elem::kDim == 3 &&
@@ -221,12 +225,12 @@ template <int Dim, class MemorySpace, class Map> struct CsrScatterSink {
 };
 
 /// The team-per-element stiffness t int B^T D B dA (the arithmetic of stiffnessLanes): one team
-/// per element. In the team's scratch: the nodal coordinates, the tangent D of the element's law
-/// at zero strain, and at every quadrature point the physical gradients and the weight
-/// t w det J, each quadrature point's geometry computed by one thread. Then one thread per node
-/// pair (a, b) sums the pair's gradient products over the quadrature points, contracts them with
-/// D into its Dim x Dim block and hands it to the sink. A functor, not a lambda: no nvcc lambda
-/// wrapper (docs/gpu.md).
+/// per element. In the team's scratch: the nodal coordinates, the tangent of the element's law at
+/// zero strain as the tensor C_imjk (tangentTensor), and at every quadrature point the physical
+/// gradients and the weight t w det J, each quadrature point's geometry computed by one thread.
+/// Then one thread per node pair (a, b) sums the pair's gradient products over the quadrature
+/// points, contracts them with C into its Dim x Dim block and hands it to the sink. A functor, not
+/// a lambda: no nvcc lambda wrapper (docs/gpu.md).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
 struct TeamStiffness {
   using Member = typename Kokkos::TeamPolicy<ExecSpace>::member_type;

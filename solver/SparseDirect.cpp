@@ -14,6 +14,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace mixcon {
 
@@ -255,10 +256,11 @@ SparseDirect::Outcome SparseDirect::factor(Method method, const HostCsr &a) {
     // unsymmetric strategy). Measured, numeric factorization with the ordering chosen against
     // AMD/COLAMD alone (the unsymmetric strategy in each case): the wood plate's 2D mixed
     // Jacobian in contact (6,050 unknowns) 0.25-0.32 against 0.33-0.45 GFlop; the 3D mixed Hex8
-    // matrix of a 6^3 cube (3,087 unknowns) 1.1 against 3.5 GFlop, 0.19 against 0.31 s. METIS
-    // on A^T A costs analysis time (0.23 s on that cube, 2.2 s on the 12^3 cube's 19,773
-    // unknowns), paid once per pattern: on the 12^3 cube one factorization with its analyses
-    // took 9.1 s against 10.4 s, the wood plate's 18 steps 1.4x less.
+    // matrix of a 6^3 cube (3,087 unknowns) 1.1 against 3.5 GFlop, 0.19 against 0.31 s. The two
+    // METIS analyses cost time (0.27 s on that cube, 2.6 s on the 12^3 cube's 19,773 unknowns),
+    // paid once per pattern: on the 12^3 cube one factorization with its analyses took 9.1 s
+    // against 10.4 s; examples/wood_plate_study.py 126.3 s against 158.8 s (docs/performance.md
+    // section 7b). Should a SuiteSparse without METIS refuse those two analyses, they are skipped.
     double best = std::numeric_limits<double>::infinity();
     for (const auto &[strategy, ordering] :
          {std::pair{UMFPACK_STRATEGY_SYMMETRIC, UMFPACK_ORDERING_AMD},
@@ -275,6 +277,8 @@ SparseDirect::Outcome SparseDirect::factor(Method method, const HostCsr &a) {
       if (status != UMFPACK_OK) {
         if (symbolic)
           umfpack_dl_free_symbolic(&symbolic);
+        if (ordering == UMFPACK_ORDERING_METIS)
+          continue; // METIS is optional in SuiteSparse; AMD/COLAMD stays
         throw std::runtime_error("UMFPACK: the analysis failed (status " + std::to_string(status) +
                                  ")");
       }
