@@ -242,6 +242,10 @@ struct TeamStiffness {
   // (detail::tangentTensor), coordinates x[a][i].
   static constexpr int kG = 0, kF = nq * n * dim, kD = kF + nq, kX = kD + dim * dim * dim * dim;
   static constexpr int kScratch = kX + n * dim;
+  /// Scratch position of the tangent tensor's entry C_imjk.
+  KOKKOS_INLINE_FUNCTION static constexpr int tensorAt(int i, int m, int j, int k) {
+    return kD + ((i * dim + m) * dim + j) * dim + k;
+  }
 
   MeshView<MemorySpace, dim> mesh;
   double thickness;
@@ -265,7 +269,7 @@ struct TeamStiffness {
         for (int m = 0; m < dim; ++m)
           for (int j = 0; j < dim; ++j)
             for (int k = 0; k < dim; ++k)
-              s(kD + ((i * dim + m) * dim + j) * dim + k) = c[i][m][j][k][0];
+              s(tensorAt(i, m, j, k)) = c[i][m][j][k][0];
     });
     team.team_barrier();
     Kokkos::parallel_for(Kokkos::TeamThreadRange(team, nq), [&](int q) {
@@ -294,9 +298,7 @@ struct TeamStiffness {
         }
         addGradientProducts<dim, 1>(fga, gb, mab);
       }
-      const auto tensor = [&](int i, int m, int j, int k, int) {
-        return s(kD + ((i * dim + m) * dim + j) * dim + k);
-      };
+      const auto tensor = [&](int i, int m, int j, int k, int) { return s(tensorAt(i, m, j, k)); };
       contractTangent<dim, 1>(tensor, mab, acc, 0, 0);
       double blk[dim][dim];
       for (int i = 0; i < dim; ++i)
