@@ -23,7 +23,8 @@
 // (about 1e6 displacement unknowns, 2.5e6 mixed). MIXCON_BENCH_STRESS_TOLERANCE sets the
 // block-triangular preconditioner's CG tolerance on M (default 1e-2), MIXCON_BENCH_RESTART its
 // GMRES restart (default 30), MIXCON_BENCH_AMG_CYCLE who runs the V-cycles (`amg_cycle`: hypre,
-// double, single; unset: auto).
+// double, single; unset: auto), MIXCON_BENCH_CHEBYSHEV_ORDER the Chebyshev smoother's order
+// (`chebyshev_order`, 1 to 4; unset: 2).
 #include <bench/BenchMain.hpp>
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
@@ -97,6 +98,8 @@ void strip(benchmark::State &state) {
                : v == "single" ? AmgCycleKind::MixconSingle
                                : AmgCycleKind::Automatic;
   }
+  if (const char *c = std::getenv("MIXCON_BENCH_CHEBYSHEV_ORDER")) // 1 to 4; unset: 2
+    lo.chebyshevOrder = std::atoi(c);
   const auto t0 = std::chrono::steady_clock::now();
   if (method == Displacement) {
     static_cast<LinearDisplacementModel &>(*model).setup(lo, MPI_COMM_WORLD);

@@ -453,12 +453,12 @@ public:
     std::string n = coarse ? (options_.symmetric ? "CG + BoomerAMG" : "GMRES + BoomerAMG")
                     : options_.symmetric ? "hypre PCG + BoomerAMG"
                                          : "hypre GMRES + BoomerAMG";
-    n += " (" + smootherName(options_.smoother) + ")";
+    n += " (" + smootherLabel() + ")";
     // Before the first setup, the cycle asked for (or the one auto takes where it applies); after
     // it, the one taken.
     if (cycle_ || (builds_ == 0 && cycleExpected()))
-      n = std::string(options_.symmetric ? "CG" : "GMRES") + " + BoomerAMG (" +
-          smootherName(options_.smoother) + "; its V-cycle by mixcon in " +
+      n = std::string(options_.symmetric ? "CG" : "GMRES") + " + BoomerAMG (" + smootherLabel() +
+          "; its V-cycle by mixcon in " +
           (cycle_ ? amgCyclePrecisionName(cycle_->precision())
            : options_.cycle == AmgCycleKind::MixconDouble ? "double"
                                                           : "single") +
@@ -480,6 +480,14 @@ public:
   int reuses() const override { return reuses_; }
 
 private:
+  /// The smoother taken, with the Chebyshev smoother's order.
+  std::string smootherLabel() const {
+    std::string s = smootherName(options_.smoother);
+    if (resolvedSmoother(options_.smoother) == AmgSmoother::Chebyshev)
+      s += " of order " + std::to_string(options_.chebyshevOrder);
+    return s;
+  }
+
   /// hypre's setup with interpolation vectors can end in an argument error (GM2 on the Lame
   /// quarter annulus: error 12, an argument check inside the vector fitting) where GM1 does not:
   /// then the hierarchy is built again with GM1, then without the vectors. True when it was (the
@@ -595,8 +603,10 @@ private:
     // the loaded hypre has mixcon's fix of it; otherwise Gershgorin's discs, looser but safe (the
     // unfixed estimate never returned on NAFEMS LE10 and the 3D mixed model's Lame sphere:
     // docs/performance.md 3b).
-    if (smoother == AmgSmoother::Chebyshev)
+    if (smoother == AmgSmoother::Chebyshev) {
       HYPRE_BoomerAMGSetChebyEigEst(amg_, detail::hypreChebyshevEstimateIsSafe() ? 10 : 0);
+      HYPRE_BoomerAMGSetChebyOrder(amg_, options_.chebyshevOrder);
+    }
     HYPRE_BoomerAMGSetNumSweeps(amg_, 1);
     HYPRE_BoomerAMGSetNumFunctions(amg_, dofs_.dofsPerNode); // interleaved nodal unknowns
     if (options_.nodalCoarsening)
@@ -1306,6 +1316,9 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
   if (const auto why = rules::iterationLimit(options.maxIterations))
     throw std::invalid_argument("linear solver: max_iterations " + *why + " (got " +
                                 std::to_string(options.maxIterations) + ")");
+  if (options.chebyshevOrder < 1 || options.chebyshevOrder > 4)
+    throw std::invalid_argument("linear solver: the Chebyshev order must be 1 to 4 (got " +
+                                std::to_string(options.chebyshevOrder) + ")");
   if (options.type == LinearSolverType::Direct)
     return std::make_unique<DirectSolver>(comm, options);
   return std::make_unique<HypreAmgSolver>(options, dofs, comm);

@@ -74,6 +74,13 @@ struct LinearSolverOptions {
   /// Automatic: MixconSingle where it applies, else hypre's, silently (docs/performance.md,
   /// issue 17 table 3h: the same iterations and a 1.3-1.7x faster solve on the 3D cube).
   AmgCycleKind cycle = AmgCycleKind::Automatic;
+  /// The Chebyshev smoother's polynomial order (problem key `chebyshev_order`, 1 to 4; hypre's
+  /// ChebyOrder, hypre's default 2): the smoothing applies a polynomial of degree order - 1 in
+  /// D^-1 A, order products with the level's matrix per sweep. Order 1 is one scaled Jacobi step
+  /// with hypre's Chebyshev damping: half the products of a V-cycle for more iterations (the
+  /// problem files' default for the 3D displacement model: docs/performance.md, issue 17 table
+  /// 3n). Used where the smoother is Chebyshev.
+  int chebyshevOrder = 2;
   int printLevel = 0; ///< hypre's own print level
   /// false for a nonsymmetric matrix (the exact tangent of the geometrically nonlinear
   /// displacement model): hypre GMRES(kDim) + BoomerAMG instead of PCG, LU instead of Cholesky

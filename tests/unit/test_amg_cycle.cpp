@@ -324,9 +324,10 @@ std::vector<double> solved(LinearSolver &s, const std::vector<double> &b, Linear
   return std::vector<double>(hx.data(), hx.data() + hx.size());
 }
 
-LinearSolverOptions chebyshevAmg(AmgCycleKind cycle, bool separate) {
+LinearSolverOptions chebyshevAmg(AmgCycleKind cycle, bool separate, int order = 2) {
   LinearSolverOptions o;
   o.smoother = AmgSmoother::Chebyshev;
+  o.chebyshevOrder = order;
   o.separateComponents = separate;
   o.rigidBodyModes = !separate;
   o.aggressiveLevels = 1; // the 3D defaults: aggressive coarsening, truncated interpolation
@@ -512,20 +513,22 @@ TEST(AmgCycle, RefusesASingularCoarsestLevel) {
 // On the hierarchy hypre builds (3D, three components; the full matrix with the rigid-body
 // modes as interpolation vectors, and the separate components): the double-precision copy's
 // V-cycle is hypre's BoomerAMGSolve V-cycle to round-off, after a fresh setup and after a setup
-// that keeps the hierarchy with new values; single precision is within its precision of it.
+// that keeps the hierarchy with new values; single precision is within its precision of it. For
+// the Chebyshev orders 2 (hypre's default) and 1 (the 3D default).
 // It fails where a level, an interpolation, a Chebyshev scaling or coefficient is read wrong,
 // where the kept hierarchy's fine level is not updated, or where the copy is not taken.
 TEST(AmgCycle, IsHypresVcycleOnTheHierarchyHypreBuilt) {
-  for (bool separate : {false, true}) {
+  for (const auto &[separate, order] :
+       {std::pair(false, 2), std::pair(true, 2), std::pair(false, 1), std::pair(true, 1)}) {
     Kokkos::View<double **, Memory> positions;
     const CsrMatrix<Memory> a = grid3d(9, 1.0, positions);
     const DofMap dofs = DofMap::serial(9 * 9 * 9, 3);
     auto hypre =
-        makeLinearSolver(chebyshevAmg(AmgCycleKind::Hypre, separate), dofs, MPI_COMM_WORLD);
-    auto dp =
-        makeLinearSolver(chebyshevAmg(AmgCycleKind::MixconDouble, separate), dofs, MPI_COMM_WORLD);
-    auto sp =
-        makeLinearSolver(chebyshevAmg(AmgCycleKind::MixconSingle, separate), dofs, MPI_COMM_WORLD);
+        makeLinearSolver(chebyshevAmg(AmgCycleKind::Hypre, separate, order), dofs, MPI_COMM_WORLD);
+    auto dp = makeLinearSolver(chebyshevAmg(AmgCycleKind::MixconDouble, separate, order), dofs,
+                               MPI_COMM_WORLD);
+    auto sp = makeLinearSolver(chebyshevAmg(AmgCycleKind::MixconSingle, separate, order), dofs,
+                               MPI_COMM_WORLD);
     for (auto *s : {hypre.get(), dp.get(), sp.get()})
       s->setNearNullSpace(positions);
     const std::vector<double> b = testVector(a.numRows);
@@ -536,10 +539,10 @@ TEST(AmgCycle, IsHypresVcycleOnTheHierarchyHypreBuilt) {
         s->setup(m);
       const std::vector<double> ref = preconditioned(*hypre, b);
       EXPECT_LT(relativeDifference2(preconditioned(*dp, b), ref), 1e-12)
-          << "separate " << separate << " scale " << scale;
+          << "separate " << separate << " order " << order << " scale " << scale;
       const double es = relativeDifference2(preconditioned(*sp, b), ref);
-      EXPECT_LT(es, 1e-5) << "separate " << separate << " scale " << scale;
-      EXPECT_GT(es, 1e-10) << "separate " << separate << " scale " << scale;
+      EXPECT_LT(es, 1e-5) << "separate " << separate << " order " << order << " scale " << scale;
+      EXPECT_GT(es, 1e-10) << "separate " << separate << " order " << order << " scale " << scale;
     }
     // after the setups: the copies were taken (not hypre's cycle under another name)
     EXPECT_EQ(hypre->name().find("by mixcon"), std::string::npos) << hypre->name();
@@ -595,10 +598,10 @@ TEST(AmgCycle, AutoIsSinglePrecisionWhereItApplies) {
     const std::string before = s->name();
     s->setup(a);
     EXPECT_EQ(s->name(), before); // the start-up line names what runs
-    EXPECT_EQ(s->name().find(symmetric ? "CG + BoomerAMG (Chebyshev; its V-cycle by mixcon in "
-                                         "single precision)"
-                                       : "GMRES + BoomerAMG (Chebyshev; its V-cycle by mixcon in "
-                                         "single precision)"),
+    EXPECT_EQ(s->name().find(symmetric ? "CG + BoomerAMG (Chebyshev of order 2; its V-cycle by "
+                                         "mixcon in single precision)"
+                                       : "GMRES + BoomerAMG (Chebyshev of order 2; its V-cycle by "
+                                         "mixcon in single precision)"),
               0u)
         << s->name();
     LinearSolveStats st;
@@ -613,6 +616,15 @@ TEST(AmgCycle, AutoIsSinglePrecisionWhereItApplies) {
   s->setup(a);
   EXPECT_EQ(s->name().find("mixcon"), std::string::npos) << s->name();
   EXPECT_EQ(s->name().find("hypre PCG + BoomerAMG"), 0u) << s->name();
+}
+
+// The Chebyshev order is 1 to 4 (hypre's polynomials); another is refused before any setup.
+TEST(AmgCycle, ChebyshevOrderOutsideOneToFourIsRefused) {
+  for (int order : {0, 5})
+    EXPECT_THROW(makeLinearSolver(chebyshevAmg(AmgCycleKind::Automatic, false, order),
+                                  DofMap::serial(8, 3), MPI_COMM_WORLD),
+                 std::invalid_argument)
+        << order;
 }
 
 // Where the copy does not apply (another smoother), hypre's cycle runs and the name says why.
