@@ -2,6 +2,7 @@
 #include <core/Transfer.hpp>
 #include <kernels/SymmetricBlocks.hpp>
 #include <solver/AmgCycle.hpp>
+#include <solver/HypreMatrix.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
 #include <solver/RigidCoarseSpace.hpp>
@@ -288,11 +289,16 @@ public:
       ++patterns_;
       ++builds_;
     } else if (options_.reuseHierarchy && (amg_ || cycle_) && !rebuild_ && samePattern(a)) {
-      if (ij_) // the hierarchy stays (hypre's, or mixcon's copy of it)
+      // the hierarchy stays (hypre's, or mixcon's copy of it); its fine level takes the values
+      if (ij_)
         setValues(a, "IJMatrixSetValues (kept hierarchy)");
+      else if (parA_)
+        detail::fillSerialParCsr(parA_, a, 0);
       if (ijP_) {
         std::vector<HYPRE_Int> counts = componentCounts(a);
         setComponentValues(a, counts, "IJMatrixSetValues (kept hierarchy, separate components)");
+      } else if (parP_) {
+        detail::fillSerialParCsr(parP_, a, dofs_.dofsPerNode);
       }
       normInf_ = rowSumNorm(a);
       MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
@@ -679,8 +685,13 @@ private:
     rebuild_ = false;
   }
 
-  /// ij_ and parA_: hypre's copy of `a` (matrix_).
+  /// parA_: hypre's copy of `a` (matrix_), built in place on one rank (detail::serialParCsr), else
+  /// through ij_.
   void buildHypreMatrix(const CsrMatrix<DeviceSpace> &a) {
+    if (serialBuild()) {
+      parA_ = detail::serialParCsr(comm_, a, ncols_, 0);
+      return;
+    }
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     const std::vector<HYPRE_Int> offdSizes(a.numRows, 0);
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ij_), "IJMatrixCreate");
@@ -1131,23 +1142,6 @@ private:
   }
   static HYPRE_Int noSetup(HYPRE_Solver, HYPRE_Matrix, HYPRE_Vector, HYPRE_Vector) { return 0; }
 
-  /// True for the entry (i, j) of a matrix with `d` interleaved unknowns per node that couples
-  /// a component with the same component (the first owned row is a node's first unknown).
-  /// (The usual d as constants: their remainders are multiplications, not a division for each
-  /// of the 250M entries of the 3.1M-unknown cube's K.)
-  static bool sameComponent(LocalIndex i, LocalIndex j, int d) {
-    switch (d) {
-    case 1:
-      return true;
-    case 2:
-      return i % 2 == j % 2;
-    case 3:
-      return i % 3 == j % 3;
-    default:
-      return i % d == j % d;
-    }
-  }
-
   /// The entries per row of the filtered matrix of `a` (sameComponent).
   std::vector<HYPRE_Int> componentCounts(const CsrMatrix<DeviceSpace> &a) const {
     const auto ro = hostReadable(a.rowOffsets);
@@ -1158,7 +1152,7 @@ private:
                          [&](LocalIndex i) {
                            HYPRE_Int c = 0;
                            for (auto k = ro(i); k < ro(i + 1); ++k)
-                             c += sameComponent(i, co(k), d);
+                             c += detail::sameComponent(i, co(k), d);
                            counts[i] = c;
                          });
     Kokkos::DefaultHostExecutionSpace().fence();
@@ -1192,7 +1186,7 @@ private:
           "mixcon::solver::componentValues", HostRange(first, last), [&](LocalIndex i) {
             std::size_t q = at[i - first];
             for (auto k = ro(i); k < ro(i + 1); ++k)
-              if (sameComponent(i, co(k), d)) {
+              if (detail::sameComponent(i, co(k), d)) {
                 cols[q] = lo + co(k); // serial numbering, as setValues()
                 vals[q++] = va(k);
               }
@@ -1204,10 +1198,15 @@ private:
     }
   }
 
-  /// ijP_ and parP_: the filtered matrix of LinearSolverOptions::separateComponents.
+  /// parP_: the filtered matrix of LinearSolverOptions::separateComponents, built in place on one
+  /// rank (detail::serialParCsr), else through ijP_.
   void buildComponentMatrix(const CsrMatrix<DeviceSpace> &a) {
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;
     std::vector<HYPRE_Int> counts = componentCounts(a);
+    if (serialBuild()) {
+      parP_ = detail::serialParCsr(comm_, a, counts, dofs_.dofsPerNode);
+      return;
+    }
     const std::vector<HYPRE_Int> offdSizes(counts.size(), 0);
     check(HYPRE_IJMatrixCreate(comm_, lo, hi, lo, hi, &ijP_), "IJMatrixCreate");
     check(HYPRE_IJMatrixSetObjectType(ijP_, HYPRE_PARCSR), "IJMatrixSetObjectType");
@@ -1220,6 +1219,10 @@ private:
     check(HYPRE_IJMatrixGetObject(ijP_, reinterpret_cast<void **>(&parP_)), "IJMatrixGetObject");
   }
 
+  /// Whether hypre's matrices are built in place (detail::serialParCsr) rather than through its
+  /// IJ interface: one rank and a CPU hypre.
+  bool serialBuild() const { return ranks_ == 1 && !kGpuHypre; }
+
   void release() {
     cycle_.reset();
     coarse_.reset();
@@ -1230,6 +1233,8 @@ private:
   void releaseHypre() {
     if (ijP_)
       HYPRE_IJMatrixDestroy(ijP_);
+    else if (parP_) // detail::serialParCsr's
+      hypre_ParCSRMatrixDestroy(parP_);
     ijP_ = nullptr;
     parP_ = nullptr;
     if (pcg_)
@@ -1240,6 +1245,8 @@ private:
       HYPRE_BoomerAMGDestroy(amg_);
     if (ij_)
       HYPRE_IJMatrixDestroy(ij_);
+    else if (parA_) // detail::serialParCsr's
+      hypre_ParCSRMatrixDestroy(parA_);
     if (ijb_)
       HYPRE_IJVectorDestroy(ijb_);
     if (ijx_)
@@ -1282,8 +1289,8 @@ private:
   /// none), built at the first solve after each setup (upperBlocks()); setups_ counts them.
   SymmetricBlocks<DeviceSpace> upper_;
   int setups_ = 0, upperSetup_ = -1;
-  int variant_ = 2; ///< interpolation-vector variant in use (0: none; see retried())
-  HYPRE_IJMatrix ij_ = nullptr;
+  int variant_ = 2;             ///< interpolation-vector variant in use (0: none; see retried())
+  HYPRE_IJMatrix ij_ = nullptr; ///< parA_'s IJ matrix (none where detail::serialParCsr built it)
   HYPRE_IJVector ijb_ = nullptr, ijx_ = nullptr, ijr_ = nullptr; ///< b, x, the residual
   HYPRE_ParCSRMatrix parA_ = nullptr;
   HYPRE_IJMatrix ijP_ = nullptr;      ///< LinearSolverOptions::separateComponents' matrix
