@@ -98,8 +98,13 @@ void strip(benchmark::State &state) {
                : v == "single" ? AmgCycleKind::MixconSingle
                                : AmgCycleKind::Automatic;
   }
-  if (const char *c = std::getenv("MIXCON_BENCH_CHEBYSHEV_ORDER")) // 1 to 4; unset: 2
+  if (const char *c = std::getenv("MIXCON_BENCH_CHEBYSHEV_ORDER")) { // 1 to 4; unset: 2, as in 2D
     lo.chebyshevOrder = std::atoi(c);
+    if (lo.chebyshevOrder < 1 || lo.chebyshevOrder > 4) {
+      state.SkipWithError("MIXCON_BENCH_CHEBYSHEV_ORDER: 1 to 4");
+      return;
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
   if (method == Displacement) {
     static_cast<LinearDisplacementModel &>(*model).setup(lo, MPI_COMM_WORLD);

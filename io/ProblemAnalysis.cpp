@@ -129,8 +129,8 @@ void readSolver(const YamlItem &top, Problem &p) {
     // not converge, against 52-173 with BoomerAMG's defaults (docs/performance.md).
     p.solver.aggressiveLevels = 1;
     p.solver.interpolationMaxElements = 4;
-    // Chebyshev of order 1 (two products per level and V-cycle instead of four): 1.2-1.5x the
-    // PCG iterations, but a 1.15-1.6x faster solve on the Hex8 cube (N = 48 to 100, with both
+    // Chebyshev of order 1 (two products per level and V-cycle instead of four): 1.15-1.5x the
+    // PCG iterations, but a 1.13-1.6x faster solve on the Hex8 cube (N = 48 to 100, with both
     // BoomerAMG matrices) and on Hex20 and Tet10 boxes of 285k and 353k unknowns
     // (docs/performance.md, issue 17 table 3n). Not the 3D mixed model, whose iterations cost more
     // than its V-cycle.

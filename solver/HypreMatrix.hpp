@@ -1,6 +1,6 @@
 // hypre's ParCSR matrix of mixcon's CSR matrix on one rank, built in place instead of through
 // hypre's IJ interface (the AMG solver's fine level, solver/LinearSolver.cpp). Host code, CPU
-// hypre only. Data flow: solver.
+// hypre only; internal (it includes hypre's internal headers: not installed). Data flow: solver.
 #pragma once
 #include <core/Transfer.hpp>
 #include <kernels/SparseMatrix.hpp>
@@ -68,9 +68,11 @@ inline void fillSerialParCsr(hypre_ParCSRMatrix *m, const CsrMatrix<DeviceSpace>
 /// the entries (i, j) that sameComponent(i, j, d) keeps, `counts` of them per row, in a's order
 /// with each row's diagonal swapped to the front. That is the matrix HYPRE_IJMatrixSetValues (after
 /// SetDiagOffdSizes) and HYPRE_IJMatrixAssemble build from the same rows, the same entries in the
-/// same places (tests/unit/test_amg_robust.cpp, HypreMatrix.*), without their search of each row
-/// for every entry they add: 27^2 / 2 comparisons per row of the 3D cube's separate components,
-/// 81^2 / 2 of its K. The caller owns it (hypre_ParCSRMatrixDestroy).
+/// same places (tests/unit/test_amg_robust.cpp, HypreMatrix.*), without the copies on the way (the
+/// separate components' entries gathered in chunks with 8-byte global columns, hypre's copy of
+/// them, its assembly's pass over every row for the diagonal) and, for a kept hierarchy's new
+/// values (fillSerialParCsr), without SetValues' search of the assembled row for every entry.
+/// The caller owns it (hypre_ParCSRMatrixDestroy).
 inline hypre_ParCSRMatrix *serialParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpace> &a,
                                         const std::vector<HYPRE_Int> &counts, int d) {
   const LocalIndex n = a.numRows;
@@ -85,14 +87,18 @@ inline hypre_ParCSRMatrix *serialParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpa
       hypre_ParCSRMatrixCreate(comm, n, n, starts, starts, 0, static_cast<HYPRE_Int>(total), 0);
   if (hypre_ParCSRMatrixInitialize(m) != 0) {
     hypre_ParCSRMatrixDestroy(m);
+    HYPRE_ClearAllErrors(); // as check() in solver/LinearSolver.cpp: the next call starts clean
     throw std::runtime_error("hypre's matrix: hypre_ParCSRMatrixInitialize failed");
   }
   HYPRE_Int *ri = hypre_CSRMatrixI(hypre_ParCSRMatrixDiag(m));
   ri[0] = 0;
   for (LocalIndex i = 0; i < n; ++i)
     ri[i + 1] = ri[i] + counts[i];
-  fillSerialParCsr(m, a, d); // the communication package and the nonzero counts: left to hypre,
-                             // as the IJ assembly leaves them
+  fillSerialParCsr(m, a, d);
+  // as the IJ assembly leaves it: the nonzero rows of both blocks listed; the communication
+  // package and the global nonzero counts left to hypre (made where it needs them)
+  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixDiag(m));
+  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
   return m;
 }
 

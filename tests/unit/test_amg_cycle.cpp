@@ -618,6 +618,28 @@ TEST(AmgCycle, AutoIsSinglePrecisionWhereItApplies) {
   EXPECT_EQ(s->name().find("hypre PCG + BoomerAMG"), 0u) << s->name();
 }
 
+// The Chebyshev order reaches hypre: hypre's own V-cycle differs between orders 1 and 2 (the copies
+// above read the order from hypre's data, so they would agree with hypre whatever order it kept),
+// and so does the copy's.
+TEST(AmgCycle, ChebyshevOrderReachesHypre) {
+  Kokkos::View<double **, Memory> positions;
+  const CsrMatrix<Memory> a = grid3d(9, 1.0, positions);
+  const DofMap dofs = DofMap::serial(9 * 9 * 9, 3);
+  const std::vector<double> b = testVector(a.numRows);
+  for (AmgCycleKind kind : {AmgCycleKind::Hypre, AmgCycleKind::MixconDouble}) {
+    std::vector<double> y[2];
+    for (int order : {1, 2}) {
+      auto s = makeLinearSolver(chebyshevAmg(kind, false, order), dofs, MPI_COMM_WORLD);
+      s->setNearNullSpace(positions);
+      s->setup(a);
+      y[order - 1] = preconditioned(*s, b);
+      EXPECT_NE(s->name().find("Chebyshev of order " + std::to_string(order)), std::string::npos)
+          << s->name();
+    }
+    EXPECT_GT(relativeDifference2(y[0], y[1]), 1e-3) << static_cast<int>(kind);
+  }
+}
+
 // The Chebyshev order is 1 to 4 (hypre's polynomials); another is refused before any setup.
 TEST(AmgCycle, ChebyshevOrderOutsideOneToFourIsRefused) {
   for (int order : {0, 5})
