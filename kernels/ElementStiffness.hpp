@@ -7,6 +7,9 @@
 
 #include <kernels/ElementGeometry.hpp>
 
+#include <algorithm>
+#include <vector>
+
 namespace mixcon {
 
 /// Elements per work item of the stiffness driver: a batch of consecutive elements computed in
@@ -70,8 +73,9 @@ KOKKOS_INLINE_FUNCTION void contractTangent(const Tensor &c, const double (&mab)
 
 /// Adds rows r0 .. r0 + Dim - 1 and columns c0 .. c0 + Dim - 1 of m, times `scale`, as the
 /// Dim x Dim block of element e's nodes (p, b) into CSR through the scatter map (map(e, p, b):
-/// position of node b in the node-graph row of node p), with atomics.
-template <int Dim, class MemorySpace, class Map, int R, int C>
+/// position of node b in the node-graph row of node p), with atomics (Atomic) or plain adds (the
+/// caller's elements own their rows: elementChunks).
+template <int Dim, bool Atomic = true, class MemorySpace, class Map, int R, int C>
 KOKKOS_INLINE_FUNCTION void addElementBlock(const CsrMatrix<MemorySpace> &a, const Map &map,
                                             const MeshView<MemorySpace, Dim> &mesh, LocalIndex e,
                                             int p, int b, double scale, const double (&m)[R][C],
@@ -80,8 +84,12 @@ KOKKOS_INLINE_FUNCTION void addElementBlock(const CsrMatrix<MemorySpace> &a, con
   const Offset column = Dim * map(e, p, b);
   for (int i = 0; i < Dim; ++i) {
     const Offset k = a.rowOffsets(Dim * row + i) + column;
-    for (int j = 0; j < Dim; ++j)
-      Kokkos::atomic_add(&a.values(k + j), scale * m[r0 + i][c0 + j]);
+    for (int j = 0; j < Dim; ++j) {
+      if constexpr (Atomic)
+        Kokkos::atomic_add(&a.values(k + j), scale * m[r0 + i][c0 + j]);
+      else
+        a.values(k + j) += scale * m[r0 + i][c0 + j];
+    }
   }
 }
 
@@ -212,15 +220,16 @@ template <int Dim, class View> struct ElementMatrixSink {
 };
 
 /// Where teamElementStiffness puts a Dim x Dim block (p, b) of element e: added times `scale`
-/// into CSR through the scatter map (as scatterElementStiffness), with atomics.
-template <int Dim, class MemorySpace, class Map> struct CsrScatterSink {
+/// into CSR through the scatter map (as scatterElementStiffness), with atomics (Atomic) or plain
+/// adds (the chunks of elementChunks, one parity at a time).
+template <int Dim, class MemorySpace, class Map, bool Atomic = true> struct CsrScatterSink {
   CsrMatrix<MemorySpace> a;
   Map map;
   MeshView<MemorySpace, Dim> mesh;
   double scale;
   KOKKOS_INLINE_FUNCTION void operator()(LocalIndex e, int p, int b,
                                          const double (&blk)[Dim][Dim]) const {
-    addElementBlock<Dim>(a, map, mesh, e, p, b, scale, blk, 0, 0);
+    addElementBlock<Dim, Atomic>(a, map, mesh, e, p, b, scale, blk, 0, 0);
   }
 };
 
@@ -339,6 +348,30 @@ void teamElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Ele
       Kokkos::TeamPolicy<ExecSpace>(exec, ne, teamSize).set_scratch_size(0, scratch), f);
 }
 
+namespace detail {
+
+/// The stiffness of the W elements first, first + 1, ... below end (stiffnessLanes), each Dim x Dim
+/// block (p, b) of element e handed to `sink(e, p, b, block)`.
+template <class Elem, int W, class Law, class MemorySpace, class Sink>
+KOKKOS_INLINE_FUNCTION void laneBatch(const MeshView<MemorySpace, Elem::kDim> &mesh,
+                                      double thickness, const Law &law, LocalIndex first,
+                                      LocalIndex end, const Sink &sink) {
+  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
+  double k[nd][nd][W];
+  stiffnessLanes<Elem, W>(mesh, thickness, law, first, end - 1, k);
+  for (int l = 0; l < W && first + l < end; ++l)
+    for (int p = 0; p < n; ++p)
+      for (int b = 0; b < n; ++b) {
+        double blk[dim][dim];
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j)
+            blk[i][j] = k[dim * p + i][dim * b + j][l];
+        sink(first + l, p, b, blk);
+      }
+}
+
+} // namespace detail
+
 /// The stiffness of every element by SIMD lanes of elements per thread (stiffnessLanes), each
 /// Dim x Dim block (p, b) of element e handed to `sink(e, p, b, block)` (the sinks of
 /// teamElementStiffness): kernel `label`.
@@ -346,25 +379,108 @@ template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
 void laneElementStiffness(const ExecSpace &exec, const char *label,
                           const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
                           const Law &law, const Sink &sink) {
-  constexpr int n = Elem::kNumNodes, dim = Elem::kDim, nd = dim * n;
   constexpr int W = kStiffnessLanes<ExecSpace>;
   const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
   Kokkos::parallel_for(
       label, Kokkos::RangePolicy<ExecSpace>(exec, 0, (ne + W - 1) / W),
       KOKKOS_LAMBDA(LocalIndex batch) {
-        const LocalIndex first = batch * W;
-        double k[nd][nd][W];
-        stiffnessLanes<Elem, W>(mesh, thickness, law, first, ne - 1, k);
-        for (int l = 0; l < W && first + l < ne; ++l)
-          for (int p = 0; p < n; ++p)
-            for (int b = 0; b < n; ++b) {
-              double blk[dim][dim];
-              for (int i = 0; i < dim; ++i)
-                for (int j = 0; j < dim; ++j)
-                  blk[i][j] = k[dim * p + i][dim * b + j][l];
-              sink(first + l, p, b, blk);
-            }
+        detail::laneBatch<Elem, W>(mesh, thickness, law, batch * W, ne, sink);
       });
+}
+
+/// Consecutive elements cut into chunks for an assembly without atomics on the host's threads:
+/// the nodes of chunk c lie in [lo_c, hi_c] with hi_c < lo_(c+2), so no two chunks of one parity
+/// share a node (hi_c < lo_(c+2) <= hi_(c+2) < lo_(c+4) ...): the even chunks run at once, then
+/// the odd ones, each chunk's elements in order on one thread with plain adds. The sums then
+/// depend on the mesh only, not on the threads' timing (atomics add in any order). size == 0: no
+/// such cut (elementChunks found none): atomics.
+struct ElementChunks {
+  LocalIndex size = 0;  ///< elements per chunk (the last one may be short)
+  LocalIndex count = 0; ///< chunks
+};
+
+/// The chunks of elementChunks's rule: `base` consecutive elements per chunk, doubled until no
+/// two chunks of one parity share a node, if that leaves at least `minChunks` chunks; else none.
+/// Host memory only (else none). A pass over the connectivity plus a serial pass over its
+/// blocks of `base` elements (the cube N = 100: 489 blocks; chunks of 16,384 elements).
+template <int Nodes, class MemorySpace, int Dim>
+ElementChunks elementChunks(const MeshView<MemorySpace, Dim> &mesh, LocalIndex minChunks,
+                            LocalIndex base = 2048) {
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  if constexpr (!kHostAccessible<MemorySpace>) {
+    return {};
+  } else {
+    if (ne == 0 || base <= 0)
+      return {};
+    const LocalIndex blocks = (ne + base - 1) / base;
+    if (blocks < std::max<LocalIndex>(minChunks, 2))
+      return {};
+    Kokkos::View<LocalIndex *, Kokkos::HostSpace> lo(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::kernels::chunkLow"), blocks);
+    Kokkos::View<LocalIndex *, Kokkos::HostSpace> hi(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::kernels::chunkHigh"), blocks);
+    const auto conn = mesh.connectivity;
+    Kokkos::fence(); // the connectivity, where a kernel wrote it
+    Kokkos::parallel_for("mixcon::kernels::chunkNodeRanges", HostRange(0, blocks),
+                         [=](LocalIndex k) {
+                           LocalIndex l = conn(k * base, 0), h = l;
+                           const LocalIndex end = std::min(ne, (k + 1) * base);
+                           for (LocalIndex e = k * base; e < end; ++e)
+                             for (int a = 0; a < Nodes; ++a) {
+                               l = std::min(l, conn(e, a));
+                               h = std::max(h, conn(e, a));
+                             }
+                           lo(k) = l;
+                           hi(k) = h;
+                         });
+    Kokkos::DefaultHostExecutionSpace().fence();
+    for (LocalIndex merge = 1; (blocks + merge - 1) / merge >= std::max<LocalIndex>(minChunks, 2);
+         merge *= 2) {
+      const LocalIndex chunks = (blocks + merge - 1) / merge;
+      std::vector<LocalIndex> clo(chunks), chi(chunks);
+      for (LocalIndex c = 0; c < chunks; ++c) {
+        clo[c] = lo(c * merge);
+        chi[c] = hi(c * merge);
+        for (LocalIndex k = c * merge + 1; k < std::min(blocks, (c + 1) * merge); ++k) {
+          clo[c] = std::min(clo[c], lo(k));
+          chi[c] = std::max(chi[c], hi(k));
+        }
+      }
+      bool apart = true;
+      for (LocalIndex c = 0; c + 2 < chunks && apart; ++c)
+        apart = chi[c] < clo[c + 2];
+      if (apart)
+        return {base * merge, chunks};
+    }
+    return {};
+  }
+}
+
+/// The stiffness of every element by SIMD lanes of elements per thread (stiffnessLanes), chunk by
+/// chunk (ElementChunks: the even chunks at once, then the odd ones, each on one thread), each
+/// Dim x Dim block (p, b) of element e handed to `sink(e, p, b, block)`: kernel `label`. Host
+/// execution spaces only (a chunk runs its elements in order).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Sink>
+void chunkElementStiffness(const ExecSpace &exec, const char *label,
+                           const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                           const Law &law, const ElementChunks &chunks, const Sink &sink) {
+  static_assert(Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible,
+                "chunkElementStiffness runs on the host's threads");
+  constexpr int W = kStiffnessLanes<ExecSpace>;
+  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
+  const LocalIndex size = chunks.size, count = chunks.count;
+  for (LocalIndex parity = 0; parity < 2; ++parity) {
+    Kokkos::parallel_for(label,
+                         Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(
+                             exec, 0, (count - parity + 1) / 2),
+                         [=](LocalIndex k) {
+                           const LocalIndex first = (2 * k + parity) * size;
+                           const LocalIndex end = first + size < ne ? first + size : ne;
+                           for (LocalIndex batch = first; batch < end; batch += W)
+                             detail::laneBatch<Elem, W>(mesh, thickness, law, batch, end, sink);
+                         });
+    exec.fence(); // the odd chunks add into rows the even ones share with them
+  }
 }
 
 /// Element stiffness matrices of all elements into ke(e, i, j), SIMD lanes of elements per thread
@@ -402,15 +518,39 @@ void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, 
 
 /// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
 /// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
-/// element-matrix storage, atomics; `a.values` is not zeroed. SIMD lanes of elements per thread.
+/// element-matrix storage; `a.values` is not zeroed. SIMD lanes of elements per thread. On the
+/// host's threads by the chunks of `chunks` with plain adds where it has some, else with atomics.
+/// The atomics took 35-45 % of the Hex8 assembly on one thread (docs/performance.md table 3m).
+template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
+void assembleElementStiffnessLanes(const ExecSpace &exec,
+                                   const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
+                                   const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
+                                   double scale, const ElementChunks &chunks) {
+  constexpr int dim = Elem::kDim;
+  constexpr char label[] = "mixcon::kernels::assembleElementStiffness";
+  if constexpr (Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible) {
+    if (chunks.size > 0) {
+      using Plain = detail::CsrScatterSink<dim, MemorySpace, Map, false>;
+      chunkElementStiffness<Elem>(exec, label, mesh, thickness, law, chunks,
+                                  Plain{a, map, mesh, scale});
+      return;
+    }
+  }
+  using Sink = detail::CsrScatterSink<dim, MemorySpace, Map>;
+  laneElementStiffness<Elem>(exec, label, mesh, thickness, law, Sink{a, map, mesh, scale});
+}
+
+/// assembleElementStiffnessLanes on the chunks elementChunks finds (at least two per host thread
+/// and parity), atomics where it finds none (a small mesh or a wide numbering) or off the host.
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
 void assembleElementStiffnessLanes(const ExecSpace &exec,
                                    const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
                                    const Law &law, const Map &map, const CsrMatrix<MemorySpace> &a,
                                    double scale = 1.0) {
-  using Sink = detail::CsrScatterSink<Elem::kDim, MemorySpace, Map>;
-  laneElementStiffness<Elem>(exec, "mixcon::kernels::assembleElementStiffness", mesh, thickness,
-                             law, Sink{a, map, mesh, scale});
+  ElementChunks chunks;
+  if constexpr (Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible)
+    chunks = elementChunks<Elem::kNumNodes>(mesh, 4 * static_cast<LocalIndex>(exec.concurrency()));
+  assembleElementStiffnessLanes<Elem>(exec, mesh, thickness, law, map, a, scale, chunks);
 }
 
 /// assembleElementStiffnessLanes with one team per element.
@@ -425,8 +565,9 @@ void assembleElementStiffnessTeam(const ExecSpace &exec,
 
 /// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
 /// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
-/// element-matrix storage, atomics; `a.values` is not zeroed. One team per element where
-/// kTeamStiffness, else SIMD lanes of elements per thread.
+/// element-matrix storage; `a.values` is not zeroed. One team per element where kTeamStiffness
+/// (atomics), else SIMD lanes of elements per thread (on the host by element chunks without
+/// atomics where elementChunks finds them).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
 void assembleElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
                               double thickness, const Law &law, const Map &map,

@@ -4,7 +4,9 @@
 // Eigen): element matrices and the fused CSR assembly, for every element type, on distorted
 // meshes with anisotropic materials, with teams of 1, 2 and 3 threads and the size the launch
 // chooses. Teams of 2 and 3 threads on the OpenMP backend run the scratch sharing and barriers
-// that the GPU relies on (a missing barrier fails with the threads racing).
+// that the GPU relies on (a missing barrier fails with the threads racing). And the lanes
+// kernel's assembly by element chunks without atomics (elementChunks) against the same assembly
+// with atomics and a plain host assembly of the element matrices.
 #include <kernels/LinearElasticity.hpp>
 #include <support/KernelFixture.hpp>
 #include <support/SolidMesh.hpp>
@@ -152,6 +154,151 @@ TEST_P(TeamStiffness, EqualsTheLanesKernelAndTheHostReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, TeamStiffness,
+                         ::testing::Values(ElementType::Quad4, ElementType::Quad8,
+                                           ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
+                                           ElementType::Tet10),
+                         [](const auto &info) { return elementTypeName(info.param); });
+
+namespace team_stiffness_tests {
+
+/// A mesh of the element type whose consecutive elements are neighbours (the generators'
+/// numbering): a distorted 16 x 13 rectangle in 2D, the distorted box of 6 x 7 x 6 cells in 3D.
+template <int Dim> Case<Dim> chunkCase(ElementType type) {
+  if constexpr (Dim == 2) {
+    const test::Fixture f = test::makeFixture(type, 16, 13);
+    return {f.mesh, f.data};
+  } else {
+    Case<3> c = solidCase(type);
+    c.mesh = test::distortedBox(6, type);
+    c.data.mesh = toDevice<Memory, 3>(c.mesh);
+    c.data.material = Kokkos::View<int *, Memory>("material", c.mesh.numElements());
+    auto hm = Kokkos::create_mirror_view(c.data.material);
+    for (LocalIndex e = 0; e < c.mesh.numElements(); ++e)
+      hm(e) = e % 2;
+    Kokkos::deep_copy(c.data.material, hm);
+    return c;
+  }
+}
+
+/// The nodes of elements [first, end) of the mesh.
+std::set<LocalIndex> chunkNodes(const Mesh &mesh, LocalIndex first, LocalIndex end) {
+  std::set<LocalIndex> nodes;
+  for (LocalIndex e = first; e < std::min(end, mesh.numElements()); ++e)
+    for (int a = 0; a < mesh.nodesPerElement; ++a)
+      nodes.insert(mesh.node(e, a));
+  return nodes;
+}
+
+/// The CSR values of the element matrices ke (checked against the host reference by the test
+/// above) added one element after the other on the host, times `scale`, onto `start`.
+template <int Dim, class Ke>
+std::vector<double> hostAssembly(const Mesh &mesh, const CsrMatrix<Memory> &pattern, const Ke &ke,
+                                 double scale, double start) {
+  const auto ro = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pattern.rowOffsets);
+  const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), pattern.columns);
+  std::vector<double> v(co.extent(0), start);
+  const int n = mesh.nodesPerElement;
+  for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < Dim; ++i) {
+        const LocalIndex row = Dim * mesh.node(e, a) + i;
+        for (int b = 0; b < n; ++b)
+          for (int j = 0; j < Dim; ++j) {
+            const LocalIndex col = Dim * mesh.node(e, b) + j;
+            Offset k = ro(row);
+            while (k < ro(row + 1) && co(k) != col)
+              ++k;
+            if (k == ro(row + 1)) {
+              ADD_FAILURE() << "the pattern lacks (" << row << ", " << col << ")";
+              return v;
+            }
+            v[k] += scale * ke(e, Dim * a + i, Dim * b + j);
+          }
+      }
+  return v;
+}
+
+/// The assembly by chunks (those elementChunks finds with chunks of `base` elements) against the
+/// atomic one and the host assembly, adding onto 1.
+template <class Elem, int Dim>
+void compareChunkedAssembly(const Case<Dim> &c, const ElementChunks &chunks, const char *what) {
+  constexpr int nd = Dim * Elem::kNumNodes;
+  const auto law = linearElasticLaw(c.data);
+  const NodeGraph graph = buildNodeGraph(c.mesh);
+  const auto map = elementScatterMap<Memory>(c.mesh, graph);
+  auto chunked = expandGraph<Memory>(graph, Dim), atomic = expandGraph<Memory>(graph, Dim);
+  Kokkos::deep_copy(chunked.values, 1.0);
+  Kokkos::deep_copy(atomic.values, 1.0);
+  assembleElementStiffnessLanes<Elem>(Exec(), c.data.mesh, c.data.thickness, law, map, chunked, 0.7,
+                                      chunks);
+  assembleElementStiffnessLanes<Elem>(Exec(), c.data.mesh, c.data.thickness, law, map, atomic, 0.7,
+                                      ElementChunks{});
+  Kokkos::View<double ***, Memory> ke("ke", c.mesh.numElements(), nd, nd);
+  computeElementStiffnessLanes<Elem>(Exec(), c.data.mesh, c.data.thickness, law, ke);
+  const auto hke = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ke);
+  const std::vector<double> host = hostAssembly<Dim>(c.mesh, chunked, hke, 0.7, 1.0);
+  const auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), chunked.values);
+  const auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), atomic.values);
+  ASSERT_EQ(hc.extent(0), host.size());
+  double dc = 0.0, da = 0.0, s = 0.0;
+  for (std::size_t k = 0; k < host.size(); ++k) {
+    dc = std::max(dc, std::abs(hc(k) - host[k]));
+    da = std::max(da, std::abs(ha(k) - host[k]));
+    s = std::max(s, std::abs(host[k]));
+  }
+  EXPECT_LE(dc, 1e-13 * s) << Elem::kName << ", " << what << ", by chunks";
+  EXPECT_LE(da, 1e-13 * s) << Elem::kName << ", " << what << ", with atomics";
+}
+
+} // namespace team_stiffness_tests
+
+class ElementChunksTest : public ::testing::TestWithParam<ElementType> {};
+
+// On a mesh numbered as the generators number it, elementChunks cuts the elements into chunks
+// whose same-parity members share no node (checked node by node here), and the assembly by them
+// without atomics is the assembly with atomics and the host's assembly of the element matrices;
+// with the elements shuffled (every chunk spans the whole mesh) it finds no cut, and the default
+// entry point still assembles the same matrix (with atomics).
+TEST_P(ElementChunksTest, AssembleWithoutAtomicsAsWithThem) {
+  const ElementType type = GetParam();
+  dispatchElement(type, [&](auto elem) {
+    using Elem = decltype(elem);
+    constexpr int dim = Elem::kDim;
+    Case<dim> c = chunkCase<dim>(type);
+    const LocalIndex ne = c.mesh.numElements();
+    const ElementChunks chunks = elementChunks<Elem::kNumNodes>(c.data.mesh, 3, 4);
+    ASSERT_GT(chunks.size, 0) << Elem::kName << ": no chunks on " << ne << " elements";
+    EXPECT_EQ(chunks.size % 4, 0);
+    EXPECT_EQ(chunks.count, (ne + chunks.size - 1) / chunks.size);
+    EXPECT_GE(chunks.count, 3);
+    const auto shareNode = [&](LocalIndex size) {
+      for (LocalIndex first = 0; first < ne; first += size)
+        for (LocalIndex other = first + 2 * size; other < ne; other += 2 * size) {
+          const auto a = chunkNodes(c.mesh, first, first + size);
+          for (const LocalIndex node : chunkNodes(c.mesh, other, other + size))
+            if (a.count(node))
+              return true;
+        }
+      return false;
+    };
+    EXPECT_FALSE(shareNode(chunks.size)) << Elem::kName;
+    compareChunkedAssembly<Elem>(c, chunks, "generator's numbering");
+
+    // Shuffled: element k takes element (k * 7919) % ne's nodes (7919 prime, not a factor of ne).
+    ASSERT_NE(ne % 7919, 0);
+    const Mesh ordered = c.mesh;
+    const int n = c.mesh.nodesPerElement;
+    for (LocalIndex e = 0; e < ne; ++e)
+      for (int a = 0; a < n; ++a)
+        c.mesh.connectivity[static_cast<std::size_t>(e) * n + a] =
+            ordered.node(static_cast<LocalIndex>((static_cast<long>(e) * 7919) % ne), a);
+    c.data.mesh = toDevice<Memory, dim>(c.mesh);
+    EXPECT_EQ(elementChunks<Elem::kNumNodes>(c.data.mesh, 3, 4).size, 0) << Elem::kName;
+    compareChunkedAssembly<Elem>(c, ElementChunks{}, "shuffled elements");
+  });
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, ElementChunksTest,
                          ::testing::Values(ElementType::Quad4, ElementType::Quad8,
                                            ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
                                            ElementType::Tet10),
