@@ -2,12 +2,14 @@
 // in its two forms: SIMD lanes of elements per thread (stiffnessLanes: CPUs and the small elements
 // on GPUs) and one team per element (teamElementStiffness: the larger 3D elements on GPUs), the
 // choice between them (kTeamStiffness), and their element-matrix and fused CSR-assembly entry
-// points. Layer: kernels.
+// points; the CSR assembly adds with atomics, or on the host's threads by chunks of elements that
+// share no node with plain adds (elementChunks). Layer: kernels.
 #pragma once
 
 #include <kernels/ElementGeometry.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 namespace mixcon {
@@ -399,58 +401,63 @@ struct ElementChunks {
   LocalIndex count = 0; ///< chunks
 };
 
-/// The chunks of elementChunks's rule: `base` consecutive elements per chunk, doubled until no
-/// two chunks of one parity share a node, if that leaves at least `minChunks` chunks; else none.
-/// Host memory only (else none). A pass over the connectivity plus a serial pass over its
-/// blocks of `base` elements (the cube N = 100: 489 blocks; chunks of 16,384 elements).
-template <int Nodes, class MemorySpace, int Dim>
-ElementChunks elementChunks(const MeshView<MemorySpace, Dim> &mesh, LocalIndex minChunks,
-                            LocalIndex base = 2048) {
-  const LocalIndex ne = static_cast<LocalIndex>(mesh.connectivity.extent(0));
-  if constexpr (!kHostAccessible<MemorySpace>) {
+/// The chunks of elementChunks's rule for the elements of type Elem in `mesh`: `base` consecutive
+/// elements per chunk, doubled until no two chunks of one parity share a node, if that leaves at
+/// least `minChunks` chunks (and two); else none. Host memory and a host execution space only
+/// (else none). A pass over the connectivity plus a serial pass over its blocks of `base`
+/// elements (the cube N = 100: 489 blocks; chunks of 16,384 elements).
+template <class Elem, class ExecSpace, class MemorySpace>
+ElementChunks elementChunks(const ExecSpace &exec, const MeshView<MemorySpace, Elem::kDim> &mesh,
+                            LocalIndex minChunks, LocalIndex base = 2048) {
+  constexpr bool host = Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible;
+  if constexpr (!host || !kHostAccessible<MemorySpace>) {
     return {};
   } else {
+    using Wide = std::int64_t; // block bounds past the last element stay in range
+    const Wide ne = static_cast<Wide>(mesh.connectivity.extent(0));
     if (ne == 0 || base <= 0)
       return {};
-    const LocalIndex blocks = (ne + base - 1) / base;
-    if (blocks < std::max<LocalIndex>(minChunks, 2))
+    const LocalIndex blocks = static_cast<LocalIndex>((ne + base - 1) / base);
+    const LocalIndex least = std::max<LocalIndex>(minChunks, 2);
+    if (blocks < least)
       return {};
-    Kokkos::View<LocalIndex *, Kokkos::HostSpace> lo(
+    Kokkos::View<LocalIndex *, Kokkos::HostSpace> low(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::kernels::chunkLow"), blocks);
-    Kokkos::View<LocalIndex *, Kokkos::HostSpace> hi(
+    Kokkos::View<LocalIndex *, Kokkos::HostSpace> high(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::kernels::chunkHigh"), blocks);
     const auto conn = mesh.connectivity;
-    Kokkos::fence(); // the connectivity, where a kernel wrote it
-    Kokkos::parallel_for("mixcon::kernels::chunkNodeRanges", HostRange(0, blocks),
-                         [=](LocalIndex k) {
-                           LocalIndex l = conn(k * base, 0), h = l;
-                           const LocalIndex end = std::min(ne, (k + 1) * base);
-                           for (LocalIndex e = k * base; e < end; ++e)
-                             for (int a = 0; a < Nodes; ++a) {
-                               l = std::min(l, conn(e, a));
-                               h = std::max(h, conn(e, a));
+    exec.fence(); // the connectivity, where a kernel on exec wrote it
+    Kokkos::parallel_for("mixcon::kernels::chunkNodeRanges",
+                         Kokkos::RangePolicy<ExecSpace>(exec, 0, blocks), [=](LocalIndex k) {
+                           const Wide first = static_cast<Wide>(k) * base;
+                           const Wide end = std::min(ne, first + base);
+                           LocalIndex lo = conn(first, 0), hi = lo;
+                           for (Wide e = first; e < end; ++e)
+                             for (int a = 0; a < Elem::kNumNodes; ++a) {
+                               lo = std::min(lo, conn(e, a));
+                               hi = std::max(hi, conn(e, a));
                              }
-                           lo(k) = l;
-                           hi(k) = h;
+                           low(k) = lo;
+                           high(k) = hi;
                          });
-    Kokkos::DefaultHostExecutionSpace().fence();
-    for (LocalIndex merge = 1; (blocks + merge - 1) / merge >= std::max<LocalIndex>(minChunks, 2);
-         merge *= 2) {
+    exec.fence();
+    for (LocalIndex merge = 1; (blocks + merge - 1) / merge >= least; merge *= 2) {
       const LocalIndex chunks = (blocks + merge - 1) / merge;
-      std::vector<LocalIndex> clo(chunks), chi(chunks);
+      std::vector<LocalIndex> chunkLow(chunks), chunkHigh(chunks);
       for (LocalIndex c = 0; c < chunks; ++c) {
-        clo[c] = lo(c * merge);
-        chi[c] = hi(c * merge);
+        chunkLow[c] = low(c * merge);
+        chunkHigh[c] = high(c * merge);
         for (LocalIndex k = c * merge + 1; k < std::min(blocks, (c + 1) * merge); ++k) {
-          clo[c] = std::min(clo[c], lo(k));
-          chi[c] = std::max(chi[c], hi(k));
+          chunkLow[c] = std::min(chunkLow[c], low(k));
+          chunkHigh[c] = std::max(chunkHigh[c], high(k));
         }
       }
       bool apart = true;
       for (LocalIndex c = 0; c + 2 < chunks && apart; ++c)
-        apart = chi[c] < clo[c + 2];
+        apart = chunkHigh[c] < chunkLow[c + 2];
       if (apart)
-        return {base * merge, chunks};
+        return {static_cast<LocalIndex>(std::min<Wide>(ne, static_cast<Wide>(base) * merge)),
+                chunks};
     }
     return {};
   }
@@ -475,7 +482,7 @@ void chunkElementStiffness(const ExecSpace &exec, const char *label,
                              exec, 0, (count - parity + 1) / 2),
                          [=](LocalIndex k) {
                            const LocalIndex first = (2 * k + parity) * size;
-                           const LocalIndex end = first + size < ne ? first + size : ne;
+                           const LocalIndex end = size < ne - first ? first + size : ne;
                            for (LocalIndex batch = first; batch < end; batch += W)
                              detail::laneBatch<Elem, W>(mesh, thickness, law, batch, end, sink);
                          });
@@ -519,8 +526,9 @@ void computeElementStiffness(const ExecSpace &exec, const MeshView<MemorySpace, 
 /// Computes the stiffness of every element and adds it times `scale` into `a` (pattern from
 /// expandGraph(graph, Dim)) via the scatter map from elementScatterMap: one pass, no
 /// element-matrix storage; `a.values` is not zeroed. SIMD lanes of elements per thread. On the
-/// host's threads by the chunks of `chunks` with plain adds where it has some, else with atomics.
-/// The atomics took 35-45 % of the Hex8 assembly on one thread (docs/performance.md table 3m).
+/// host's threads by the chunks of `chunks` (elementChunks<Elem> of this mesh) with plain adds
+/// where it has some, else with atomics: the Hex8 assembly of 110,592 elements took 503 ms with
+/// the atomics and 214 ms by chunks on one thread (docs/performance.md table 3p).
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
 void assembleElementStiffnessLanes(const ExecSpace &exec,
                                    const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
@@ -540,8 +548,9 @@ void assembleElementStiffnessLanes(const ExecSpace &exec,
   laneElementStiffness<Elem>(exec, label, mesh, thickness, law, Sink{a, map, mesh, scale});
 }
 
-/// assembleElementStiffnessLanes on the chunks elementChunks finds (at least two per host thread
-/// and parity), atomics where it finds none (a small mesh or a wide numbering) or off the host.
+/// assembleElementStiffnessLanes on the chunks elementChunks finds (at least one per host thread
+/// and parity: the cube N = 100's 62 chunks serve up to 31 threads), atomics where it finds none
+/// (a small mesh, a scattered numbering, more threads) or off the host.
 template <class Elem, class ExecSpace, class Law, class MemorySpace, class Map>
 void assembleElementStiffnessLanes(const ExecSpace &exec,
                                    const MeshView<MemorySpace, Elem::kDim> &mesh, double thickness,
@@ -549,7 +558,7 @@ void assembleElementStiffnessLanes(const ExecSpace &exec,
                                    double scale = 1.0) {
   ElementChunks chunks;
   if constexpr (Kokkos::SpaceAccessibility<ExecSpace, Kokkos::HostSpace>::accessible)
-    chunks = elementChunks<Elem::kNumNodes>(mesh, 4 * static_cast<LocalIndex>(exec.concurrency()));
+    chunks = elementChunks<Elem>(exec, mesh, 2 * static_cast<LocalIndex>(exec.concurrency()));
   assembleElementStiffnessLanes<Elem>(exec, mesh, thickness, law, map, a, scale, chunks);
 }
 

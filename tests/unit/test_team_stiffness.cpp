@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <set>
 
 using namespace mixcon;
@@ -256,17 +257,20 @@ class ElementChunksTest : public ::testing::TestWithParam<ElementType> {};
 
 // On a mesh numbered as the generators number it, elementChunks cuts the elements into chunks
 // whose same-parity members share no node (checked node by node here), and the assembly by them
-// without atomics is the assembly with atomics and the host's assembly of the element matrices;
-// with the elements shuffled (every chunk spans the whole mesh) it finds no cut, and the default
-// entry point still assembles the same matrix (with atomics).
+// without atomics is the assembly with atomics and the host's assembly of the element matrices,
+// also with chunks one element longer (an odd size: the SIMD lanes' last batch of every chunk is
+// short); with the elements shuffled (every chunk spans the whole mesh) it finds no cut. Skipped
+// where the kernels run off the host, which keeps the atomics.
 TEST_P(ElementChunksTest, AssembleWithoutAtomicsAsWithThem) {
+  if (!Kokkos::SpaceAccessibility<Exec, Kokkos::HostSpace>::accessible || !kHostAccessible<Memory>)
+    GTEST_SKIP() << "the assembly by chunks runs on the host's threads only";
   const ElementType type = GetParam();
   dispatchElement(type, [&](auto elem) {
     using Elem = decltype(elem);
     constexpr int dim = Elem::kDim;
     Case<dim> c = chunkCase<dim>(type);
     const LocalIndex ne = c.mesh.numElements();
-    const ElementChunks chunks = elementChunks<Elem::kNumNodes>(c.data.mesh, 3, 4);
+    const ElementChunks chunks = elementChunks<Elem>(Exec(), c.data.mesh, 3, 4);
     ASSERT_GT(chunks.size, 0) << Elem::kName << ": no chunks on " << ne << " elements";
     EXPECT_EQ(chunks.size % 4, 0);
     EXPECT_EQ(chunks.count, (ne + chunks.size - 1) / chunks.size);
@@ -283,6 +287,9 @@ TEST_P(ElementChunksTest, AssembleWithoutAtomicsAsWithThem) {
     };
     EXPECT_FALSE(shareNode(chunks.size)) << Elem::kName;
     compareChunkedAssembly<Elem>(c, chunks, "generator's numbering");
+    const LocalIndex odd = chunks.size + 1;
+    ASSERT_FALSE(shareNode(odd)) << Elem::kName;
+    compareChunkedAssembly<Elem>(c, ElementChunks{odd, (ne + odd - 1) / odd}, "odd chunks");
 
     // Shuffled: element k takes element (k * 7919) % ne's nodes (7919 prime, not a factor of ne).
     ASSERT_NE(ne % 7919, 0);
@@ -291,9 +298,9 @@ TEST_P(ElementChunksTest, AssembleWithoutAtomicsAsWithThem) {
     for (LocalIndex e = 0; e < ne; ++e)
       for (int a = 0; a < n; ++a)
         c.mesh.connectivity[static_cast<std::size_t>(e) * n + a] =
-            ordered.node(static_cast<LocalIndex>((static_cast<long>(e) * 7919) % ne), a);
+            ordered.node(static_cast<LocalIndex>((static_cast<std::int64_t>(e) * 7919) % ne), a);
     c.data.mesh = toDevice<Memory, dim>(c.mesh);
-    EXPECT_EQ(elementChunks<Elem::kNumNodes>(c.data.mesh, 3, 4).size, 0) << Elem::kName;
+    EXPECT_EQ(elementChunks<Elem>(Exec(), c.data.mesh, 3, 4).size, 0) << Elem::kName;
     compareChunkedAssembly<Elem>(c, ElementChunks{}, "shuffled elements");
   });
 }
@@ -303,3 +310,30 @@ INSTANTIATE_TEST_SUITE_P(Elements, ElementChunksTest,
                                            ElementType::Hex8, ElementType::Hex20, ElementType::Tet4,
                                            ElementType::Tet10),
                          [](const auto &info) { return elementTypeName(info.param); });
+
+// The entry point without chunks finds its own (chunks of 2,048 elements, at least one per thread
+// and parity) on a mesh large enough for them, and assembles the matrix of the atomic path.
+TEST(ElementChunks, EntryPointTakesTheChunksOfALargeMesh) {
+  if (!Kokkos::SpaceAccessibility<Exec, Kokkos::HostSpace>::accessible || !kHostAccessible<Memory>)
+    GTEST_SKIP() << "the assembly by chunks runs on the host's threads only";
+  const test::Fixture f = test::makeFixture(ElementType::Quad4, 256, 128); // 32,768 elements
+  const auto law = linearElasticLaw(f.data);
+  const LocalIndex threads = static_cast<LocalIndex>(Exec().concurrency());
+  const ElementChunks chunks = elementChunks<Quad4>(Exec(), f.data.mesh, 2 * threads);
+  if (threads <= 8) { // 16 blocks of 2,048 elements
+    EXPECT_GT(chunks.size, 0) << threads << " threads";
+  }
+  const NodeGraph graph = buildNodeGraph(f.mesh);
+  const auto map = elementScatterMap<Memory>(f.mesh, graph);
+  auto own = expandGraph<Memory>(graph, 2), atomic = expandGraph<Memory>(graph, 2);
+  Kokkos::deep_copy(own.values, 0.0);
+  Kokkos::deep_copy(atomic.values, 0.0);
+  assembleElementStiffnessLanes<Quad4>(Exec(), f.data.mesh, f.data.thickness, law, map, own);
+  assembleElementStiffnessLanes<Quad4>(Exec(), f.data.mesh, f.data.thickness, law, map, atomic, 1.0,
+                                       ElementChunks{});
+  const auto ho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), own.values);
+  const auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), atomic.values);
+  const auto [d, s] = difference(ho, ha);
+  EXPECT_GT(s, 0.0);
+  EXPECT_LE(d, 1e-13 * s);
+}
