@@ -44,14 +44,14 @@ template <int Dim> struct Case {
   ElementData<Memory, Dim> data;
 };
 
-Case<2> planeCase(ElementType type) {
-  const test::Fixture f = test::makeFixture(type);
+Case<2> planeCase(ElementType type, int nx = 6, int ny = 5) {
+  const test::Fixture f = test::makeFixture(type, nx, ny);
   return {f.mesh, f.data};
 }
 
-Case<3> solidCase(ElementType type) {
+Case<3> solidCase(ElementType type, int n = 3) {
   Case<3> c;
-  c.mesh = test::distortedBox(3, type);
+  c.mesh = test::distortedBox(n, type);
   c.data.mesh = toDevice<Memory, 3>(c.mesh);
   c.data.material = Kokkos::View<int *, Memory>("material", c.mesh.numElements());
   c.data.stiffness = Kokkos::View<SolidMatrix *, Memory>("stiffness", 2);
@@ -165,20 +165,10 @@ namespace team_stiffness_tests {
 /// A mesh of the element type whose consecutive elements are neighbours (the generators'
 /// numbering): a distorted 16 x 13 rectangle in 2D, the distorted box of 6 x 7 x 6 cells in 3D.
 template <int Dim> Case<Dim> chunkCase(ElementType type) {
-  if constexpr (Dim == 2) {
-    const test::Fixture f = test::makeFixture(type, 16, 13);
-    return {f.mesh, f.data};
-  } else {
-    Case<3> c = solidCase(type);
-    c.mesh = test::distortedBox(6, type);
-    c.data.mesh = toDevice<Memory, 3>(c.mesh);
-    c.data.material = Kokkos::View<int *, Memory>("material", c.mesh.numElements());
-    auto hm = Kokkos::create_mirror_view(c.data.material);
-    for (LocalIndex e = 0; e < c.mesh.numElements(); ++e)
-      hm(e) = e % 2;
-    Kokkos::deep_copy(c.data.material, hm);
-    return c;
-  }
+  if constexpr (Dim == 2)
+    return planeCase(type, 16, 13);
+  else
+    return solidCase(type, 6);
 }
 
 /// The nodes of elements [first, end) of the mesh.
@@ -241,14 +231,10 @@ void compareChunkedAssembly(const Case<Dim> &c, const ElementChunks &chunks, con
   const auto hc = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), chunked.values);
   const auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), atomic.values);
   ASSERT_EQ(hc.extent(0), host.size());
-  double dc = 0.0, da = 0.0, s = 0.0;
-  for (std::size_t k = 0; k < host.size(); ++k) {
-    dc = std::max(dc, std::abs(hc(k) - host[k]));
-    da = std::max(da, std::abs(ha(k) - host[k]));
-    s = std::max(s, std::abs(host[k]));
-  }
+  const auto [dc, s] = difference(hc, host);
+  const auto [da, sa] = difference(ha, host);
   EXPECT_LE(dc, 1e-13 * s) << Elem::kName << ", " << what << ", by chunks";
-  EXPECT_LE(da, 1e-13 * s) << Elem::kName << ", " << what << ", with atomics";
+  EXPECT_LE(da, 1e-13 * sa) << Elem::kName << ", " << what << ", with atomics";
 }
 
 } // namespace team_stiffness_tests
