@@ -12,6 +12,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -100,6 +101,104 @@ inline hypre_ParCSRMatrix *serialParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpa
   hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixDiag(m));
   hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
   return m;
+}
+
+/// `a`'s rows in hypre's order, in place, for as long as this lives: each row's diagonal swapped
+/// with its first entry, as serialParCsr places them, so that borrowedParCsr's matrix of `a` is
+/// serialParCsr's without the copy. restore() (or the destructor, where an exception came first)
+/// swaps them back: `a` is then bit for bit what it was. Host-accessible memory only.
+class DiagonalFirst {
+public:
+  explicit DiagonalFirst(const CsrMatrix<DeviceSpace> &a) : a_(a), at_(a.numRows, 0) {
+    const auto ro = a_.rowOffsets;
+    const auto co = a_.columns;
+    Kokkos::parallel_for("mixcon::solver::diagonalFirst", HostRange(0, a_.numRows),
+                         [&](LocalIndex i) {
+                           for (auto k = ro(i); k < ro(i + 1); ++k)
+                             if (co(k) == i)
+                               at_[i] = k - ro(i);
+                         });
+    Kokkos::DefaultHostExecutionSpace().fence();
+    swapRows();
+  }
+  ~DiagonalFirst() { restore(); }
+  DiagonalFirst(const DiagonalFirst &) = delete;
+  DiagonalFirst &operator=(const DiagonalFirst &) = delete;
+
+  /// `a`'s own order again (the swaps undone; once).
+  void restore() {
+    if (!swapped_)
+      return;
+    swapRows();
+    swapped_ = false;
+  }
+
+private:
+  /// Each row's first entry and its diagonal exchanged (an involution: the positions are kept).
+  void swapRows() {
+    const auto ro = a_.rowOffsets;
+    const auto co = a_.columns;
+    const auto va = a_.values;
+    Kokkos::parallel_for("mixcon::solver::diagonalFirst", HostRange(0, a_.numRows),
+                         [&](LocalIndex i) {
+                           if (at_[i] > 0) {
+                             std::swap(co(ro(i)), co(ro(i) + at_[i]));
+                             std::swap(va(ro(i)), va(ro(i) + at_[i]));
+                           }
+                         });
+    Kokkos::DefaultHostExecutionSpace().fence();
+  }
+
+  CsrMatrix<DeviceSpace> a_;
+  std::vector<Offset> at_; ///< each row's diagonal's place in it (0: first, or none)
+  bool swapped_ = true;
+};
+
+/// hypre's ParCSR matrix of `a` on a communicator of one rank that reads a's columns and values
+/// where they are (hypre_ParCSRMatrixDestroy leaves them; it frees only the row offsets, its own
+/// 4-byte copy): BoomerAMG's fine level without a second copy of K (3 GB for the 3.1M-unknown
+/// cube). It is serialParCsr's matrix (d = 0) while a DiagonalFirst of `a` lives and `a` is not
+/// changed; ownParCsrData gives it its own copy. Host-accessible memory only.
+inline hypre_ParCSRMatrix *borrowedParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpace> &a) {
+  static_assert(std::is_same_v<HYPRE_Int, LocalIndex> && std::is_same_v<HYPRE_Complex, double>,
+                "hypre reads mixcon's columns and values as they are");
+  const LocalIndex n = a.numRows;
+  const Offset total = a.numNonzeros();
+  if (total > static_cast<Offset>(std::numeric_limits<HYPRE_Int>::max()))
+    throw std::runtime_error("hypre's matrix: " + std::to_string(total) +
+                             " entries on one rank exceed hypre's integer type (HYPRE_Int)");
+  HYPRE_BigInt starts[2] = {0, n};
+  hypre_ParCSRMatrix *m =
+      hypre_ParCSRMatrixCreate(comm, n, n, starts, starts, 0, static_cast<HYPRE_Int>(total), 0);
+  hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(m);
+  hypre_CSRMatrixJ(diag) = a.columns.data(); // Initialize allocates only what is not set
+  hypre_CSRMatrixData(diag) = a.values.data();
+  hypre_CSRMatrixOwnsData(diag) = 0;
+  if (hypre_ParCSRMatrixInitialize(m) != 0) {
+    hypre_ParCSRMatrixDestroy(m);
+    HYPRE_ClearAllErrors();
+    throw std::runtime_error("hypre's matrix: hypre_ParCSRMatrixInitialize failed");
+  }
+  HYPRE_Int *ri = hypre_CSRMatrixI(diag);
+  const auto ro = a.rowOffsets;
+  Kokkos::parallel_for("mixcon::solver::borrowedParCsr", HostRange(0, n + 1),
+                       [&](LocalIndex i) { ri[i] = static_cast<HYPRE_Int>(ro(i)); });
+  Kokkos::DefaultHostExecutionSpace().fence();
+  hypre_CSRMatrixSetRownnz(diag);
+  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
+  return m;
+}
+
+/// borrowedParCsr's matrix `m` of `a` (in a's own order again) given its own copy of a's entries
+/// in hypre's order, as serialParCsr builds it: for hypre's Krylov method and V-cycle, which read
+/// it at every solve while `a` is mixcon's again.
+inline void ownParCsrData(hypre_ParCSRMatrix *m, const CsrMatrix<DeviceSpace> &a) {
+  hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(m);
+  const auto total = static_cast<std::size_t>(a.numNonzeros());
+  hypre_CSRMatrixJ(diag) = hypre_TAlloc(HYPRE_Int, total, HYPRE_MEMORY_HOST);
+  hypre_CSRMatrixData(diag) = hypre_TAlloc(HYPRE_Complex, total, HYPRE_MEMORY_HOST);
+  hypre_CSRMatrixOwnsData(diag) = 1;
+  fillSerialParCsr(m, a, 0);
 }
 
 } // namespace mixcon::detail

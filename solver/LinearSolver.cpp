@@ -581,10 +581,17 @@ private:
     MPI_Allreduce(MPI_IN_PLACE, &normInf_, 1, MPI_DOUBLE, MPI_MAX, comm_);
     // hypre's copy of A: the hierarchy's matrix, or (separate components) only for hypre's
     // Krylov method, which mixcon's cycle does not need (built below where that is not taken)
-    if (separate())
+    // (on one rank in host memory, BoomerAMG reads K itself, its rows in hypre's order until
+    // the hierarchy is built: detail::borrowedParCsr)
+    std::optional<detail::DiagonalFirst> borrowed;
+    if (separate()) {
       buildComponentMatrix(a);
-    else
+    } else if (borrowsMatrix()) {
+      borrowed.emplace(a);
+      parA_ = detail::borrowedParCsr(comm_, a);
+    } else {
       buildHypreMatrix(a);
+    }
 
     for (HYPRE_IJVector *v : {&ijb_, &ijx_, &ijr_}) {
       check(HYPRE_IJVectorCreate(comm_, lo, hi, v), "IJVectorCreate");
@@ -633,14 +640,18 @@ private:
     // mixcon's copy of it (copyCycle: mixcon's Krylov method on matrix_, no hypre A needed with
     // separate components) or hypre's Krylov method around hypre's V-cycle (on the filtered
     // matrix: componentVcycle), whose setup leaves the hierarchy as it is (noSetup).
-    if (retried(HYPRE_BoomerAMGSetup(amg_, hierarchyMatrix(), parb_, parx_),
-                parP_ ? "BoomerAMG setup (separate components)" : "BoomerAMG setup"))
+    const HYPRE_Int setupError = HYPRE_BoomerAMGSetup(amg_, hierarchyMatrix(), parb_, parx_);
+    if (borrowed) // K is mixcon's again (the cycle's copy reads it in its own order)
+      borrowed->restore();
+    if (retried(setupError, parP_ ? "BoomerAMG setup (separate components)" : "BoomerAMG setup"))
       return;
     copyCycle();
     if (cycle_) {
-      finishBuild();
+      finishBuild(); // releases parA_, which never held a copy
       return;
     }
+    if (borrowed) // hypre's Krylov method and V-cycle read it at every solve: its own copy
+      detail::ownParCsrData(parA_, a);
     auto precondSolve = reinterpret_cast<HYPRE_PtrToSolverFcn>(HYPRE_BoomerAMGSolve);
     const HYPRE_PtrToSolverFcn precondSetup = &noSetup;
     HYPRE_Solver precondData = amg_;
@@ -1218,6 +1229,11 @@ private:
     check(HYPRE_IJMatrixAssemble(ijP_), "IJMatrixAssemble");
     check(HYPRE_IJMatrixGetObject(ijP_, reinterpret_cast<void **>(&parP_)), "IJMatrixGetObject");
   }
+
+  /// Whether BoomerAMG's hierarchy is built on K's own arrays (detail::borrowedParCsr) rather
+  /// than on a copy: where the copy would be built in place (serialBuild) and K lies in host
+  /// memory.
+  bool borrowsMatrix() const { return serialBuild() && kHostAccessible<DeviceSpace>; }
 
   /// Whether hypre's matrices are built in place (detail::serialParCsr) rather than through its
   /// IJ interface: one rank and a CPU hypre.

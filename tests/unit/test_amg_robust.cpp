@@ -528,6 +528,45 @@ void expectSameDiag(hypre_ParCSRMatrix *x, hypre_ParCSRMatrix *y, const std::str
             hypre_CSRMatrixNumRownnz(hypre_ParCSRMatrixOffd(y)))
       << what;
 }
+
+/// a's columns and values, on the host.
+std::pair<std::vector<LocalIndex>, std::vector<double>> entriesOf(const CsrMatrix<Memory> &a) {
+  const auto co = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.columns);
+  const auto va = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.values);
+  return {std::vector<LocalIndex>(co.data(), co.data() + co.size()),
+          std::vector<double>(va.data(), va.data() + va.size())};
+}
+
+/// detail::borrowedParCsr on `a` in hypre's order (detail::DiagonalFirst) is the IJ matrix `ij`
+/// and reads a's own arrays; after restore() `a` is bit for bit what it was, and
+/// detail::ownParCsrData gives the matrix its own copy, the IJ matrix again. The destructor alone
+/// restores `a` too (an exception between the swap and restore()).
+void expectBorrowedIsTheIjMatrix(const CsrMatrix<Memory> &a, hypre_ParCSRMatrix *ij,
+                                 const std::string &what) {
+  if constexpr (kHostAccessible<Memory>) {
+    const auto before = entriesOf(a);
+    {
+      detail::DiagonalFirst first(a);
+      hypre_ParCSRMatrix *m = detail::borrowedParCsr(MPI_COMM_SELF, a);
+      expectSameDiag(m, ij, what + ", borrowed");
+      EXPECT_EQ(hypre_CSRMatrixJ(hypre_ParCSRMatrixDiag(m)), a.columns.data()) << what;
+      EXPECT_EQ(hypre_CSRMatrixData(hypre_ParCSRMatrixDiag(m)), a.values.data()) << what;
+      EXPECT_NE(entriesOf(a), before) << what; // the swaps were made in a itself
+      first.restore();
+      EXPECT_EQ(entriesOf(a), before) << what;
+      detail::ownParCsrData(m, a);
+      EXPECT_NE(hypre_CSRMatrixJ(hypre_ParCSRMatrixDiag(m)), a.columns.data()) << what;
+      expectSameDiag(m, ij, what + ", its own copy");
+      hypre_ParCSRMatrixDestroy(m);
+    }
+    {
+      const detail::DiagonalFirst first(a);
+      hypre_ParCSRMatrix *m = detail::borrowedParCsr(MPI_COMM_SELF, a);
+      hypre_ParCSRMatrixDestroy(m); // leaves a's arrays (ASan: no free of Kokkos' memory)
+    }
+    EXPECT_EQ(entriesOf(a), before) << what << ", restored by the destructor";
+  }
+}
 } // namespace
 
 // The AMG solver's fine level built in place on one rank (solver/HypreMatrix.hpp) is the matrix
@@ -581,12 +620,70 @@ TEST(HypreMatrix, BuiltInPlaceIsTheIjMatrix) {
         counts[i] += detail::sameComponent(i, co(k), c.d);
     hypre_ParCSRMatrix *m = detail::serialParCsr(MPI_COMM_SELF, *c.a, counts, c.d);
     expectSameDiag(m, ref.par, c.what);
+    if (c.d == 0)
+      expectBorrowedIsTheIjMatrix(*c.a, ref.par, c.what);
     ref.set(*c.b, c.d, false);
     detail::fillSerialParCsr(m, *c.b, c.d);
     expectSameDiag(m, ref.par, std::string(c.what) + ", new values");
     hypre_ParCSRMatrixDestroy(m);
   }
 #endif
+}
+
+namespace {
+/// w_b . M w_c for the preconditioner M of `s` (set up before), w_k(i) = sin(0.37 k (i + 1)):
+/// M's symmetry, measured.
+double preconditionedProduct(LinearSolver &s, LocalIndex n, int b, int c) {
+  Kokkos::View<double *, Memory> u("u", n), v("v", n), x("x", n);
+  Kokkos::parallel_for(
+      "vectors", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(LocalIndex i) {
+        u(i) = std::sin(0.37 * b * (i + 1));
+        v(i) = std::sin(0.37 * c * (i + 1));
+      });
+  s.precondition(v, x);
+  double sum = 0.0;
+  Kokkos::parallel_reduce(
+      "product", Kokkos::RangePolicy<Exec>(0, n),
+      KOKKOS_LAMBDA(LocalIndex i, double &acc) { acc += u(i) * x(i); }, sum);
+  return sum;
+}
+} // namespace
+
+// On one rank in host memory BoomerAMG builds its hierarchy on K's own arrays (solver/
+// HypreMatrix.hpp, detail::borrowedParCsr), its rows in hypre's order until the setup ends: K is
+// bit for bit what it was after each setup, with mixcon's copy of the V-cycle (Chebyshev) and
+// with hypre's own (l1 Gauss-Seidel, which the copy does not take). hypre's Gauss-Seidel takes each
+// row's first entry for its diagonal at every solve, so it keeps its own copy in its order: its
+// V-cycle is then symmetric (b . M c = c . M b), which a cycle reading K in mixcon's order is not.
+// Both solve as the direct solver does, also after a setup that keeps the hierarchy and changes the
+// values.
+TEST(HypreMatrix, HierarchyOnKLeavesKAsItWas) {
+  const Mesh mesh = rectangleMesh(2.0, 1.0, 24, 12, ElementType::Quad4);
+  const DofMap dofs = DofMap::serial(mesh.numNodes(), 2);
+  LinearSolverOptions d;
+  d.type = LinearSolverType::Direct;
+  auto direct = makeLinearSolver(d, dofs, MPI_COMM_WORLD);
+  for (AmgSmoother smoother : {AmgSmoother::Chebyshev, AmgSmoother::L1GaussSeidel}) {
+    LinearSolverOptions o = amgOnly();
+    o.smoother = smoother;
+    o.cycle = AmgCycleKind::MixconDouble; // where it applies (Chebyshev): symmetric to 1e-10 too
+    auto s = makeLinearSolver(o, dofs, MPI_COMM_WORLD);
+    const std::string what = smoother == AmgSmoother::Chebyshev ? "Chebyshev" : "Gauss-Seidel";
+    for (double stiffer : {2.0, 3.0}) {
+      const CsrMatrix<Memory> a = squareStiffness(mesh, stiffer);
+      const auto before = entriesOf(a);
+      LinearSolveStats st, ds;
+      const auto x = solveWith(*s, a, st);
+      EXPECT_EQ(entriesOf(a), before) << what << " " << stiffer;
+      EXPECT_TRUE(st.converged) << what << " " << stiffer;
+      EXPECT_LT(relativeDifference2(x, solveWith(*direct, a, ds)), 1e-6) << what << " " << stiffer;
+      const double bc = preconditionedProduct(*s, a.numRows, 1, 2),
+                   cb = preconditionedProduct(*s, a.numRows, 2, 1);
+      EXPECT_LT(std::abs(bc - cb), 1e-10 * std::abs(bc)) << what << " " << stiffer;
+    }
+    EXPECT_EQ(s->builds(), 1) << what;
+    EXPECT_EQ(s->reuses(), 1) << what;
+  }
 }
 
 // On a mesh of as many chunks of 16,384 nodes as the host has threads (up to 4), mixcon's CG
