@@ -13,8 +13,12 @@ displacement moves every point by exactly its displacement and that a Calculator
 components by their labels (xx; in 3D zz, xy, yz, xz and the von Mises stress) gives what the
 HDF5 columns of those names give; then renders the deformed shape with
 examples/render_paraview.py (coloured by stress xx and, for contact runs, by the contact
-pressure) and checks that the PNGs show a coloured, not blank, image. Exit 0 when all holds, 1
-otherwise.
+pressure) and checks that the PNGs show a coloured, not blank, image. The runs KNOWN names (by
+their folder) are checked against known values too: the cell type and the numbers of cells and
+points of their mesh, whether results.h5 holds the mixed model's nodal stress unknowns (then 9
+components per point: displacement 3, stress 6) and values against a closed form (the Tet4
+cantilever's total reaction, Lame's thick sphere for the 3D mixed model). Exit 0 when all holds,
+1 otherwise.
 """
 import json
 import math
@@ -139,6 +143,88 @@ def check_legacy_reader(name, directory, t, stress):
     pv.Delete(legacy)
 
 
+def check_total_reaction(name, t, grid, arrays):
+    """cantilever_3d_tet4: the reactions balance the end shear P = -1 (traction -1 on the 1 x 1
+    face xmax): their sum is (0, 1, 0), and only the clamped nodes (x = 0) carry any."""
+    r = np.asarray(arrays["reaction"])
+    clamped = np.asarray(grid.Points)[:, 0] == 0.0
+    total = r.sum(axis=0)
+    check(np.allclose(total, [0.0, 1.0, 0.0], rtol=0, atol=1e-8),
+          f"{name} t={t}: total reaction {total}, expected (0, 1, 0)")
+    check(clamped.sum() == 9 and np.abs(r[~clamped]).max() < 1e-8,
+          f"{name} t={t}: {clamped.sum()} nodes on x = 0, reaction up to "
+          f"{np.abs(r[~clamped]).max():g} off them")
+    return f"total reaction ({total[0]:.1e}, {total[1]:.9f}, {total[2]:.1e})"
+
+
+def check_lame_sphere(name, t, grid, arrays, a=1.0, b=2.0, p=10.0, e=1000.0, nu=0.3,
+                      tolerance=0.025):
+    """lame_sphere_mixed: Lame's closed form of the pressurized thick sphere (Timoshenko &
+    Goodier, sec. 136; the example's verification and tolerance): the radial displacement and the
+    radial and hoop stresses averaged over the nodes on r = a and on r = b, from ParaView's
+    arrays by their labels (n.sigma.n takes every shear column: a swapped one shows). Stresses
+    within tolerance * p, the displacement within tolerance of its value."""
+    x = np.asarray(grid.Points)
+    r = np.linalg.norm(x, axis=1)
+    n = x / r[:, None]
+    s = {label: np.asarray(arrays["stress"])[:, j] for j, label in enumerate(STRESS_LABELS[3])}
+    sigma = np.array([[s["XX"], s["XY"], s["XZ"]], [s["XY"], s["YY"], s["YZ"]],
+                      [s["XZ"], s["YZ"], s["ZZ"]]])  # 3 x 3 x points
+    sigma_r = np.einsum("pi,ijp,pj->p", n, sigma, n)
+    got = {"u_r": np.sum(np.asarray(arrays["displacement"]) * n, axis=1), "sigma_r": sigma_r,
+           "sigma_theta": 0.5 * (s["XX"] + s["YY"] + s["ZZ"] - sigma_r)}
+    worst = 0.0
+    for radius in (a, b):
+        on = np.abs(r - radius) < 1e-9 * b
+        c, k = p * a**3 / (b**3 - a**3), b**3 / radius**3
+        want = {"u_r": c * radius / e * ((1 - 2 * nu) + (1 + nu) * k / 2),
+                "sigma_r": -c * (k - 1), "sigma_theta": c * (k / 2 + 1)}
+        for q, value in want.items():
+            mean = got[q][on].mean() if on.any() else math.nan
+            error = abs(mean - value) / (abs(value) if q == "u_r" else p)
+            worst = max(worst, error) if math.isfinite(error) else math.inf
+            check(on.sum() == 61 and error <= tolerance,
+                  f"{name} t={t}: {q}(r = {radius}) {mean:g} over {on.sum()} nodes, Lame "
+                  f"{value:g} (error {100 * error:.2f} %)")
+    return f"Lame within {100 * worst:.2f} %"
+
+
+# Known values of runs by their folder (run_paraview_check.py's names): the VTK cell type and the
+# numbers of cells and points ParaView must show, whether the run is the mixed model (results.h5
+# says so in each step's `stress_source`) and a check against a closed form.
+KNOWN = {
+    # 20 x 2 x 2 box cells of 6 Tet4 each; 21 x 3 x 3 nodes.
+    "cantilever_3d_tet4": {"cell_type": 10, "cells": 480, "points": 189, "mixed": False,
+                           "values": check_total_reaction},
+    # 3 cubed-sphere patches of 4 x 4 cells, 4 layers: 192 Hex8; 5 spheres of 61 nodes.
+    "lame_sphere_mixed": {"cell_type": 12, "cells": 192, "points": 305, "mixed": True,
+                          "values": check_lame_sphere},
+}
+MIXED_SOURCE = "nodal stress unknowns of the mixed model"
+
+
+def check_known(name, step, t, grid, arrays, h5):
+    """The run's KNOWN entry; returns what its values check found."""
+    known = KNOWN[name]
+    cell_types = sorted(set(np.asarray(grid.CellTypes).tolist()))
+    check(cell_types == [known["cell_type"]] and grid.GetNumberOfCells() == known["cells"] and
+          grid.GetNumberOfPoints() == known["points"],
+          f"{name} t={t}: VTK cell types {cell_types}, {grid.GetNumberOfCells()} cells, "
+          f"{grid.GetNumberOfPoints()} points; expected type {known['cell_type']}, "
+          f"{known['cells']} cells, {known['points']} points")
+    source = h5[f"steps/{step}"].attrs["stress_source"]
+    source = source.decode() if isinstance(source, bytes) else str(source)
+    check(source.startswith(MIXED_SOURCE) == known["mixed"],
+          f"{name} step {step}: stress_source '{source}', "
+          f"{'' if known['mixed'] else 'not '}expected the mixed model's")
+    if known["mixed"]:
+        per_point = sum(np.asarray(arrays[k]).shape[1] for k in ("displacement", "stress")
+                        if k in arrays)
+        check(per_point == 9, f"{name} t={t}: {per_point} displacement and stress components "
+              "per point, the 3D mixed model has 9 unknowns per node")
+    return known["values"](name, t, grid, arrays)
+
+
 def check_run(directory):
     name = os.path.basename(directory)
     summary = json.load(open(os.path.join(directory, "summary.json")))
@@ -156,6 +242,7 @@ def check_run(directory):
           f"{name}: time steps {times} vs load factors {loads}")
     warp = pv.WarpByVector(Input=reader, Vectors=["POINTS", "displacement"], ScaleFactor=1.0)
     peak_pressure = 0.0
+    found = []
     for step, t in enumerate(times, start=1):
         warp.UpdatePipeline(t)
         grid = leaf(reader)
@@ -205,6 +292,8 @@ def check_run(directory):
         check((dim == 3 or np.all(u[:, 2] == 0.0)) and np.abs(u).max() > 0.0,
               f"{name} t={t}: displacement z not 0 in 2D or displacement all 0")
         check_calculator(name, reader, t, stress, column, dim)
+        if name in KNOWN:
+            found.append(check_known(name, step, t, grid, arrays, h5))
         moved = np.asarray(leaf(warp).Points) - np.asarray(grid.Points)
         check(np.allclose(moved, u, rtol=0, atol=1e-12 * (1 + np.abs(u).max())),
               f"{name} t={t}: warped points differ from reference + displacement by "
@@ -234,7 +323,9 @@ def check_run(directory):
         check(colours > 50 and body > 0.05,
               f"{png}: {colours} colours, {100 * body:.1f} % non-background pixels")
     print(f"{name}: {dim}D, {len(times)} steps, arrays {sorted(expected)}; rendered "
-          + ", ".join(os.path.basename(w) for w in written))
+          + ", ".join(os.path.basename(w) for w in written)
+          + (f"; known values ({'mixed model, ' if KNOWN[name]['mixed'] else ''}VTK cell type "
+             f"{KNOWN[name]['cell_type']}): " + ", ".join(found) if name in KNOWN else ""))
 
 
 for d in sys.argv[1:]:
