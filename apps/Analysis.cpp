@@ -684,8 +684,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     solidMixedModel = std::make_unique<SolidMixedModel>(p.mesh, elementMaterial, solidStiffness,
                                                         p.model.mixed.stabilization);
     solidMixedModel->setIterativeSolver(p.model.mixed.preconditionerTolerance,
-                                        p.model.mixedNewton.restart,
-                                        p.model.mixedNewton.matrixFreeJacobian);
+                                        p.model.mixedNewton.restart, p.model.mixedNewton.jacobian);
     base = solidMixedModel.get();
   } else if (mixed) {
     mixedModel = std::make_unique<MixedModel>(p.mesh, elementMaterial, stiffness, p.model.thickness,

@@ -8,7 +8,7 @@
 // JX/newtonStep: the first Newton iteration of NonlinearMixedModel (block-triangular GMRES,
 // current form, a = 0.05, setup excluded: tangent, preconditioner setup, solve, the next
 // residual and tangent) on a square clamped on the left and displaced on the right, with the
-// assembled or the matrix-free Jacobian (MixedNewtonSolverOptions::matrixFreeJacobian).
+// assembled or the matrix-free Jacobian (MixedNewtonSolverOptions::jacobian).
 #include <bench/BenchMain.hpp>
 #include <kernels/MixedJacobianAction.hpp>
 #include <mesh/Generators.hpp>
@@ -141,7 +141,7 @@ void newtonStep(benchmark::State &state) {
       model.prescribe(k, 1, 0.2);
     }
     MixedNewtonSolverOptions so;
-    so.matrixFreeJacobian = state.range(2) != 0;
+    so.jacobian = state.range(2) != 0 ? JacobianForm::MatrixFree : JacobianForm::Assembled;
     model.setIterativeSolver(so);
     LinearSolverOptions o; // amg
     o.tolerance = 1e-6;

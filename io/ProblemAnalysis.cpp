@@ -237,9 +237,11 @@ void readSolver(const YamlItem &top, Problem &p) {
       // The matrix-free Jacobian serves the block-triangular GMRES without contact or follower
       // pressures (their contributions are assembled); refused where it would not be taken.
       const YamlItem j = s["jacobian"];
-      p.model.mixedNewton.matrixFreeJacobian =
-          j.choice({"assembled", "matrix_free"}) == "matrix_free";
-      if (p.model.mixedNewton.matrixFreeJacobian) {
+      const std::string v = j.choice({"auto", "assembled", "matrix_free"});
+      p.model.mixedNewton.jacobian = v == "matrix_free" ? JacobianForm::MatrixFree
+                                     : v == "assembled" ? JacobianForm::Assembled
+                                                        : JacobianForm::Automatic;
+      if (p.model.mixedNewton.jacobian == JacobianForm::MatrixFree) {
         if (p.model.mixedNewton.method != MixedNewtonSolver::BlockTriangular)
           j.fail("jacobian: matrix_free needs method: block_triangular");
         if (!p.contact.empty())
@@ -273,7 +275,8 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.type = s["type"].choice({"amg", "direct"}) == "direct" ? LinearSolverType::Direct
                                                                       : LinearSolverType::Amg;
     }
-    if (p.model.mixedNewton.matrixFreeJacobian && p.solver.type == LinearSolverType::Direct)
+    if (p.model.mixedNewton.jacobian == JacobianForm::MatrixFree &&
+        p.solver.type == LinearSolverType::Direct)
       s["jacobian"].fail("jacobian: matrix_free needs type: amg (the direct solver factors the "
                          "assembled Jacobian)");
     if (s.has("tolerance"))

@@ -56,8 +56,8 @@ void NonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Comm com
   follower_ = followerLoads();
   matrixFree_ = options.type != LinearSolverType::Direct &&
                 mixedOptions_.method == MixedNewtonSolver::BlockTriangular &&
-                mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0 &&
-                contact_ == nullptr;
+                mixedOptions_.jacobian == JacobianForm::MatrixFree &&
+                follower_.edges.extent(0) == 0 && contact_ == nullptr;
   tangent_ = matrixFree_ ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kMixed);
   const LocalIndex nn = mesh_.numNodes();
   if (matrixFree_) {

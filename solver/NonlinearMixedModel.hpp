@@ -33,7 +33,7 @@ public:
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
   /// Which iterative solve (solver: amg); call before setup().
   void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
-  /// Whether GMRES applies J matrix-free (MixedNewtonSolverOptions::matrixFreeJacobian taken:
+  /// Whether GMRES applies J matrix-free (MixedNewtonSolverOptions::jacobian: matrix-free, taken:
   /// solver amg, block-triangular, no follower loads, no contact); decided in setup().
   bool matrixFree() const { return matrixFree_; }
   /// Inner CG iterations on the stress block in the last correction (solver: amg).

@@ -71,6 +71,26 @@ inline constexpr int kSolidMixedRestart = 100;
 /// issue 20 section 7).
 inline constexpr long kSolidMixedDirectFallback = 55000;
 
+/// How the block-triangular GMRES applies the mixed Jacobian J (MixedNewtonSolverOptions::jacobian;
+/// `solver: {jacobian: ...}`).
+enum class JacobianForm {
+  /// The 3D mixed models: without its matrix where the system has more than
+  /// kSolidMixedDirectFallback unknowns (and it can be taken: solver: amg, no follower pressures),
+  /// as fast or faster and 2.5-3.2x less memory at 1e6 unknowns (docs/performance.md, "The 3D
+  /// mixed Jacobian without its matrix"); assembled below, where the direct LU is the fall back.
+  /// The 2D mixed models: assembled (matrix-free measured 1.4-1.5x slower there).
+  Automatic,
+  Assembled, ///< always assembled
+  MatrixFree ///< without its matrix wherever it can be taken (refused elsewhere by the input)
+};
+
+/// Whether the 3D mixed models apply J without its matrix for `form` on `unknowns` unknowns,
+/// where it can be taken.
+inline bool solidJacobianWithoutMatrix(JacobianForm form, long unknowns) {
+  return form == JacobianForm::MatrixFree ||
+         (form == JacobianForm::Automatic && unknowns > kSolidMixedDirectFallback);
+}
+
 struct MixedNewtonSolverOptions {
   MixedNewtonSolver method = MixedNewtonSolver::BlockTriangular;
   /// BlockTriangular: relative tolerance of the CG on M inside the preconditioner (1e-2: 4-5
@@ -79,13 +99,14 @@ struct MixedNewtonSolverOptions {
   /// BlockTriangular: GMRES restart (vectors of 5 unknowns per node: 2 x restart are stored);
   /// the 3D mixed models' default is kSolidMixedRestart.
   int restart = 30;
-  /// BlockTriangular: GMRES applies the Jacobian matrix-free at the quadrature points
-  /// (kernels/MixedJacobianAction.hpp) at the state of the last tangent evaluation, and J is not
-  /// assembled (its stress rows C and M, and K^L, are assembled on their own). Without follower
-  /// loads only (their Jacobian is assembled); otherwise ignored. Off by default: per Newton step
-  /// measured slower than the assembled J on one thread, but J's CSR (2.7 KB per Quad4, 14 KB per
-  /// Quad8 element) is not stored (docs/performance.md).
-  bool matrixFreeJacobian = false;
+  /// BlockTriangular: whether GMRES applies the Jacobian matrix-free at the quadrature points
+  /// (kernels/MixedJacobianAction.hpp) at the state of the last tangent evaluation, J not
+  /// assembled (2D: its stress rows C and M, and K^L, are assembled on their own; 3D: C and M by
+  /// partial assembly, solver/SolidMixedSolve.hpp). Without follower loads only (their Jacobian is
+  /// assembled); otherwise assembled. 2D: per Newton step measured slower than the assembled J on
+  /// one thread, but J's CSR (2.7 KB per Quad4, 14 KB per Quad8 element) is not stored
+  /// (docs/performance.md).
+  JacobianForm jacobian = JacobianForm::Automatic;
 };
 
 /// How much progress is printed. Quiet: warnings only (active-set cycling, increment cuts,

@@ -75,8 +75,11 @@ void SolidMixedModel::setup(const LinearSolverOptions &options, MPI_Comm comm) {
   checkRigidBodyModes();
   const LocalIndex nn = mesh_.numNodes();
   const NodeGraph graph = buildNodeGraph(mesh_);
-  // jacobian: matrix_free (solver: amg): the operator is applied without its matrix.
-  const bool withoutMatrix = options.type == LinearSolverType::Amg && matrixFreeRequested_;
+  // solver: amg, jacobian: matrix_free or large enough (solidJacobianWithoutMatrix): the operator
+  // is applied without its matrix.
+  const bool withoutMatrix =
+      options.type == LinearSolverType::Amg &&
+      solidJacobianWithoutMatrix(jacobian_, static_cast<long>(kUnknowns) * nn);
   operator_ = withoutMatrix ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph, kUnknowns);
   iterative_.reset(); // holds the products of matrixFree_
   matrixFree_.reset();

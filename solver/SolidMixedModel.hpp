@@ -45,11 +45,13 @@ public:
   void setup(const LinearSolverOptions &options, MPI_Comm comm);
   /// solver: amg: the relative tolerance of the CG on the stress block inside the preconditioner,
   /// the GMRES restart, and whether the operator is applied without its matrix
-  /// (SolidMixedMatrixFree; no fall back to the LU then); call before setup().
-  void setIterativeSolver(double preconditionerTolerance, int restart, bool matrixFree = false) {
+  /// (SolidMixedMatrixFree; no fall back to the LU then): solidJacobianWithoutMatrix of
+  /// `jacobian` (automatic: above kSolidMixedDirectFallback unknowns); call before setup().
+  void setIterativeSolver(double preconditionerTolerance, int restart,
+                          JacobianForm jacobian = JacobianForm::Automatic) {
     preconditionerTolerance_ = preconditionerTolerance;
     restart_ = restart;
-    matrixFreeRequested_ = matrixFree;
+    jacobian_ = jacobian;
   }
   /// Whether the operator is applied without its matrix (set by setup()).
   bool matrixFree() const { return matrixFree_ != nullptr; }
@@ -85,7 +87,7 @@ private:
   /// destroyed after it.
   std::unique_ptr<SolidMixedMatrixFree> matrixFree_;
   std::unique_ptr<SolidMixedSolve> iterative_; ///< solver: amg
-  bool matrixFreeRequested_ = false;
+  JacobianForm jacobian_ = JacobianForm::Automatic;
   LinearSolverOptions options_;
   MPI_Comm comm_ = MPI_COMM_SELF;
   double preconditionerTolerance_ = 1e-2;

@@ -70,8 +70,10 @@ void SolidNonlinearMixedModel::setup(const LinearSolverOptions &options, MPI_Com
   follower_ = followerLoads();
   // jacobian: matrix_free serves the block-triangular GMRES without follower pressures (their
   // load stiffness is assembled).
-  const bool withoutMatrix = options.type != LinearSolverType::Direct &&
-                             mixedOptions_.matrixFreeJacobian && follower_.edges.extent(0) == 0;
+  const bool withoutMatrix =
+      options.type != LinearSolverType::Direct && follower_.edges.extent(0) == 0 &&
+      solidJacobianWithoutMatrix(mixedOptions_.jacobian,
+                                 static_cast<long>(kUnknowns) * mesh_.numNodes());
   tangent_ = withoutMatrix ? CsrMatrix<Memory>{} : expandGraph<Memory>(graph_, kUnknowns);
   iterative_.reset(); // holds the products of matrixFree_
   matrixFree_.reset();

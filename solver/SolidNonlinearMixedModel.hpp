@@ -38,11 +38,12 @@ public:
   /// solver: direct — sparse LU of the Jacobian (not symmetric); amg — flexible GMRES on the
   /// Jacobian with the block-triangular preconditioner of SolidMixedSolve (one BoomerAMG V-cycle
   /// on K^L of the current configuration), falling back to the LU (reported) where it does not
-  /// converge and the fall back is allowed. The Jacobian is assembled, or with
-  /// MixedNewtonSolverOptions::matrixFreeJacobian and no follower pressures applied without
-  /// its matrix (SolidMixedMatrixFree; no fall back then).
+  /// converge and the fall back is allowed. The Jacobian is assembled, or, where
+  /// MixedNewtonSolverOptions::jacobian takes it (solidJacobianWithoutMatrix: matrix_free, or
+  /// auto above kSolidMixedDirectFallback unknowns) and no follower pressures are applied,
+  /// without its matrix (SolidMixedMatrixFree; no fall back then).
   void setup(const LinearSolverOptions &options, MPI_Comm comm) override;
-  /// GMRES restart, the CG tolerance on M and matrixFreeJacobian of solver: amg (method is not
+  /// GMRES restart, the CG tolerance on M and the Jacobian's form of solver: amg (method is not
   /// used); call before setup().
   void setIterativeSolver(const MixedNewtonSolverOptions &o) { mixedOptions_ = o; }
   /// The form (Current, the default, or Incremental) and the incremental form's push-forward of

@@ -8,7 +8,7 @@
 //  - 3D: applyMixedJacobian on two distorted Hex8 elements sharing a face (a hand-made
 //    MeshView<.., 3>), both forms, against mixedElement's element Jacobians assembled by hand
 //    times the direction;
-//  - NonlinearMixedModel with MixedNewtonSolverOptions::matrixFreeJacobian: Newton on a stretched
+//  - NonlinearMixedModel with MixedNewtonSolverOptions::jacobian: Newton on a stretched
 //    and sheared strip (prescribed displacements, both forms, a = 0 and 0.05) takes the same
 //    iterations, residuals and GMRES iterations as the assembled Jacobian and reaches the same
 //    displacements and stresses to 1e-8.
@@ -242,7 +242,7 @@ NewtonRun newton(const Fixture &f, MixedForm form, double a, bool matrixFree) {
   }
   MixedNewtonSolverOptions so;
   so.method = MixedNewtonSolver::BlockTriangular;
-  so.matrixFreeJacobian = matrixFree;
+  so.jacobian = matrixFree ? JacobianForm::MatrixFree : JacobianForm::Assembled;
   model.setIterativeSolver(so);
   LinearSolverOptions o;
   o.type = LinearSolverType::Amg;

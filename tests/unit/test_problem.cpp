@@ -473,7 +473,7 @@ TEST(Problem, ParsesNonlinearMixedSolver) {
   p = parseProblem(replace(y, ", method: schur, stress_block_tolerance: 1e-3", ""), "mixed.yaml",
                    "");
   EXPECT_EQ(p.model.mixedNewton.method, MixedNewtonSolver::BlockTriangular);
-  EXPECT_FALSE(p.model.mixedNewton.matrixFreeJacobian);
+  EXPECT_EQ(p.model.mixedNewton.jacobian, JacobianForm::Automatic);
 }
 
 TEST(Problem, NonlinearMixedMatrixFreeJacobianKeyIsCheckedWhereItCannotBeTaken) {
@@ -493,9 +493,14 @@ TEST(Problem, NonlinearMixedMatrixFreeJacobianKeyIsCheckedWhereItCannotBeTaken) 
   };
   const std::string amg =
       replace(y, "solver: {type: direct}", "solver: {type: amg, jacobian: matrix_free}");
-  EXPECT_TRUE(parseProblem(amg, "mixed.yaml", "").model.mixedNewton.matrixFreeJacobian);
-  EXPECT_FALSE(parseProblem(replace(amg, "matrix_free", "assembled"), "mixed.yaml", "")
-                   .model.mixedNewton.matrixFreeJacobian);
+  EXPECT_EQ(parseProblem(amg, "mixed.yaml", "").model.mixedNewton.jacobian,
+            JacobianForm::MatrixFree);
+  EXPECT_EQ(parseProblem(replace(amg, "matrix_free", "assembled"), "mixed.yaml", "")
+                .model.mixedNewton.jacobian,
+            JacobianForm::Assembled);
+  EXPECT_EQ(parseProblem(replace(amg, "matrix_free", "auto"), "mixed.yaml", "")
+                .model.mixedNewton.jacobian,
+            JacobianForm::Automatic);
   expectInputError(replace(amg, "jacobian: matrix_free", "jacobian: matrix_free, method: schur"),
                    "mixed.yaml:", "needs method: block_triangular");
   expectInputError(replace(amg, "matrix_free", "sparse"), "mixed.yaml:", "jacobian");

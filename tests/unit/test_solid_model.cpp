@@ -392,9 +392,20 @@ TEST(SolidProblem, MatrixFreeJacobianOfThe3DMixedModels) {
     std::string y = replaceText(amg, "materials:", std::string(model) + "materials:");
     if (std::string(model).find("geometric") != std::string::npos)
       y = replaceText(y, "pressure: 2}", "pressure: 2, follower: false}");
-    EXPECT_TRUE(parseProblem(y, "solid.yaml", "").model.mixedNewton.matrixFreeJacobian) << model;
-    EXPECT_FALSE(parseProblem(replaceText(y, "matrix_free", "assembled"), "solid.yaml", "")
-                     .model.mixedNewton.matrixFreeJacobian)
+    EXPECT_EQ(parseProblem(y, "solid.yaml", "").model.mixedNewton.jacobian,
+              JacobianForm::MatrixFree)
+        << model;
+    EXPECT_EQ(parseProblem(replaceText(y, "matrix_free", "assembled"), "solid.yaml", "")
+                  .model.mixedNewton.jacobian,
+              JacobianForm::Assembled)
+        << model;
+    // auto: accepted with the direct solver and follower pressures (the model takes the
+    // assembled J there)
+    EXPECT_EQ(parseProblem(
+                  replaceText(replaceText(y, "matrix_free", "auto"), "type: amg", "type: direct"),
+                  "solid.yaml", "")
+                  .model.mixedNewton.jacobian,
+              JacobianForm::Automatic)
         << model;
     EXPECT_NE(refusal(replaceText(y, "type: amg", "type: direct")).find("needs type: amg"),
               std::string::npos)
