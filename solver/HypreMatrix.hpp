@@ -110,9 +110,10 @@ inline hypre_ParCSRMatrix *serialParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpa
 class DiagonalFirst {
 public:
   explicit DiagonalFirst(const CsrMatrix<DeviceSpace> &a) : a_(a), at_(a.numRows, 0) {
+    Kokkos::fence(); // no kernel still reads or writes `a` (managed memory: written here)
     const auto ro = a_.rowOffsets;
     const auto co = a_.columns;
-    Kokkos::parallel_for("mixcon::solver::diagonalFirst", HostRange(0, a_.numRows),
+    Kokkos::parallel_for("mixcon::solver::findDiagonal", HostRange(0, a_.numRows),
                          [&](LocalIndex i) {
                            for (auto k = ro(i); k < ro(i + 1); ++k)
                              if (co(k) == i)
@@ -139,7 +140,7 @@ private:
     const auto ro = a_.rowOffsets;
     const auto co = a_.columns;
     const auto va = a_.values;
-    Kokkos::parallel_for("mixcon::solver::diagonalFirst", HostRange(0, a_.numRows),
+    Kokkos::parallel_for("mixcon::solver::swapDiagonal", HostRange(0, a_.numRows),
                          [&](LocalIndex i) {
                            if (at_[i] > 0) {
                              std::swap(co(ro(i)), co(ro(i) + at_[i]));
@@ -197,7 +198,12 @@ inline void ownParCsrData(hypre_ParCSRMatrix *m, const CsrMatrix<DeviceSpace> &a
   const auto total = static_cast<std::size_t>(a.numNonzeros());
   hypre_CSRMatrixJ(diag) = hypre_TAlloc(HYPRE_Int, total, HYPRE_MEMORY_HOST);
   hypre_CSRMatrixData(diag) = hypre_TAlloc(HYPRE_Complex, total, HYPRE_MEMORY_HOST);
-  hypre_CSRMatrixOwnsData(diag) = 1;
+  hypre_CSRMatrixOwnsData(diag) = 1; // hypre_ParCSRMatrixDestroy frees what was allocated
+  if (total > 0 && (!hypre_CSRMatrixJ(diag) || !hypre_CSRMatrixData(diag))) {
+    HYPRE_ClearAllErrors();
+    throw std::runtime_error("hypre's matrix: no memory for its copy of " + std::to_string(total) +
+                             " entries");
+  }
   fillSerialParCsr(m, a, 0);
 }
 

@@ -561,8 +561,20 @@ private:
   }
 
   /// The hypre matrix, vectors and a fresh BoomerAMG hierarchy with its Krylov method, from
-  /// matrix_.
+  /// matrix_. Where it throws, nothing of it is kept (hypre's matrix may read matrix_'s own
+  /// arrays, which a kept hierarchy's new values would then be written into): the next setup()
+  /// builds afresh.
   void build() {
+    try {
+      buildHierarchy();
+    } catch (...) {
+      release();
+      rebuild_ = true;
+      throw;
+    }
+  }
+
+  void buildHierarchy() {
     release();
     const CsrMatrix<DeviceSpace> &a = matrix_;
     const HYPRE_BigInt lo = dofs_.ownedBegin, hi = dofs_.ownedEnd() - 1;

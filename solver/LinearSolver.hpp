@@ -166,9 +166,13 @@ class LinearSolver {
 public:
   virtual ~LinearSolver() = default;
   /// Takes the owned rows of the matrix (rows numbered as in the DofMap); keeps what it needs.
-  /// The AMG solver on one rank in host memory reads the matrix's own arrays while it builds its
-  /// hierarchy, each row's diagonal swapped to its front, and swaps them back before it returns
-  /// (the entries are then bit for bit what they were): nothing may read them during the call.
+  /// The solver keeps the matrix's views (not a copy of its values) until the next setup(): the
+  /// arrays must live and keep their values until then. The AMG solver on one rank in host memory
+  /// reads the matrix's own arrays while it builds a hierarchy, each row's diagonal swapped to its
+  /// front, and swaps them back before the call returns (the entries are then bit for bit what
+  /// they were, also where the call throws): nothing may read them during setup(), nor during a
+  /// solve() or strengthen() that rebuilds the hierarchy on them (a kept hierarchy that stopped
+  /// converging, the escalation ladder).
   virtual void setup(const CsrMatrix<DeviceSpace> &a) = 0;
   /// Solves A x = b; x is overwritten (the initial guess is zero).
   virtual LinearSolveStats solve(const Kokkos::View<const double *, DeviceSpace> &b,

@@ -28,6 +28,7 @@ EXAMPLES = ["lame_cylinder", "cantilever/report_displacement", "hertz/hertz_repo
 # cells on 4-node tetrahedra (480 Tet4, 189 nodes) without its verification, which it would fail
 # (mixcon exits 1): Tet4 locks in bending, its end deflection is half of beam theory's.
 DERIVED = {"cantilever_3d_tet4": ("cantilever_3d_tet10", [
+    ("title: Linear 3D cantilever, Tet10", "title: Linear 3D cantilever, Tet4"),
     ("element: tet10}", "element: tet4}"),
     ("\nverification: {type: cantilever", "\n# verification: {type: cantilever")])}
 # Not here: examples/cantilever_3d_large_deflection.yaml. Its 12 steps pass every data check, but

@@ -680,6 +680,10 @@ TEST(HypreMatrix, HierarchyOnKLeavesKAsItWas) {
       const double bc = preconditionedProduct(*s, a.numRows, 1, 2),
                    cb = preconditionedProduct(*s, a.numRows, 2, 1);
       EXPECT_LT(std::abs(bc - cb), 1e-10 * std::abs(bc)) << what << " " << stiffer;
+      // each case on the path it is meant for: mixcon's copy of the cycle, or hypre's own
+      EXPECT_EQ(s->name().find("its V-cycle by mixcon") != std::string::npos,
+                smoother == AmgSmoother::Chebyshev)
+          << what << ": " << s->name();
     }
     EXPECT_EQ(s->builds(), 1) << what;
     EXPECT_EQ(s->reuses(), 1) << what;
