@@ -22,6 +22,7 @@
 #include <solver/Nonlinear.hpp>
 #include <solver/SolidMixedModel.hpp>
 #include <solver/SolidNonlinearMixedModel.hpp>
+#include <support/Convergence.hpp>
 #include <support/SolidMesh.hpp>
 
 #include <Eigen/Dense>
@@ -593,6 +594,19 @@ std::array<double, 2> sphereErrors(ElementType type, int n, bool mixed = false) 
 }
 } // namespace
 
+namespace {
+/// expectConvergence of sphereErrors on `type`'s octant meshes n = coarse, 2 coarse, 4 coarse
+/// (`levels` of them), the displacement or the mixed model; the finest errors.
+std::array<double, 2> expectSphereConverges(ElementType type, int coarse, bool mixed,
+                                            const std::array<double, 2> &lastRates,
+                                            int levels = 3) {
+  return test::expectConvergence(
+      std::string("lame sphere ") + (mixed ? "mixed " : "displacement ") + elementTypeName(type),
+      levels, [&](int level) { return "n = " + std::to_string(coarse << level); },
+      [&](int level) { return sphereErrors(type, coarse << level, mixed); }, lastRates);
+}
+} // namespace
+
 // Thick-walled sphere under internal pressure (issue 17): the nodal displacements and the
 // recovered nodal stresses of the linear displacement model converge to Lame's closed form
 // (Timoshenko & Goodier, Theory of Elasticity, sec. 136) on the octant meshes of the
@@ -618,33 +632,14 @@ TEST(SolidLameSphere, NodalDisplacementsAndStressesOfBothModelsConverge) {
     double displacementRate, stressRate;
     bool mixed;
   };
-  constexpr int kLevels = 3;
   double displacementHex8 = 0.0, mixedHex8 = 0.0; // finest stress errors
   for (const Case &c :
        {Case{ElementType::Hex8, 2, 1.85, 0.7, false}, Case{ElementType::Hex20, 1, 3.5, 1.4, false},
         Case{ElementType::Hex8, 2, 1.3, 1.1, true}, Case{ElementType::Hex20, 1, 2.0, 1.5, true}}) {
-    std::array<double, 2> previous{};
-    for (int level = 0; level < kLevels; ++level) {
-      const int n = c.coarse << level;
-      const auto err = sphereErrors(c.type, n, c.mixed);
-      std::printf("  lame sphere %s %s n = %d: displacement error %.3e, stress error %.3e",
-                  c.mixed ? "mixed" : "displacement", elementTypeName(c.type).c_str(), n, err[0],
-                  err[1]);
-      if (level > 0) {
-        const double ru = std::log2(previous[0] / err[0]), rs = std::log2(previous[1] / err[1]);
-        std::printf(" (rates %.2f, %.2f)", ru, rs);
-        EXPECT_LT(err[0], previous[0]) << elementTypeName(c.type) << " n = " << n;
-        EXPECT_LT(err[1], previous[1]) << elementTypeName(c.type) << " n = " << n;
-        if (level == kLevels - 1) {
-          EXPECT_GT(ru, c.displacementRate) << elementTypeName(c.type) << " n = " << n;
-          EXPECT_GT(rs, c.stressRate) << elementTypeName(c.type) << " n = " << n;
-        }
-      }
-      std::printf("\n");
-      previous = err;
-    }
+    const auto finest =
+        expectSphereConverges(c.type, c.coarse, c.mixed, {c.displacementRate, c.stressRate});
     if (c.type == ElementType::Hex8)
-      (c.mixed ? mixedHex8 : displacementHex8) = previous[1];
+      (c.mixed ? mixedHex8 : displacementHex8) = finest[1];
   }
   EXPECT_LT(mixedHex8, 0.5 * displacementHex8);
 }
@@ -660,26 +655,7 @@ TEST(SolidLameSphere, NodalDisplacementsAndStressesOfBothModelsConverge) {
 TEST(SolidLameSphere, DisplacementTetrahedraConverge) {
   for (const auto &[type, coarse, displacementRate, stressRate] :
        {std::tuple{ElementType::Tet4, 2, 1.2, 0.7}, std::tuple{ElementType::Tet10, 1, 2.0, 1.3}}) {
-    std::array<double, 2> previous{};
-    for (int level = 0; level < 3; ++level) {
-      const int n = coarse << level;
-      const auto err = sphereErrors(type, n, false);
-      std::printf(
-          "  lame sphere displacement %s n = %d: displacement error %.3e, stress error %.3e",
-          elementTypeName(type).c_str(), n, err[0], err[1]);
-      if (level > 0) {
-        const double ru = std::log2(previous[0] / err[0]), rs = std::log2(previous[1] / err[1]);
-        std::printf(" (rates %.2f, %.2f)", ru, rs);
-        EXPECT_LT(err[0], previous[0]) << elementTypeName(type) << " n = " << n;
-        EXPECT_LT(err[1], previous[1]) << elementTypeName(type) << " n = " << n;
-        if (level == 2) {
-          EXPECT_GT(ru, displacementRate) << elementTypeName(type);
-          EXPECT_GT(rs, stressRate) << elementTypeName(type);
-        }
-      }
-      std::printf("\n");
-      previous = err;
-    }
+    expectSphereConverges(type, coarse, false, {displacementRate, stressRate});
   }
 }
 
@@ -695,24 +671,6 @@ TEST(SolidLameSphere, DisplacementTetrahedraConverge) {
 TEST(SolidLameSphere, MixedTetrahedraConverge) {
   for (const auto &[type, coarse, displacementRate, stressRate] :
        {std::tuple{ElementType::Tet4, 2, 1.7, 0.85}, std::tuple{ElementType::Tet10, 1, 2.0, 1.0}}) {
-    std::array<double, 2> previous{};
-    for (int level = 0; level < 3; ++level) {
-      const int n = coarse << level;
-      const auto err = sphereErrors(type, n, true);
-      std::printf("  lame sphere mixed %s n = %d: displacement error %.3e, stress error %.3e",
-                  elementTypeName(type).c_str(), n, err[0], err[1]);
-      if (level > 0) {
-        const double ru = std::log2(previous[0] / err[0]), rs = std::log2(previous[1] / err[1]);
-        std::printf(" (rates %.2f, %.2f)", ru, rs);
-        EXPECT_LT(err[0], previous[0]) << elementTypeName(type) << " n = " << n;
-        EXPECT_LT(err[1], previous[1]) << elementTypeName(type) << " n = " << n;
-        if (level == 2) {
-          EXPECT_GT(ru, displacementRate) << elementTypeName(type);
-          EXPECT_GT(rs, stressRate) << elementTypeName(type);
-        }
-      }
-      std::printf("\n");
-      previous = err;
-    }
+    expectSphereConverges(type, coarse, true, {displacementRate, stressRate});
   }
 }

@@ -8,6 +8,7 @@
 #include <mesh/Generators.hpp>
 #include <solver/DisplacementModel.hpp>
 #include <solver/SolidMixedModel.hpp>
+#include <support/Convergence.hpp>
 
 #include <gtest/gtest.h>
 
@@ -166,29 +167,14 @@ TEST(SolidCantilever, NodalStressesOfBothModelsConvergeToTheElasticitySolution) 
        {Case{ElementType::Hex8, 2, false, 1.8, 0.85}, Case{ElementType::Hex8, 2, true, 1.8, 0.95},
         Case{ElementType::Hex20, 1, false, 3.4, 1.85},
         Case{ElementType::Hex20, 1, true, 2.5, 1.7}}) {
-    const std::string what =
-        std::string(c.mixed ? "mixed " : "displacement ") + elementTypeName(c.type);
-    std::array<double, 2> previous{};
-    for (int level = 0; level < 3; ++level) {
-      const int m = c.coarse << level;
-      const auto err = beam.errors(c.type, m, c.mixed);
-      std::printf("  cantilever %s m = %d: displacement error %.3e, stress error %.3e",
-                  what.c_str(), m, err[0], err[1]);
-      if (level > 0) {
-        const double ru = std::log2(previous[0] / err[0]), rs = std::log2(previous[1] / err[1]);
-        std::printf(" (rates %.2f, %.2f)", ru, rs);
-        EXPECT_LT(err[0], previous[0]) << what << " m = " << m;
-        EXPECT_LT(err[1], previous[1]) << what << " m = " << m;
-        if (level == 2) {
-          EXPECT_GT(ru, c.displacementRate) << what;
-          EXPECT_GT(rs, c.stressRate) << what;
-        }
-      }
-      std::printf("\n");
-      previous = err;
-    }
+    const auto finest = test::expectConvergence(
+        std::string("cantilever ") + (c.mixed ? "mixed " : "displacement ") +
+            elementTypeName(c.type),
+        3, [&](int level) { return "m = " + std::to_string(c.coarse << level); },
+        [&](int level) { return beam.errors(c.type, c.coarse << level, c.mixed); },
+        {c.displacementRate, c.stressRate});
     if (c.type == ElementType::Hex8)
-      (c.mixed ? mixedHex8 : displacementHex8) = previous[1];
+      (c.mixed ? mixedHex8 : displacementHex8) = finest[1];
   }
   EXPECT_LT(mixedHex8, 0.5 * displacementHex8);
 }
