@@ -65,6 +65,42 @@ inline void fillSerialParCsr(hypre_ParCSRMatrix *m, const CsrMatrix<DeviceSpace>
   Kokkos::DefaultHostExecutionSpace().fence();
 }
 
+/// An initialized n x n ParCSR matrix of `total` entries on a communicator of one rank, its row
+/// offsets hypre's (to be filled by the caller), its columns and values `columns` and `values`
+/// where given (read where they are; not hypre's to free) or else hypre's own. The caller
+/// finishes it with finishSerialParCsr and owns it (hypre_ParCSRMatrixDestroy).
+inline hypre_ParCSRMatrix *newSerialParCsr(MPI_Comm comm, LocalIndex n, std::size_t total,
+                                           HYPRE_Int *columns = nullptr,
+                                           HYPRE_Complex *values = nullptr) {
+  if (total > static_cast<std::size_t>(std::numeric_limits<HYPRE_Int>::max()))
+    throw std::runtime_error("hypre's matrix: " + std::to_string(total) +
+                             " entries on one rank exceed hypre's integer type (HYPRE_Int)");
+  HYPRE_BigInt starts[2] = {0, n};
+  hypre_ParCSRMatrix *m =
+      hypre_ParCSRMatrixCreate(comm, n, n, starts, starts, 0, static_cast<HYPRE_Int>(total), 0);
+  hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(m);
+  if (columns) { // Initialize allocates only what is not set
+    hypre_CSRMatrixJ(diag) = columns;
+    hypre_CSRMatrixData(diag) = values;
+    hypre_CSRMatrixOwnsData(diag) = 0;
+  }
+  if (hypre_ParCSRMatrixInitialize(m) != 0) {
+    hypre_ParCSRMatrixDestroy(m);
+    HYPRE_ClearAllErrors(); // as check() in solver/LinearSolver.cpp: the next call starts clean
+    throw std::runtime_error("hypre's matrix: hypre_ParCSRMatrixInitialize failed");
+  }
+  return m;
+}
+
+/// newSerialParCsr's matrix as the IJ assembly leaves it: the nonzero rows of both blocks listed;
+/// the communication package and the global nonzero counts left to hypre (made where it needs
+/// them).
+inline hypre_ParCSRMatrix *finishSerialParCsr(hypre_ParCSRMatrix *m) {
+  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixDiag(m));
+  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
+  return m;
+}
+
 /// hypre's ParCSR matrix of `a` on a communicator of one rank (it owns every row), built in place:
 /// the entries (i, j) that sameComponent(i, j, d) keeps, `counts` of them per row, in a's order
 /// with each row's diagonal swapped to the front. That is the matrix HYPRE_IJMatrixSetValues (after
@@ -80,27 +116,13 @@ inline hypre_ParCSRMatrix *serialParCsr(MPI_Comm comm, const CsrMatrix<DeviceSpa
   std::size_t total = 0;
   for (LocalIndex i = 0; i < n; ++i)
     total += static_cast<std::size_t>(counts[i]);
-  if (total > static_cast<std::size_t>(std::numeric_limits<HYPRE_Int>::max()))
-    throw std::runtime_error("hypre's matrix: " + std::to_string(total) +
-                             " entries on one rank exceed hypre's integer type (HYPRE_Int)");
-  HYPRE_BigInt starts[2] = {0, n};
-  hypre_ParCSRMatrix *m =
-      hypre_ParCSRMatrixCreate(comm, n, n, starts, starts, 0, static_cast<HYPRE_Int>(total), 0);
-  if (hypre_ParCSRMatrixInitialize(m) != 0) {
-    hypre_ParCSRMatrixDestroy(m);
-    HYPRE_ClearAllErrors(); // as check() in solver/LinearSolver.cpp: the next call starts clean
-    throw std::runtime_error("hypre's matrix: hypre_ParCSRMatrixInitialize failed");
-  }
+  hypre_ParCSRMatrix *m = newSerialParCsr(comm, n, total);
   HYPRE_Int *ri = hypre_CSRMatrixI(hypre_ParCSRMatrixDiag(m));
   ri[0] = 0;
   for (LocalIndex i = 0; i < n; ++i)
     ri[i + 1] = ri[i] + counts[i];
   fillSerialParCsr(m, a, d);
-  // as the IJ assembly leaves it: the nonzero rows of both blocks listed; the communication
-  // package and the global nonzero counts left to hypre (made where it needs them)
-  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixDiag(m));
-  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
-  return m;
+  return finishSerialParCsr(m);
 }
 
 /// `a`'s rows in hypre's order, in place, for as long as this lives: each row's diagonal swapped
@@ -164,30 +186,14 @@ inline hypre_ParCSRMatrix *borrowedParCsr(MPI_Comm comm, const CsrMatrix<DeviceS
   static_assert(std::is_same_v<HYPRE_Int, LocalIndex> && std::is_same_v<HYPRE_Complex, double>,
                 "hypre reads mixcon's columns and values as they are");
   const LocalIndex n = a.numRows;
-  const Offset total = a.numNonzeros();
-  if (total > static_cast<Offset>(std::numeric_limits<HYPRE_Int>::max()))
-    throw std::runtime_error("hypre's matrix: " + std::to_string(total) +
-                             " entries on one rank exceed hypre's integer type (HYPRE_Int)");
-  HYPRE_BigInt starts[2] = {0, n};
-  hypre_ParCSRMatrix *m =
-      hypre_ParCSRMatrixCreate(comm, n, n, starts, starts, 0, static_cast<HYPRE_Int>(total), 0);
-  hypre_CSRMatrix *diag = hypre_ParCSRMatrixDiag(m);
-  hypre_CSRMatrixJ(diag) = a.columns.data(); // Initialize allocates only what is not set
-  hypre_CSRMatrixData(diag) = a.values.data();
-  hypre_CSRMatrixOwnsData(diag) = 0;
-  if (hypre_ParCSRMatrixInitialize(m) != 0) {
-    hypre_ParCSRMatrixDestroy(m);
-    HYPRE_ClearAllErrors();
-    throw std::runtime_error("hypre's matrix: hypre_ParCSRMatrixInitialize failed");
-  }
-  HYPRE_Int *ri = hypre_CSRMatrixI(diag);
+  hypre_ParCSRMatrix *m = newSerialParCsr(comm, n, static_cast<std::size_t>(a.numNonzeros()),
+                                          a.columns.data(), a.values.data());
+  HYPRE_Int *ri = hypre_CSRMatrixI(hypre_ParCSRMatrixDiag(m));
   const auto ro = a.rowOffsets;
   Kokkos::parallel_for("mixcon::solver::borrowedParCsr", HostRange(0, n + 1),
                        [&](LocalIndex i) { ri[i] = static_cast<HYPRE_Int>(ro(i)); });
   Kokkos::DefaultHostExecutionSpace().fence();
-  hypre_CSRMatrixSetRownnz(diag);
-  hypre_CSRMatrixSetRownnz(hypre_ParCSRMatrixOffd(m));
-  return m;
+  return finishSerialParCsr(m);
 }
 
 /// borrowedParCsr's matrix `m` of `a` (in a's own order again) given its own copy of a's entries

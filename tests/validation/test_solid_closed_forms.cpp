@@ -194,30 +194,24 @@ TEST(SolidExtrudedPlate, IsThePlaneStressPlateNodeForNodeAtNuZero) {
   for (const auto &[section, layers] :
        {std::pair{ElementType::Quad4, 1}, std::pair{ElementType::Quad4, 2},
         std::pair{ElementType::Quad8, 1}}) {
+    // symmetry on x = 0, y = 0 (and z = 0 in 3D), the tension on x = w; solved
+    const auto solve = [&](LinearDisplacementModel &m, const Mesh &mesh) {
+      for (int i = 0; i < mesh.dim(); ++i)
+        for (LocalIndex k : mesh.nodesOf(i == 0 ? "left" : i == 1 ? "bottom" : "zmin"))
+          m.prescribe(k, i, 0.0);
+      m.addSideLoad(mesh.boundaries.at("right"), {sx, 0.0, 0.0}, 0.0);
+      m.setup(direct, MPI_COMM_WORLD);
+      return m.solve(1.0).converged;
+    };
     const Mesh plane = plateWithHoleMesh(a, w, w, 6, 6, section, 1.3);
     LinearDisplacementModel flat(plane, std::vector<int>(plane.numElements(), 0),
                                  {isotropicStiffness(e, 0.0, PlaneAnalysis::PlaneStress)}, t);
-    for (LocalIndex k : plane.nodesOf("left"))
-      flat.prescribe(k, 0, 0.0);
-    for (LocalIndex k : plane.nodesOf("bottom"))
-      flat.prescribe(k, 1, 0.0);
-    flat.addSideLoad(plane.boundaries.at("right"), {sx, 0.0, 0.0}, 0.0);
-    flat.setup(direct, MPI_COMM_WORLD);
-    ASSERT_TRUE(flat.solve(1.0).converged);
-
+    ASSERT_TRUE(solve(flat, plane));
     const Mesh solid = extrudeMesh(plane, t, layers);
     validateMesh(solid);
     LinearDisplacementModel model(solid, std::vector<int>(solid.numElements(), 0),
                                   {IsotropicMaterial{e, 0.0}.stiffness()});
-    for (LocalIndex k : solid.nodesOf("left"))
-      model.prescribe(k, 0, 0.0);
-    for (LocalIndex k : solid.nodesOf("bottom"))
-      model.prescribe(k, 1, 0.0);
-    for (LocalIndex k : solid.nodesOf("zmin"))
-      model.prescribe(k, 2, 0.0);
-    model.addSideLoad(solid.boundaries.at("right"), {sx, 0.0, 0.0}, 0.0);
-    model.setup(direct, MPI_COMM_WORLD);
-    ASSERT_TRUE(model.solve(1.0).converged);
+    ASSERT_TRUE(solve(model, solid));
 
     // the 2D node at each solid node's (x, y)
     std::map<std::pair<long, long>, LocalIndex> at;
