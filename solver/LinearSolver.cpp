@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -96,6 +97,9 @@ double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
 /// it at every V-cycle; larger ones (the escalation ladder) by the inverse formed at setup (relax
 /// type 199): 1.1 s against 27 s per load step of the L/h = 100 cantilever with 4000.
 constexpr int kGaussEliminationSize = 100;
+/// A coarse level whose diagonal spreads this many times more than the fine level's is unsound
+/// (LinearSolver's unsoundInterpolation: sound hierarchies measured at most 4e4, unsound 1e30).
+constexpr double kUnsoundSpreadGrowth = 1e10;
 
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
 
@@ -509,6 +513,60 @@ private:
     return true;
   }
 
+  /// Why the hierarchy just built with interpolation vectors is unsound, or empty. With hypre's
+  /// GM variants, the coarse matrices of some meshes (thin Hex8 and Hex20 plates, the Lame sphere
+  /// and cylinder: docs/performance.md, issue 20 section 1c) come out with diagonals from 1e-34 to
+  /// 1e49, or zero, where a Galerkin product of an SPD matrix has a positive diagonal of the fine
+  /// level's magnitudes: a V-cycle on them loses everything in single precision (CG ends on a NaN)
+  /// and converges slowly in double. Sound hierarchies measured a coarse diagonal spread (largest
+  /// over smallest) at most 4e4 times the fine level's (the 2D slender strips; 1.8e3 in 3D), the
+  /// unsound ones 1e30 and more. Host-resident hierarchies only (a GPU hypre keeps its levels in
+  /// device memory: not checked there).
+  std::string unsoundInterpolation() const {
+    if (rotations_.empty() || kGpuHypre)
+      return {};
+    auto *data = reinterpret_cast<hypre_ParAMGData *>(amg_);
+    const int nl = hypre_ParAMGDataNumLevels(data);
+    hypre_ParCSRMatrix **levels = hypre_ParAMGDataAArray(data);
+    double fine = 0.0;
+    for (int l = 0; l < nl; ++l) {
+      // The smallest and the largest diagonal entry of the level (min as -max for one reduction);
+      // a zero, negative or non-finite one counts as 0.
+      double range[2] = {-std::numeric_limits<double>::infinity(), 0.0};
+      const hypre_CSRMatrix *d = hypre_ParCSRMatrixDiag(levels[l]);
+      const HYPRE_Int *ro = hypre_CSRMatrixI(d);
+      const HYPRE_Int *co = hypre_CSRMatrixJ(d);
+      const HYPRE_Complex *va = hypre_CSRMatrixData(d);
+      for (HYPRE_Int i = 0; i < hypre_CSRMatrixNumRows(d); ++i) {
+        double aii = 0.0;
+        for (HYPRE_Int k = ro[i]; k < ro[i + 1]; ++k)
+          if (co[k] == i) {
+            aii = va[k];
+            break;
+          }
+        if (!(aii > 0.0) || !std::isfinite(aii))
+          aii = 0.0;
+        range[0] = std::max(range[0], -aii);
+        range[1] = std::max(range[1], aii);
+      }
+      MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_DOUBLE, MPI_MAX, comm_);
+      if (range[1] == 0.0) // no rows on any rank
+        continue;
+      if (range[0] == 0.0 && l > 0)
+        return "has a zero or negative diagonal entry on level " + std::to_string(l);
+      const double spread = range[1] / -range[0];
+      if (l == 0)
+        fine = spread;
+      else if (!(spread <= kUnsoundSpreadGrowth * fine)) {
+        std::ostringstream o;
+        o << "is singular to working precision (diagonal entries from " << std::setprecision(2)
+          << -range[0] << " to " << range[1] << " on level " << l << ")";
+        return o.str();
+      }
+    }
+    return {};
+  }
+
   bool willUseRotations() const {
     const int dim = dofs_.dofsPerNode;
     return options_.rigidBodyModes && !separate() && variant_ > 0 && (dim == 2 || dim == 3) &&
@@ -657,6 +715,13 @@ private:
       borrowed->restore();
     if (retried(setupError, parP_ ? "BoomerAMG setup (separate components)" : "BoomerAMG setup"))
       return;
+    if (const std::string why = unsoundInterpolation(); !why.empty()) {
+      appendNote(setupNote_, "BoomerAMG's hierarchy with rigid-body interpolation vectors " + why +
+                                 ": built without them");
+      variant_ = 0; // for the rest of the run, as retried()
+      build();
+      return;
+    }
     copyCycle();
     if (cycle_) {
       finishBuild(); // releases parA_, which never held a copy
