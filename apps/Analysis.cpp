@@ -79,6 +79,14 @@ std::string nodalStressSource(ElementType type) {
   });
 }
 
+/// The problem's note on the AMG defaults it chose (Problem::solverDefaultsNote) as a log line,
+/// where the AMG runs; else empty.
+std::string solverDefaultsLine(const Problem &p) {
+  if (p.solverDefaultsNote.empty() || p.solver.type != LinearSolverType::Amg)
+    return {};
+  return "mixcon: " + p.solverDefaultsNote + "\n";
+}
+
 std::string modelLine(const Problem &p, const ModelBase &model, bool mixed) {
   const int perNode = !mixed              ? p.mesh.dim()
                       : p.mesh.dim() == 3 ? FieldLayout<3>::kMixedUnknowns
@@ -439,7 +447,8 @@ RunResult runNonlinear(const Problem &p, const RunOptions &options, MPI_Comm com
   if (log)
     *log << "mixcon: " << iterationMethodName(p.nonlinear.method) << " iterations, epsilon "
          << p.nonlinear.tolerance << ", residual tolerance " << p.nonlinear.residualTolerance
-         << ", linear solver " << model.solverName() << "\n";
+         << ", linear solver " << model.solverName() << "\n"
+         << solverDefaultsLine(p);
   LoadStepper stepper(model, plan[0].nonlinear, warn, options.verbosity);
   const int nsteps = static_cast<int>(steps.size());
   const int nstages = static_cast<int>(plan.size());
@@ -718,7 +727,7 @@ RunResult runAnalysis(const Problem &p, const RunOptions &options, MPI_Comm comm
     char seconds[96]; // the solver's name apart: it can be longer than any fixed buffer
     std::snprintf(seconds, sizeof seconds, "mixcon: assembly %.3f s, solver setup %.3f s (",
                   model.assemblySeconds(), model.solverSetupSeconds());
-    *log << seconds << model.solverName() << ")\n";
+    *log << seconds << model.solverName() << ")\n" << solverDefaultsLine(p);
   }
   const double setupCharged = model.assemblySeconds() + model.solverSetupSeconds();
   const int nsteps = static_cast<int>(p.loadFactors.size());

@@ -149,6 +149,9 @@ struct Problem {
   /// Displacement model: the tangent of the iterations (steps: tangent).
   TangentKind tangent = TangentKind::Exact;
   LinearSolverOptions solver;
+  /// Why the solver's defaults were chosen as they were where the problem decided it (the 3D AMG
+  /// settings of a thin or a bulky part); printed with the solver's set-up. Empty: nothing to say.
+  std::string solverDefaultsNote;
   std::string outputDirectory = "out";
   bool writeHdf5 = true;
   VerificationSpec verification;

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace mixcon::detail {
 
@@ -13,6 +15,12 @@ namespace {
 
 /// Most load steps `increments` may ask for (their load factors are stored up front).
 constexpr int kMaxIncrements = 1000000;
+
+/// Parts at least this many element sizes thick (elementLayers) take the bulky parts' 3D AMG
+/// defaults (readSolver): the shipped examples, all better without aggressive coarsening, measured
+/// 0.57 to 2.9; the meshes where it paid 4 (a Hex20 box of 12^3: 0.84 against 0.94 s), 4.4 (a Hex8
+/// plate of 8 layers: 2.9 against 5.8 s) and more (docs/performance.md, issue 20 section 1c).
+constexpr double kBulkyLayers = 3.5;
 
 } // namespace
 
@@ -121,20 +129,37 @@ void readSolver(const YamlItem &top, Problem &p) {
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;
   if (p.mesh.dim() == 3 && !solidMixed) {
-    // 3D AMG defaults (the cube N^3 of docs/performance.md: with the 2D ones the setup is 82% of
-    // the run at N = 64 and N = 100 does not fit 24 GB; one aggressive level with truncated
-    // interpolation cut the run 7.4x at N = 32, for 17-22 instead of 10-11 PCG iterations). Not
-    // the 3D mixed model's V-cycle on K^L inside its GMRES: faster on large compact meshes (2.6x
-    // on a 24^3 cube) but with the threaded hypre a small cantilever took 1000 iterations or did
-    // not converge, against 52-173 with BoomerAMG's defaults (docs/performance.md).
-    p.solver.aggressiveLevels = 1;
+    // 3D AMG defaults by the part's thickness in elements (elementLayers). Bulky parts (the cube
+    // N^3 of docs/performance.md: with the 2D settings the setup is 82% of the run at N = 64 and
+    // N = 100 does not fit 24 GB) take one level of aggressive coarsening with truncated
+    // interpolation (7.4x faster at N = 32, for 17-22 instead of 10-11 PCG iterations) and
+    // Chebyshev of order 1 (two products per level and V-cycle instead of four: 1.15-1.5x the
+    // iterations, a 1.13-1.6x faster solve on the Hex8 cube and on Hex20 and Tet10 boxes, issue
+    // 17 table 3n). Thin parts (plates, shells, bars: a few elements through their thinnest
+    // direction) keep hypre's order 2 without aggressive coarsening, which merges their few layers
+    // (kBulkyLayers): the shipped 3D examples take 1.6-3.0x fewer iterations with it, a Hex20
+    // plate with a hole of 68,715 unknowns 65 instead of 171 (2.86 against 2.95 s), one of 268,731
+    // unknowns 58 instead of 144, far from the escalation ladder's bound of 100 (which would send
+    // a Newton run's later setups to the coarse space), for 1.2x the time of that one solve (10.1
+    // against 8.5 s) and 1.5x its memory (docs/performance.md, issue 20 section 1c). Not the 3D
+    // mixed model's V-cycle on K^L inside its GMRES: faster on large compact meshes (2.6x on a
+    // 24^3 cube) but with the threaded hypre a small cantilever took 1000 iterations or did not
+    // converge, against 52-173 with BoomerAMG's defaults (docs/performance.md).
+    const double layers = elementLayers(p.mesh);
     p.solver.interpolationMaxElements = 4;
-    // Chebyshev of order 1 (two products per level and V-cycle instead of four): 1.15-1.5x the
-    // PCG iterations, but a 1.13-1.6x faster solve on the Hex8 cube (N = 48 to 100, with both
-    // BoomerAMG matrices) and on Hex20 and Tet10 boxes of 285k and 353k unknowns
-    // (docs/performance.md, issue 17 table 3n). Not the 3D mixed model, whose iterations cost more
-    // than its V-cycle.
-    p.solver.chebyshevOrder = 1;
+    std::ostringstream note;
+    note << std::setprecision(2) << "3D AMG settings for a "
+         << (layers < kBulkyLayers ? "thin" : "bulky") << " part (" << layers
+         << " element sizes thick, 2 volume / (surface x element size)";
+    if (layers >= kBulkyLayers) {
+      p.solver.aggressiveLevels = 1;
+      p.solver.chebyshevOrder = 1;
+      note << "): one level of aggressive coarsening, Chebyshev of order 1";
+    } else {
+      note << ", fewer than " << kBulkyLayers
+           << "): no aggressive coarsening, Chebyshev of order 2";
+    }
+    p.solverDefaultsNote = note.str();
   }
   if (solidMixed)
     p.model.mixedNewton.restart = kSolidMixedRestart;
@@ -298,6 +323,10 @@ void readSolver(const YamlItem &top, Problem &p) {
       if (!(p.solver.strongThreshold >= 0.0 && p.solver.strongThreshold < 1.0))
         s["strong_threshold"].fail("the AMG strength threshold must lie in [0, 1)");
     }
+    // the thin or bulky part's defaults given otherwise: no note on them
+    for (const char *key : {"aggressive_levels", "chebyshev_order", "interpolation_max_elements"})
+      if (s.has(key))
+        p.solverDefaultsNote.clear();
     if (s.has("aggressive_levels"))
       p.solver.aggressiveLevels = count("aggressive_levels", 0);
     if (s.has("print_level"))

@@ -2,8 +2,10 @@
 #include <mesh/Mesh.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace mixcon {
 
@@ -377,6 +379,68 @@ void validateMesh(const Mesh &mesh) {
       throw InputError(mesh.source + ": node " + std::to_string(mesh.nodeIds[n]) +
                        " is used by no element (it would have no stiffness); remove it from the "
                        "mesh or connect it to an element");
+}
+
+double elementLayers(const Mesh &mesh) {
+  if (mesh.dim() != 3 || mesh.numElements() == 0)
+    return 0.0;
+  return dispatchSolidElement(mesh.elementType, "elementLayers", [&](auto elem) {
+    using Elem = decltype(elem);
+    // a face's corners: the first 4 of a quadrilateral side (4 or 8 nodes), else the first 3
+    constexpr int corners = Elem::kNodesPerSide % 4 == 0 ? 4 : 3;
+    struct Face {
+      std::array<LocalIndex, 4> key; // sorted corners (-1 past a triangle's 3)
+      LocalIndex element;
+      int side;
+    };
+    std::vector<Face> faces;
+    faces.reserve(static_cast<std::size_t>(mesh.numElements()) * Elem::kNumSides);
+    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
+      for (int f = 0; f < Elem::kNumSides; ++f) {
+        Face face{{-1, -1, -1, -1}, e, f};
+        for (int k = 0; k < corners; ++k)
+          face.key[k] = mesh.node(e, Elem::sideNode(f, k));
+        std::sort(face.key.begin(), face.key.begin() + corners);
+        faces.push_back(face);
+      }
+    std::sort(faces.begin(), faces.end(),
+              [](const Face &a, const Face &b) { return a.key < b.key; });
+    // Over the boundary faces: A, and V = (1/3) sum of x . n A (the divergence theorem; the
+    // faces' corners run counter-clockwise seen from outside).
+    double area = 0.0, volume = 0.0;
+    for (std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i + 1;
+      while (j < faces.size() && faces[j].key == faces[i].key)
+        ++j;
+      if (j == i + 1) {
+        double x[4][3];
+        for (int k = 0; k < corners; ++k)
+          for (int c = 0; c < 3; ++c)
+            x[k][c] =
+                mesh.coordinate(mesh.node(faces[i].element, Elem::sideNode(faces[i].side, k)), c);
+        // twice the vector area: the diagonals' cross product (a quadrilateral), the edges' (a
+        // triangle)
+        const int p = corners == 4 ? 3 : 2;
+        double d0[3], d1[3], n[3], centre[3] = {0.0, 0.0, 0.0};
+        for (int c = 0; c < 3; ++c) {
+          d0[c] = x[corners == 4 ? 2 : 1][c] - x[0][c];
+          d1[c] = x[p][c] - x[corners == 4 ? 1 : 0][c];
+          for (int k = 0; k < corners; ++k)
+            centre[c] += x[k][c] / corners;
+        }
+        n[0] = 0.5 * (d0[1] * d1[2] - d0[2] * d1[1]);
+        n[1] = 0.5 * (d0[2] * d1[0] - d0[0] * d1[2]);
+        n[2] = 0.5 * (d0[0] * d1[1] - d0[1] * d1[0]);
+        area += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        volume += (centre[0] * n[0] + centre[1] * n[1] + centre[2] * n[2]) / 3.0;
+      }
+      i = j;
+    }
+    const double cells = Elem::kSimplex ? mesh.numElements() / 6.0 : mesh.numElements();
+    if (!(volume > 0.0) || !(area > 0.0))
+      return 0.0;
+    return 2.0 * volume / (area * std::cbrt(volume / cells));
+  });
 }
 
 } // namespace mixcon

@@ -109,6 +109,15 @@ double signedArea(const Mesh &mesh, LocalIndex element);
 /// are taken from the elements. Returns the number of elements reoriented.
 LocalIndex orientCounterClockwise(Mesh &mesh);
 
+/// How thick a solid mesh is, counted in elements: 2 V / (A h), with V the volume and A the
+/// area of its boundary (the faces that only one element has, each the flat polygon of its
+/// corners) and h = (V / n)^(1/3) the edge of a cube holding an element's share of the volume
+/// (n the elements; a tetrahedron counts as a sixth of a cube). A plate of k layers of cubic
+/// elements gives about k, a cube of N^3 elements N / 3, a bar of k x k elements through its
+/// section about k / 2: it falls with the elements through the thinnest direction, and with
+/// their flatness. Meshes of the 3D solids only (0 for another or an empty mesh).
+double elementLayers(const Mesh &mesh);
+
 /// Natural coordinates (xi, eta) of the point (x, y) in an element (Newton on the isoparametric
 /// map from the centre); false when it does not converge (a point far outside).
 bool naturalCoordinates(const Mesh &mesh, LocalIndex element, double x, double y, double &xi,

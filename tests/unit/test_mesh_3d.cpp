@@ -439,6 +439,21 @@ TEST(ExtrudeMesh, SweepsQuadsIntoHexahedraWithTheirBoundariesAndNodeSets) {
                GeneratorError);
 }
 
+// elementLayers = 2 V / (A h), h = (V / n)^(1/3) (a tetrahedron a sixth of a cube): N / 3 for a
+// cube of N^3 elements of every solid type (the Tet meshes cut each cell into 6), k L / (L + 2 t)
+// for a plate L x L x t of k layers of cubes, the same for the mesh moved anywhere.
+TEST(ElementLayers, CountsTheElementsThroughAPart) {
+  for (ElementType type :
+       {ElementType::Hex8, ElementType::Hex20, ElementType::Tet4, ElementType::Tet10}) {
+    EXPECT_NEAR(elementLayers(boxMesh(1.0, 1.0, 1.0, 6, 6, 6, type)), 2.0, 1e-12)
+        << elementTypeName(type);
+    EXPECT_NEAR(elementLayers(boxMesh(10.0, 10.0, 1.0, 20, 20, 2, type, 100.0, -50.0, 7.0)),
+                2.0 * 10.0 / 12.0, 1e-12)
+        << elementTypeName(type);
+  }
+  EXPECT_EQ(elementLayers(rectangleMesh(1.0, 1.0, 2, 2, ElementType::Quad4)), 0.0); // not a solid
+}
+
 TEST(BoxMesh, GradingSetsTheFirstElementSize) {
   const double lx = 2.0, ly = 1.0, lz = 4.0, gx = 1.5, gy = 2.0, gz = 1.2;
   const int nx = 5, ny = 4, nz = 3;
