@@ -2,6 +2,7 @@
 // iterations, the linear solver and the mixed model's solve settings, the closed form a run is
 // checked against (io/ProblemReader.hpp). Data flow: io (input side).
 #include <io/ProblemReader.hpp>
+#include <mesh/Mesh.hpp>
 #include <solver/Rules.hpp>
 
 #include <algorithm>
@@ -113,6 +114,56 @@ bool mixedInIteratingDriver(const Problem &p) {
          (p.model.geometricNonlinearity || !p.contact.empty() || !p.stages.empty());
 }
 
+namespace {
+
+/// The 3D displacement model's AMG settings by the part's thickness in elements (elementLayers),
+/// where the solver keys leave them, and the note that says which (Problem::solverDefaultsNote).
+/// Bulky parts (the cube N^3 of docs/performance.md: with the 2D settings the setup is 82% of the
+/// run at N = 64 and N = 100 does not fit 24 GB) take one level of aggressive coarsening (with the
+/// truncated interpolation: 7.4x faster at N = 32, for 17-22 instead of 10-11 PCG iterations) and
+/// Chebyshev of order 1 (two products per level and V-cycle instead of four: 1.15-1.5x the
+/// iterations, a 1.13-1.6x faster solve on the Hex8 cube and on Hex20 and Tet10 boxes, issue 17
+/// table 3n). Thin parts (plates, shells, bars: a few elements through their thinnest direction)
+/// keep hypre's order 2 without aggressive coarsening, which merges their few layers: the shipped
+/// 3D examples take 1.5-2.5x fewer iterations with it, a Hex20 plate with a hole of 68,715
+/// unknowns 65 instead of 171 (3.09 against 2.91 s), one of 268,731 unknowns 58 instead of 144,
+/// far from the escalation ladder's bound of 100 (which would send a Newton run's later setups to
+/// the coarse space), for 1.2x the time of that one solve (10.4 against 8.6 s) and 1.5x its
+/// memory (docs/performance.md, issue 20 section 1c). Not for the 3D mixed model, whose V-cycle on
+/// K^L inside its GMRES keeps BoomerAMG's defaults: with the bulky settings a large compact mesh
+/// solved 2.6x faster (a 24^3 cube), but with the threaded hypre a small cantilever took 1000
+/// iterations or did not converge, against 52-173 (docs/performance.md).
+void thicknessDefaults(const YamlItem &top, Problem &p) {
+  const auto given = [&](const char *key) { return top.has("solver") && top["solver"].has(key); };
+  const bool aggressive = !given("aggressive_levels"), order = !given("chebyshev_order");
+  if (!aggressive && !order)
+    return;
+  const double layers = elementLayers(p.mesh);
+  const bool bulky = layers >= kBulkyLayers;
+  std::ostringstream note;
+  note << std::fixed << std::setprecision(2) << "3D AMG settings for a "
+       << (bulky ? "bulky" : "thin") << " part (" << layers
+       << " element sizes thick, 2 volume / (surface x element size), "
+       << (bulky ? "at least " : "below ") << std::setprecision(1) << kBulkyLayers << "):";
+  bool said = false; // the note names only what the rule set and the solver uses
+  if (aggressive) {
+    p.solver.aggressiveLevels = bulky ? 1 : 0;
+    note << (bulky ? " one level of aggressive coarsening" : " no aggressive coarsening");
+    said = true;
+  }
+  if (order) {
+    p.solver.chebyshevOrder = bulky ? 1 : 2;
+    if (resolvedSmoother(p.solver.smoother) == AmgSmoother::Chebyshev) {
+      note << (said ? "," : "") << " Chebyshev of order " << p.solver.chebyshevOrder;
+      said = true;
+    }
+  }
+  if (said)
+    p.solverDefaultsNote = note.str();
+}
+
+} // namespace
+
 void readSolver(const YamlItem &top, Problem &p) {
   const bool nonlinearMixed =
       p.model.geometricNonlinearity && p.model.formulation == Formulation::Mixed;
@@ -128,39 +179,11 @@ void readSolver(const YamlItem &top, Problem &p) {
     p.solver.type = LinearSolverType::Direct;
   if (solidMixed)
     p.solver.directFallbackUnknowns = kSolidMixedDirectFallback;
-  if (p.mesh.dim() == 3 && !solidMixed) {
-    // 3D AMG defaults by the part's thickness in elements (elementLayers). Bulky parts (the cube
-    // N^3 of docs/performance.md: with the 2D settings the setup is 82% of the run at N = 64 and
-    // N = 100 does not fit 24 GB) take one level of aggressive coarsening with truncated
-    // interpolation (7.4x faster at N = 32, for 17-22 instead of 10-11 PCG iterations) and
-    // Chebyshev of order 1 (two products per level and V-cycle instead of four: 1.15-1.5x the
-    // iterations, a 1.13-1.6x faster solve on the Hex8 cube and on Hex20 and Tet10 boxes, issue
-    // 17 table 3n). Thin parts (plates, shells, bars: a few elements through their thinnest
-    // direction) keep hypre's order 2 without aggressive coarsening, which merges their few layers
-    // (kBulkyLayers): the shipped 3D examples take 1.6-3.0x fewer iterations with it, a Hex20
-    // plate with a hole of 68,715 unknowns 65 instead of 171 (2.86 against 2.95 s), one of 268,731
-    // unknowns 58 instead of 144, far from the escalation ladder's bound of 100 (which would send
-    // a Newton run's later setups to the coarse space), for 1.2x the time of that one solve (10.1
-    // against 8.5 s) and 1.5x its memory (docs/performance.md, issue 20 section 1c). Not the 3D
-    // mixed model's V-cycle on K^L inside its GMRES: faster on large compact meshes (2.6x on a
-    // 24^3 cube) but with the threaded hypre a small cantilever took 1000 iterations or did not
-    // converge, against 52-173 with BoomerAMG's defaults (docs/performance.md).
-    const double layers = elementLayers(p.mesh);
+  // The 3D displacement model's AMG: truncated interpolation (the cube N^3 of docs/performance.md);
+  // the rest by the part's thickness (thicknessDefaults, after the keys).
+  const bool solidDisplacement = p.mesh.dim() == 3 && !solidMixed;
+  if (solidDisplacement)
     p.solver.interpolationMaxElements = 4;
-    std::ostringstream note;
-    note << std::setprecision(2) << "3D AMG settings for a "
-         << (layers < kBulkyLayers ? "thin" : "bulky") << " part (" << layers
-         << " element sizes thick, 2 volume / (surface x element size)";
-    if (layers >= kBulkyLayers) {
-      p.solver.aggressiveLevels = 1;
-      p.solver.chebyshevOrder = 1;
-      note << "): one level of aggressive coarsening, Chebyshev of order 1";
-    } else {
-      note << ", fewer than " << kBulkyLayers
-           << "): no aggressive coarsening, Chebyshev of order 2";
-    }
-    p.solverDefaultsNote = note.str();
-  }
   if (solidMixed)
     p.model.mixedNewton.restart = kSolidMixedRestart;
   if (top.has("solver")) {
@@ -323,10 +346,6 @@ void readSolver(const YamlItem &top, Problem &p) {
       if (!(p.solver.strongThreshold >= 0.0 && p.solver.strongThreshold < 1.0))
         s["strong_threshold"].fail("the AMG strength threshold must lie in [0, 1)");
     }
-    // the thin or bulky part's defaults given otherwise: no note on them
-    for (const char *key : {"aggressive_levels", "chebyshev_order", "interpolation_max_elements"})
-      if (s.has(key))
-        p.solverDefaultsNote.clear();
     if (s.has("aggressive_levels"))
       p.solver.aggressiveLevels = count("aggressive_levels", 0);
     if (s.has("print_level"))
@@ -381,6 +400,8 @@ void readSolver(const YamlItem &top, Problem &p) {
       p.solver.directFallbackUnknowns = 0;
   }
 
+  if (solidDisplacement && p.solver.type == LinearSolverType::Amg)
+    thicknessDefaults(top, p);
   if (const auto why = rules::mixedContactSolver(p.model.formulation == Formulation::Mixed,
                                                  !p.contact.empty(), p.solver.type))
     top["solver"]["type"].fail(*why);

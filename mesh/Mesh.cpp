@@ -386,55 +386,66 @@ double elementLayers(const Mesh &mesh) {
     return 0.0;
   return dispatchSolidElement(mesh.elementType, "elementLayers", [&](auto elem) {
     using Elem = decltype(elem);
-    // a face's corners: the first 4 of a quadrilateral side (4 or 8 nodes), else the first 3
-    constexpr int corners = Elem::kNodesPerSide % 4 == 0 ? 4 : 3;
-    struct Face {
-      std::array<LocalIndex, 4> key; // sorted corners (-1 past a triangle's 3)
-      LocalIndex element;
-      int side;
+    constexpr int kCorners = Elem::kSimplex ? 3 : 4; // a face's corners: its first side nodes
+    const std::size_t faces = static_cast<std::size_t>(mesh.numElements()) * Elem::kNumSides;
+    // face F = element * kNumSides + side: its corners sorted (the last unused on a triangle)
+    const auto key = [&](std::size_t face) {
+      std::array<LocalIndex, 4> k{-1, -1, -1, -1};
+      const LocalIndex e = static_cast<LocalIndex>(face / Elem::kNumSides);
+      for (int c = 0; c < kCorners; ++c)
+        k[c] = mesh.node(e, Elem::sideNode(static_cast<int>(face % Elem::kNumSides), c));
+      std::sort(k.begin(), k.begin() + kCorners);
+      return k;
     };
-    std::vector<Face> faces;
-    faces.reserve(static_cast<std::size_t>(mesh.numElements()) * Elem::kNumSides);
-    for (LocalIndex e = 0; e < mesh.numElements(); ++e)
-      for (int f = 0; f < Elem::kNumSides; ++f) {
-        Face face{{-1, -1, -1, -1}, e, f};
-        for (int k = 0; k < corners; ++k)
-          face.key[k] = mesh.node(e, Elem::sideNode(f, k));
-        std::sort(face.key.begin(), face.key.begin() + corners);
-        faces.push_back(face);
-      }
-    std::sort(faces.begin(), faces.end(),
-              [](const Face &a, const Face &b) { return a.key < b.key; });
+    const auto smallest = [&](std::size_t face) { // key(face)[0]
+      const LocalIndex e = static_cast<LocalIndex>(face / Elem::kNumSides);
+      const int side = static_cast<int>(face % Elem::kNumSides);
+      LocalIndex k = mesh.node(e, Elem::sideNode(side, 0));
+      for (int c = 1; c < kCorners; ++c)
+        k = std::min(k, mesh.node(e, Elem::sideNode(side, c)));
+      return static_cast<std::size_t>(k);
+    };
+    // The faces in buckets by their smallest corner (a counting sort): a face is on the boundary
+    // where no other face of its bucket has its corners.
+    std::vector<std::size_t> offsets(static_cast<std::size_t>(mesh.numNodes()) + 1, 0);
+    for (std::size_t f = 0; f < faces; ++f)
+      ++offsets[smallest(f) + 1];
+    for (std::size_t n = 0; n + 1 < offsets.size(); ++n)
+      offsets[n + 1] += offsets[n];
+    std::vector<std::size_t> bucket(faces), next(offsets.begin(), offsets.end() - 1);
+    for (std::size_t f = 0; f < faces; ++f)
+      bucket[next[smallest(f)]++] = f;
     // Over the boundary faces: A, and V = (1/3) sum of x . n A (the divergence theorem; the
-    // faces' corners run counter-clockwise seen from outside).
+    // corners run counter-clockwise seen from outside). n A of a flat polygon is half the cross
+    // product of its diagonals (a quadrilateral) or of two edges (a triangle).
     double area = 0.0, volume = 0.0;
-    for (std::size_t i = 0; i < faces.size();) {
-      std::size_t j = i + 1;
-      while (j < faces.size() && faces[j].key == faces[i].key)
-        ++j;
-      if (j == i + 1) {
-        double x[4][3];
-        for (int k = 0; k < corners; ++k)
-          for (int c = 0; c < 3; ++c)
-            x[k][c] =
-                mesh.coordinate(mesh.node(faces[i].element, Elem::sideNode(faces[i].side, k)), c);
-        // twice the vector area: the diagonals' cross product (a quadrilateral), the edges' (a
-        // triangle)
-        const int p = corners == 4 ? 3 : 2;
-        double d0[3], d1[3], n[3], centre[3] = {0.0, 0.0, 0.0};
-        for (int c = 0; c < 3; ++c) {
-          d0[c] = x[corners == 4 ? 2 : 1][c] - x[0][c];
-          d1[c] = x[p][c] - x[corners == 4 ? 1 : 0][c];
-          for (int k = 0; k < corners; ++k)
-            centre[c] += x[k][c] / corners;
+    std::vector<std::array<LocalIndex, 4>> keys;
+    for (std::size_t n = 0; n + 1 < offsets.size(); ++n) {
+      keys.clear();
+      for (std::size_t i = offsets[n]; i < offsets[n + 1]; ++i)
+        keys.push_back(key(bucket[i]));
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        if (std::count(keys.begin(), keys.end(), keys[i]) > 1)
+          continue; // shared by two elements: inside
+        const std::size_t f = bucket[offsets[n] + i];
+        const LocalIndex e = static_cast<LocalIndex>(f / Elem::kNumSides);
+        const int side = static_cast<int>(f % Elem::kNumSides);
+        double x[kCorners][3], centre[3] = {0.0, 0.0, 0.0};
+        for (int c = 0; c < kCorners; ++c)
+          for (int d = 0; d < 3; ++d) {
+            x[c][d] = mesh.coordinate(mesh.node(e, Elem::sideNode(side, c)), d);
+            centre[d] += x[c][d] / kCorners;
+          }
+        double u[3], v[3]; // quadrilateral: the diagonals 0-2 and 1-3; triangle: edges 0-1, 0-2
+        for (int d = 0; d < 3; ++d) {
+          u[d] = kCorners == 4 ? x[2][d] - x[0][d] : x[1][d] - x[0][d];
+          v[d] = kCorners == 4 ? x[3][d] - x[1][d] : x[2][d] - x[0][d];
         }
-        n[0] = 0.5 * (d0[1] * d1[2] - d0[2] * d1[1]);
-        n[1] = 0.5 * (d0[2] * d1[0] - d0[0] * d1[2]);
-        n[2] = 0.5 * (d0[0] * d1[1] - d0[1] * d1[0]);
-        area += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        volume += (centre[0] * n[0] + centre[1] * n[1] + centre[2] * n[2]) / 3.0;
+        const double na[3] = {0.5 * (u[1] * v[2] - u[2] * v[1]), 0.5 * (u[2] * v[0] - u[0] * v[2]),
+                              0.5 * (u[0] * v[1] - u[1] * v[0])};
+        area += std::sqrt(na[0] * na[0] + na[1] * na[1] + na[2] * na[2]);
+        volume += (centre[0] * na[0] + centre[1] * na[1] + centre[2] * na[2]) / 3.0;
       }
-      i = j;
     }
     const double cells = Elem::kSimplex ? mesh.numElements() / 6.0 : mesh.numElements();
     if (!(volume > 0.0) || !(area > 0.0))

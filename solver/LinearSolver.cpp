@@ -2,6 +2,7 @@
 #include <core/Transfer.hpp>
 #include <kernels/SymmetricBlocks.hpp>
 #include <solver/AmgCycle.hpp>
+#include <solver/HierarchyCheck.hpp>
 #include <solver/HypreMatrix.hpp>
 #include <solver/Krylov.hpp>
 #include <solver/LinearSolver.hpp>
@@ -19,7 +20,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <iomanip>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -97,9 +97,6 @@ double rowSumNorm(const CsrMatrix<DeviceSpace> &a) {
 /// it at every V-cycle; larger ones (the escalation ladder) by the inverse formed at setup (relax
 /// type 199): 1.1 s against 27 s per load step of the L/h = 100 cantilever with 4000.
 constexpr int kGaussEliminationSize = 100;
-/// A coarse level whose diagonal spreads this many times more than the fine level's is unsound
-/// (LinearSolver's unsoundInterpolation: sound hierarchies measured at most 4e4, unsound 1e30).
-constexpr double kUnsoundSpreadGrowth = 1e10;
 
 constexpr bool kHypreReadsKokkosMemory = kHostAccessible<DeviceSpace>;
 
@@ -513,58 +510,53 @@ private:
     return true;
   }
 
-  /// Why the hierarchy just built with interpolation vectors is unsound, or empty. With hypre's
-  /// GM variants, the coarse matrices of some meshes (thin Hex8 and Hex20 plates, the Lame sphere
-  /// and cylinder: docs/performance.md, issue 20 section 1c) come out with diagonals from 1e-34 to
-  /// 1e49, or zero, where a Galerkin product of an SPD matrix has a positive diagonal of the fine
-  /// level's magnitudes: a V-cycle on them loses everything in single precision (CG ends on a NaN)
-  /// and converges slowly in double. Sound hierarchies measured a coarse diagonal spread (largest
-  /// over smallest) at most 4e4 times the fine level's (the 2D slender strips; 1.8e3 in 3D), the
-  /// unsound ones 1e30 and more. Host-resident hierarchies only (a GPU hypre keeps its levels in
-  /// device memory: not checked there).
+  /// Why the hierarchy just built with interpolation vectors is unsound, or empty
+  /// (detail::unsoundDiagonals over each level's diagonal, reduced over the ranks). With hypre's GM
+  /// variants the coarse matrices of some meshes (thin Hex8 and Hex20 plates, the Lame sphere and
+  /// cylinders: docs/performance.md, issue 20 section 1c) come out with diagonals from 2e-31 to
+  /// 1e6 and stored zeros: a V-cycle on them loses everything in single precision (CG ends on a
+  /// NaN) and converges slowly in double. Collective: every rank takes part, with or without
+  /// local rows. Host-resident hierarchies only (a GPU hypre keeps its levels in device memory:
+  /// not checked there).
   std::string unsoundInterpolation() const {
-    if (rotations_.empty() || kGpuHypre)
+    int vectors = rotations_.empty() ? 0 : 1; // the same on every rank, made sure of
+    MPI_Allreduce(MPI_IN_PLACE, &vectors, 1, MPI_INT, MPI_MAX, comm_);
+    if (vectors == 0 || kGpuHypre)
       return {};
     auto *data = reinterpret_cast<hypre_ParAMGData *>(amg_);
     const int nl = hypre_ParAMGDataNumLevels(data);
     hypre_ParCSRMatrix **levels = hypre_ParAMGDataAArray(data);
-    double fine = 0.0;
+    std::vector<detail::DiagonalRange> ranges(nl);
+    // per level: -smallest, largest, whether improper, whether it has rows: one MAX reduction
+    std::vector<double> local(4 * static_cast<std::size_t>(nl));
     for (int l = 0; l < nl; ++l) {
-      // The smallest and the largest diagonal entry of the level (min as -max for one reduction);
-      // a zero, negative or non-finite one counts as 0.
-      double range[2] = {-std::numeric_limits<double>::infinity(), 0.0};
+      detail::DiagonalRange &r = ranges[l];
       const hypre_CSRMatrix *d = hypre_ParCSRMatrixDiag(levels[l]);
       const HYPRE_Int *ro = hypre_CSRMatrixI(d);
       const HYPRE_Int *co = hypre_CSRMatrixJ(d);
       const HYPRE_Complex *va = hypre_CSRMatrixData(d);
       for (HYPRE_Int i = 0; i < hypre_CSRMatrixNumRows(d); ++i) {
-        double aii = 0.0;
+        double aii = 0.0; // a row without its diagonal: a zero
         for (HYPRE_Int k = ro[i]; k < ro[i + 1]; ++k)
           if (co[k] == i) {
             aii = va[k];
             break;
           }
-        if (!(aii > 0.0) || !std::isfinite(aii))
-          aii = 0.0;
-        range[0] = std::max(range[0], -aii);
-        range[1] = std::max(range[1], aii);
+        r.add(aii);
       }
-      MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_DOUBLE, MPI_MAX, comm_);
-      if (range[1] == 0.0) // no rows on any rank
-        continue;
-      if (range[0] == 0.0 && l > 0)
-        return "has a zero or negative diagonal entry on level " + std::to_string(l);
-      const double spread = range[1] / -range[0];
-      if (l == 0)
-        fine = spread;
-      else if (!(spread <= kUnsoundSpreadGrowth * fine)) {
-        std::ostringstream o;
-        o << "is singular to working precision (diagonal entries from " << std::setprecision(2)
-          << -range[0] << " to " << range[1] << " on level " << l << ")";
-        return o.str();
-      }
+      local[4 * l] = -r.smallest;
+      local[4 * l + 1] = r.largest;
+      local[4 * l + 2] = r.improper ? 1.0 : 0.0;
+      local[4 * l + 3] = r.rows > 0 ? 1.0 : 0.0;
     }
-    return {};
+    MPI_Allreduce(MPI_IN_PLACE, local.data(), 4 * nl, MPI_DOUBLE, MPI_MAX, comm_);
+    for (int l = 0; l < nl; ++l) {
+      ranges[l].smallest = -local[4 * l];
+      ranges[l].largest = local[4 * l + 1];
+      ranges[l].improper = local[4 * l + 2] > 0.0;
+      ranges[l].rows = local[4 * l + 3] > 0.0 ? 1 : 0;
+    }
+    return detail::unsoundDiagonals(ranges);
   }
 
   bool willUseRotations() const {
@@ -718,7 +710,7 @@ private:
     if (const std::string why = unsoundInterpolation(); !why.empty()) {
       appendNote(setupNote_, "BoomerAMG's hierarchy with rigid-body interpolation vectors " + why +
                                  ": built without them");
-      variant_ = 0; // for the rest of the run, as retried()
+      variant_ = 0; // for the rest of the run (GM1 is skipped: sound but no faster there)
       build();
       return;
     }

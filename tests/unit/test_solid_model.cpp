@@ -509,28 +509,54 @@ TEST(SolidProblem, AmgCycleKey) {
 // defaults go by the part's thickness in elements (elementLayers, issue 20 section 1c): a thin
 // part (kSolid's 4 x 1 x 2 elements: 0.57) keeps hypre's order 2 without aggressive coarsening,
 // a bulky one (a cube of 15^3: 5) takes order 1 with one aggressive level (issue 17 table 3n),
-// and the run says which; hypre's 2 for the 3D mixed model and in 2D; outside 1 to 4 it is
-// refused with file:line.
+// and the run's note says which: only what the rule set (a key given is not named), nothing with
+// the direct solver; hypre's 2 for the 3D mixed model and in 2D, without a note; outside 1 to 4 it
+// is refused with file:line.
 TEST(SolidProblem, ChebyshevOrderKey) {
   const std::string amg = replaceText(kSolid, "solver: {type: direct}", "solver: {type: amg}");
+  const bool chebyshev = resolvedSmoother(AmgSmoother::Automatic) == AmgSmoother::Chebyshev;
   const Problem thin = parseProblem(amg, "solid.yaml", "");
   EXPECT_EQ(thin.solver.chebyshevOrder, 2);
   EXPECT_EQ(thin.solver.aggressiveLevels, 0);
   EXPECT_NE(thin.solverDefaultsNote.find("thin part (0.57 element sizes thick"), std::string::npos)
       << thin.solverDefaultsNote;
-  const Problem bulky =
-      parseProblem(replaceText(amg, "{type: box, size: [4, 1, 2], divisions: [4, 1, 2]}",
-                               "{type: box, size: [1, 1, 1], divisions: [15, 15, 15]}"),
-                   "solid.yaml", "");
+  EXPECT_NE(thin.solverDefaultsNote.find("below 3.5): no aggressive coarsening"), std::string::npos)
+      << thin.solverDefaultsNote;
+  EXPECT_EQ(thin.solverDefaultsNote.find("Chebyshev of order 2") != std::string::npos, chebyshev)
+      << thin.solverDefaultsNote;
+  const std::string cube = replaceText(amg, "{type: box, size: [4, 1, 2], divisions: [4, 1, 2]}",
+                                       "{type: box, size: [1, 1, 1], divisions: [15, 15, 15]}");
+  const Problem bulky = parseProblem(cube, "solid.yaml", "");
   EXPECT_EQ(bulky.solver.chebyshevOrder, 1);
   EXPECT_EQ(bulky.solver.aggressiveLevels, 1);
   EXPECT_EQ(bulky.solver.interpolationMaxElements, 4);
-  EXPECT_NE(bulky.solverDefaultsNote.find("bulky part (5 element sizes thick"), std::string::npos)
+  EXPECT_NE(bulky.solverDefaultsNote.find("bulky part (5.00 element sizes thick"),
+            std::string::npos)
       << bulky.solverDefaultsNote;
-  // the keys given: no note on defaults that no longer hold
-  EXPECT_TRUE(parseProblem(replaceText(amg, "type: amg", "type: amg, aggressive_levels: 1"),
+  // a key given keeps its value and leaves the note; both given: no note; direct: no note
+  const Problem order = parseProblem(
+      replaceText(cube, "type: amg", "type: amg, chebyshev_order: 3"), "solid.yaml", "");
+  EXPECT_EQ(order.solver.chebyshevOrder, 3);
+  EXPECT_EQ(order.solver.aggressiveLevels, 1);
+  EXPECT_EQ(order.solverDefaultsNote.find("Chebyshev"), std::string::npos)
+      << order.solverDefaultsNote;
+  EXPECT_NE(order.solverDefaultsNote.find("one level of aggressive coarsening"), std::string::npos)
+      << order.solverDefaultsNote;
+  const Problem aggressive = parseProblem(
+      replaceText(amg, "type: amg", "type: amg, aggressive_levels: 1"), "solid.yaml", "");
+  EXPECT_EQ(aggressive.solver.aggressiveLevels, 1);
+  EXPECT_EQ(aggressive.solver.chebyshevOrder, 2);
+  EXPECT_EQ(aggressive.solverDefaultsNote.find("aggressive"), std::string::npos)
+      << aggressive.solverDefaultsNote;
+  EXPECT_TRUE(parseProblem(replaceText(amg, "type: amg",
+                                       "type: amg, aggressive_levels: 0, chebyshev_order: 2"),
                            "solid.yaml", "")
                   .solverDefaultsNote.empty());
+  EXPECT_TRUE(parseProblem(kSolid, "solid.yaml", "").solverDefaultsNote.empty()); // direct
+  EXPECT_TRUE(
+      parseProblem(replaceText(amg, "materials:", "model: {formulation: mixed}\nmaterials:"),
+                   "solid.yaml", "")
+          .solverDefaultsNote.empty());
   EXPECT_EQ(parseProblem(replaceText(amg, "materials:", "model: {formulation: mixed}\nmaterials:"),
                          "solid.yaml", "")
                 .solver.chebyshevOrder,
@@ -547,6 +573,7 @@ loads:
 solver: {type: amg}
 )";
   EXPECT_EQ(parseProblem(plane, "plane.yaml", "").solver.chebyshevOrder, 2);
+  EXPECT_TRUE(parseProblem(plane, "plane.yaml", "").solverDefaultsNote.empty());
   for (int k = 1; k <= 4; ++k)
     EXPECT_EQ(parseProblem(
                   replaceText(amg, "type: amg", "type: amg, chebyshev_order: " + std::to_string(k)),
