@@ -145,7 +145,7 @@ void thicknessDefaults(const YamlItem &top, Problem &p) {
        << (bulky ? "bulky" : "thin") << " part (" << layers
        << " element sizes thick, 2 volume / (surface x element size), "
        << (bulky ? "at least " : "below ") << std::setprecision(1) << kBulkyLayers << "):";
-  bool said = false; // the note names only what the rule set and the solver uses
+  bool said = false; // the note names only what the rule set
   if (aggressive) {
     p.solver.aggressiveLevels = bulky ? 1 : 0;
     note << (bulky ? " one level of aggressive coarsening" : " no aggressive coarsening");
@@ -153,7 +153,9 @@ void thicknessDefaults(const YamlItem &top, Problem &p) {
   }
   if (order) {
     p.solver.chebyshevOrder = bulky ? 1 : 2;
-    if (resolvedSmoother(p.solver.smoother) == AmgSmoother::Chebyshev) {
+    // named unless another smoother was asked for (with `auto` the solver's line says which runs)
+    if (p.solver.smoother == AmgSmoother::Automatic ||
+        p.solver.smoother == AmgSmoother::Chebyshev) {
       note << (said ? "," : "") << " Chebyshev of order " << p.solver.chebyshevOrder;
       said = true;
     }
