@@ -18,9 +18,10 @@ namespace {
 constexpr int kMaxIncrements = 1000000;
 
 /// Parts at least this many element sizes thick (elementLayers) take the bulky parts' 3D AMG
-/// defaults (readSolver): the shipped examples, all better without aggressive coarsening, measured
-/// 0.57 to 2.9; the meshes where it paid 4 (a Hex20 box of 12^3: 0.84 against 0.94 s), 4.4 (a Hex8
-/// plate of 8 layers: 2.9 against 5.8 s) and more (docs/performance.md, issue 20 section 1c).
+/// defaults (thicknessDefaults): the shipped examples, all with fewer iterations without
+/// aggressive coarsening, measured 0.57 to 2.9; the meshes where it paid 4 (a Hex20 box of 12^3:
+/// 0.84 against 0.94 s), 4.4 (a Hex8 plate of 8 layers: 3.0 against 5.8 s) and more
+/// (docs/performance.md, issue 20 section 1c).
 constexpr double kBulkyLayers = 3.5;
 
 } // namespace
