@@ -214,6 +214,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                  "reuse_hierarchy",
                  "reuse_factorization",
                  "direct_fallback",
+                 "direct_when_cheaper",
                  "coarse_space"});
     const bool mixed = p.model.formulation == Formulation::Mixed;
     if (solidMixed) { // the 3D mixed model: the direct solver or the block-triangular AMG solve
@@ -401,6 +402,13 @@ void readSolver(const YamlItem &top, Problem &p) {
     }
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
       p.solver.directFallbackUnknowns = 0;
+    if (s.has("direct_when_cheaper")) {
+      if (mixed)
+        s["direct_when_cheaper"].fail(
+            "direct_when_cheaper applies to the displacement model's AMG solve; the mixed "
+            "model's AMG is a preconditioner inside its Krylov method");
+      p.solver.directWhenCheaper = s["direct_when_cheaper"].boolean();
+    }
   }
 
   if (solidDisplacement && p.solver.type == LinearSolverType::Amg)

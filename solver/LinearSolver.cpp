@@ -322,6 +322,7 @@ public:
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     std::string note;
+    solveStart_ = start;
     LinearSolveStats s = direct_ ? direct_->solve(b, x) : iterate(b, x);
     int total = s.iterations;
     // A kept hierarchy that no longer converges: redo the solve with a fresh one.
@@ -341,7 +342,11 @@ public:
     // a larger coarsest level or, where that would hold the whole problem, the direct solver).
     if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations) {
       const std::string took = "AMG took " + std::to_string(s.iterations) + " iterations";
-      if (coarseStepLeft()) {
+      std::string cheaper;
+      if (directCheaper(cheaper)) {
+        directNext_ = true;
+        appendNote(note, took + " (" + cheaper + "): the next setups use the direct solver");
+      } else if (coarseStepLeft()) {
         coarseOn_ = true;
         appendNote(note, took + ": the next setups add a rigid-body coarse space");
       } else if (directBeforeNextStep()) {
@@ -361,6 +366,7 @@ public:
       appendNote(note, setupNote_);
       setupNote_.clear();
     }
+    solveStart_.reset();
     s.iterations = total;
     s.note = note;
     s.solveSeconds = seconds(start);
@@ -410,6 +416,16 @@ public:
     const HostLibraryStaging staging;
     if (direct_ || matrix_.numRows == 0)
       return false;
+    // A system the direct solver factors in less time than the AMG has spent on it: no step
+    // of the ladder would pay (small and slender parts, whose factors are almost banded).
+    if (std::string cheaper; directCheaper(cheaper)) {
+      std::string step;
+      const bool taken = fallBackToDirect(step);
+      note = "AMG stalled (" + cheaper + ")";
+      appendNote(note, step);
+      if (taken)
+        return true;
+    }
     // First the rigid-body coarse space, the remedy for what stalls BoomerAMG most (slender
     // parts); where it cannot be built, why, and the next step.
     if (coarseStepLeft()) {
@@ -1127,6 +1143,34 @@ private:
     return coarsest_;
   }
 
+  /// Inside solve() (a method around the AMG as a preconditioner has its own measure), where
+  /// the direct fall back is allowed (LinearSolverOptions::directWhenCheaper): whether the direct
+  /// solver's factorization of matrix_ is estimated (detail::estimatedDirectSeconds, from the
+  /// pattern's analysis, done once per pattern) to take less than the AMG's seconds on this solve
+  /// so far, its hierarchy's setup included. `why` gets both figures.
+  bool directCheaper(std::string &why) {
+    if (!options_.directWhenCheaper || !solveStart_ || !directFallbackAllowed())
+      return false;
+    if (estimatePattern_ != patterns_) {
+      Kokkos::fence();
+      const auto ro = hostReadable(matrix_.rowOffsets);
+      const auto co = hostReadable(matrix_.columns);
+      const HostCsr csr{matrix_.numRows, ro.data(), co.data(), nullptr};
+      estimate_ = SparseDirect::estimateCholesky(csr);
+      estimatePattern_ = patterns_;
+    }
+    const double direct =
+        detail::estimatedDirectSeconds(matrix_.numNonzeros(), estimate_.flops, options_.symmetric);
+    const double amg = setupSeconds_ + seconds(*solveStart_);
+    if (!(direct < amg))
+      return false;
+    std::ostringstream o;
+    o.precision(2);
+    o << amg << " s; the direct solver's factorization is estimated at " << direct << " s";
+    why = o.str();
+    return true;
+  }
+
   /// One rank, few enough unknowns, and no singular matrix found by an earlier attempt.
   bool directFallbackAllowed() const {
     return !fallbackRefused_ && ranks_ == 1 && dofs_.numGlobal <= options_.directFallbackUnknowns;
@@ -1399,7 +1443,11 @@ private:
   bool kept_ = false;            ///< the hierarchy was built on an earlier matrix
   bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
   bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
-  int freshIterations_ = 1; ///< iterations of the last solve with a fresh hierarchy
+  /// When the solve() under way began (none outside it): directCheaper()'s measure of the AMG.
+  std::optional<std::chrono::steady_clock::time_point> solveStart_;
+  SparseDirect::Estimate estimate_; ///< directCheaper()'s analysis of the pattern numbered
+  int estimatePattern_ = -1;        ///< estimatePattern_ (-1: none yet)
+  int freshIterations_ = 1;         ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;
   double normInf_ = 0.0;
@@ -1457,6 +1505,11 @@ LinearSolveStats solveOnLadder(LinearSolver &solver,
   s.iterations = iterations;
   s.note = note;
   return s;
+}
+
+double detail::estimatedDirectSeconds(std::int64_t nonzeros, double choleskyFlops, bool symmetric) {
+  return kDirectSecondsPerNonzero * static_cast<double>(nonzeros) +
+         (symmetric ? 1.0 : 2.0) * choleskyFlops / kDirectFlopsPerSecond;
 }
 
 bool detail::hypreChebyshevEstimateIsSafe() {

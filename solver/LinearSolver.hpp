@@ -8,6 +8,7 @@
 #include <kernels/SparseMatrix.hpp>
 #include <solver/DofMap.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mpi.h>
@@ -115,6 +116,16 @@ struct LinearSolverOptions {
   int escalationIterations = 200;
   std::vector<int> escalationCoarsestSizes = {500, 2000};
   long directFallbackUnknowns = 200000; ///< 0: never fall back to the direct solver
+  /// Within a solve(), before each step of the ladder (a stall, or a slow convergence): where the
+  /// direct fall back is allowed and the direct solver's factorization is estimated to take less
+  /// time than the AMG has spent on this solve, its hierarchy's setup included, the direct solver
+  /// instead (at once after a stall, from the next setup after a slow convergence). The estimate
+  /// comes from a symbolic analysis of the pattern, once per pattern (detail::
+  /// estimatedDirectSeconds). Small and slender parts, the ones BoomerAMG stalls on, have almost
+  /// banded factors: measured on examples/cantilever_3d_large_deflection.yaml with `solver: amg`
+  /// (Hex20, 1,464 unknowns) 6.3 s with the ladder against 1.8 s (docs/performance.md, issue 20
+  /// section 9). False: the ladder's steps as listed above.
+  bool directWhenCheaper = true;
   /// Keep the AMG hierarchy of an earlier matrix of the same sparsity pattern (Newton and contact
   /// corrections): only the fine-level values are updated, until a solve takes more than
   /// `reuseIterationGrowth` times the iterations the fresh hierarchy took (then it is rebuilt at
@@ -265,6 +276,20 @@ namespace detail {
 /// it `smoother: chebyshev` takes its eigenvalue bound from hypre's Lanczos estimate; without it
 /// from Gershgorin's discs (that estimate can loop forever there, hypre issue #531).
 bool hypreChebyshevEstimateIsSafe();
+
+/// The seconds a direct factorization of a matrix with `nonzeros` entries and `choleskyFlops`
+/// (SparseDirect::estimateCholesky: AMD's ordering) is expected to take on one rank:
+/// kDirectSecondsPerNonzero per entry (the analysis and the per-column work, which dominate
+/// small and slender patterns) plus the flops at kDirectFlopsPerSecond, twice those for an LU
+/// (`symmetric` false: the matrix may take UMFPACK's LU, about twice the Cholesky's flops).
+double estimatedDirectSeconds(std::int64_t nonzeros, double choleskyFlops, bool symmetric);
+/// Fitted to the direct solver's setups (SuiteSparse 5.12, the sequential OpenBLAS, 2 cores;
+/// docs/performance.md issue 20 section 9): small and slender matrices (2D and 3D, 141k-6.5M
+/// entries, under 0.6 GFlop) took 0.7-1.6e-7 s per entry; on 2D grids of 0.1-1M unknowns the
+/// flops went at 9-18 GFlop/s; 3D cubes' factors, ordered by METIS in the factorization, took
+/// 3-25x less time than AMD's flops at this rate: there the estimate errs towards the dearer.
+inline constexpr double kDirectSecondsPerNonzero = 1e-7;
+inline constexpr double kDirectFlopsPerSecond = 1e10;
 } // namespace detail
 
 } // namespace mixcon

@@ -181,6 +181,41 @@ bool SparseDirect::isSymmetric(const HostCsr &a, double relative, double absolut
   return true;
 }
 
+SparseDirect::Estimate SparseDirect::estimateCholesky(const HostCsr &a) {
+  // CHOLMOD reads compressed columns; a symmetric pattern's rows are its columns. Unsorted
+  // columns are allowed for the analysis (sorted = 0).
+  std::vector<Long> p(a.rowOffsets, a.rowOffsets + a.size + 1);
+  std::vector<Long> i(a.columns, a.columns + (a.size > 0 ? a.rowOffsets[a.size] : 0));
+  cholmod_sparse view{};
+  view.nrow = view.ncol = static_cast<std::size_t>(a.size);
+  view.nzmax = i.size();
+  view.p = p.data();
+  view.i = i.data();
+  view.stype = 1;
+  view.itype = CHOLMOD_LONG;
+  view.xtype = CHOLMOD_PATTERN;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 0;
+  view.packed = 1;
+  cholmod_common common{};
+  cholmod_l_start(&common);
+  common.print = 0;
+  // AMD alone: CHOLMOD's default would also try METIS on large 3D patterns (2.8 s on a Hex20
+  // cube of 181,875 unknowns against 0.4 s); AMD's fill is the larger, so the estimate errs
+  // towards a dearer factorization.
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_AMD;
+  common.postorder = 1;
+  cholmod_factor *f = cholmod_l_analyze(&view, &common);
+  const Estimate e{common.fl, common.lnz};
+  const bool ok = f != nullptr && common.status >= CHOLMOD_OK;
+  cholmod_l_free_factor(&f, &common);
+  cholmod_l_finish(&common);
+  if (!ok)
+    throw std::runtime_error("CHOLMOD: the analysis failed (out of memory?)");
+  return e;
+}
+
 bool SparseDirect::controlsBlasThreads() {
   return SequentialBlas::blas().get && SequentialBlas::blas().set;
 }

@@ -79,6 +79,16 @@ public:
   /// pair that is not; binary search in rows whose columns are sorted.
   static bool isSymmetric(const HostCsr &a, double relative, double absolute);
 
+  /// What a Cholesky factorization of a matrix of `a`'s pattern would cost, from CHOLMOD's
+  /// symbolic analysis with its default orderings (the values are not read; the pattern is
+  /// taken as symmetric, its upper triangle read): the floating-point operations of the
+  /// numeric factorization and the entries of the factor L. The analysis is not kept.
+  struct Estimate {
+    double flops = 0.0;
+    double factorEntries = 0.0;
+  };
+  static Estimate estimateCholesky(const HostCsr &a);
+
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

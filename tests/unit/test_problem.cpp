@@ -511,6 +511,22 @@ TEST(Problem, NonlinearMixedMatrixFreeJacobianKeyIsCheckedWhereItCannotBeTaken) 
       "mixed.yaml:", "jacobian applies to the geometrically nonlinear mixed");
 }
 
+TEST(Problem, DirectWhenCheaperKey) {
+  const std::string amg = replace(kGood, "solver: {type: direct}", "solver: {type: amg}");
+  EXPECT_TRUE(parseProblem(amg, "a.yaml", "").solver.directWhenCheaper);
+  const std::string off =
+      replace(amg, "solver: {type: amg}", "solver: {type: amg, direct_when_cheaper: false}");
+  EXPECT_FALSE(parseProblem(off, "a.yaml", "").solver.directWhenCheaper);
+  try {
+    parseProblem(replace(off, "formulation: displacement", "formulation: mixed"), "m.yaml", "");
+    ADD_FAILURE() << "direct_when_cheaper accepted for the mixed model";
+  } catch (const InputError &e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind("m.yaml:", 0), 0u) << msg;
+    EXPECT_NE(msg.find("applies to the displacement model's AMG solve"), std::string::npos) << msg;
+  }
+}
+
 TEST(Problem, ParsesNonlinearSteps) {
   std::string y = replace(kGood, "thickness: 0.5", "thickness: 0.5, geometric_nonlinearity: true");
   y = replace(y, "steps: {load_factors: [0.5, 1.0]}",

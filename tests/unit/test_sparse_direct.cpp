@@ -232,6 +232,76 @@ TEST(SparseDirect, TheAnalysisIsReusedForTheSamePatternAndRedoneForAnother) {
   }
 }
 
+/// A CSR matrix of the given pattern (every entry 1: estimateCholesky reads no values).
+TestMatrix pattern(int n, const std::vector<std::vector<int>> &rows) {
+  TestMatrix a(n);
+  for (const auto &row : rows) {
+    for (int c : row) {
+      a.columns.push_back(c);
+      a.values.push_back(1.0);
+    }
+    a.rows.push_back(static_cast<Offset>(a.columns.size()));
+  }
+  return a;
+}
+
+/// CHOLMOD's figures for a Cholesky factor whose columns hold c_j entries (the diagonal
+/// included): sum c_j entries and sum c_j^2 flops (cholmod_rowcolcounts).
+SparseDirect::Estimate figures(const std::vector<int> &columnCounts) {
+  SparseDirect::Estimate e;
+  for (int c : columnCounts) {
+    e.factorEntries += c;
+    e.flops += static_cast<double>(c) * c;
+  }
+  return e;
+}
+
+TEST(SparseDirect, TheCostEstimateCountsTheFactorOfAnyOrdering) {
+  // Patterns whose factor's column counts are the same for every fill-reducing ordering: a dense
+  // matrix (n, n - 1, ..., 1), a path numbered out of order (a tree: no fill, 2, ..., 2, 1) and
+  // a diagonal one (1 each).
+  const int n = 12;
+  std::vector<std::vector<int>> dense(n), path(n), diagonal(n);
+  std::vector<int> denseCounts, pathCounts(n, 2);
+  pathCounts.back() = 1;
+  for (int i = 0; i < n; ++i) {
+    for (int j = n - 1; j >= 0; --j)
+      dense[i].push_back(j);
+    denseCounts.push_back(n - i);
+    diagonal[i] = {i};
+  }
+  std::vector<int> position(n); // the path's k-th vertex is unknown (5 k) mod 12
+  for (int k = 0; k < n; ++k)
+    position[k] = (5 * k) % n;
+  for (int k = 0; k < n; ++k) {
+    path[position[k]].push_back(position[k]);
+    if (k > 0)
+      path[position[k]].push_back(position[k - 1]);
+    if (k + 1 < n)
+      path[position[k]].push_back(position[k + 1]);
+  }
+  for (const auto &[rows, counts] : {std::pair{dense, denseCounts}, std::pair{path, pathCounts},
+                                     std::pair{diagonal, std::vector<int>(n, 1)}}) {
+    const SparseDirect::Estimate e = SparseDirect::estimateCholesky(pattern(n, rows).csr());
+    const SparseDirect::Estimate reference = figures(counts);
+    EXPECT_EQ(e.factorEntries, reference.factorEntries);
+    EXPECT_EQ(e.flops, reference.flops);
+  }
+  // A 2D grid fills in: more entries than its lower triangle, fewer than dense.
+  const TestMatrix g = grid(20, 0.0, 0.0);
+  const SparseDirect::Estimate e = SparseDirect::estimateCholesky(g.csr());
+  EXPECT_GT(e.factorEntries, (g.values.size() + 400) / 2.0);
+  EXPECT_LT(e.factorEntries, 400.0 * 401.0 / 2.0);
+  // The model of its time: the per-entry term plus the flops, twice those for an LU.
+  const double nnz = static_cast<double>(g.values.size());
+  const double cholesky = detail::estimatedDirectSeconds(g.rows.back(), e.flops, true);
+  EXPECT_NEAR(cholesky,
+              nnz * detail::kDirectSecondsPerNonzero + e.flops / detail::kDirectFlopsPerSecond,
+              1e-12 * cholesky);
+  EXPECT_NEAR(detail::estimatedDirectSeconds(g.rows.back(), e.flops, false) - cholesky,
+              e.flops / detail::kDirectFlopsPerSecond, 1e-9 * cholesky);
+}
+
 TEST(SparseDirect, SymmetryToRoundOffIsDetected) {
   TestMatrix a = grid(10, 0.0, 0.0);
   EXPECT_TRUE(SparseDirect::isSymmetric(a.csr(), 1e-12, 0.0));
