@@ -201,7 +201,7 @@ SparseDirect::Estimate SparseDirect::estimateCholesky(const HostCsr &a) {
   cholmod_l_start(&common);
   common.print = 0;
   // AMD alone: CHOLMOD's default would also try METIS on large 3D patterns (2.8 s on a Hex20
-  // cube of 181,875 unknowns against 0.4 s); AMD's fill is the larger, so the estimate errs
+  // cube of 181,875 unknowns against 0.9 s); AMD's fill is the larger, so the estimate errs
   // towards a dearer factorization.
   common.nmethods = 1;
   common.method[0].ordering = CHOLMOD_AMD;
