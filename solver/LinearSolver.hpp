@@ -123,8 +123,8 @@ struct LinearSolverOptions {
   /// comes from a symbolic analysis of the pattern, once per pattern (detail::
   /// estimatedDirectSeconds). Small and slender parts, the ones BoomerAMG stalls on, have almost
   /// banded factors: measured on examples/cantilever_3d_large_deflection.yaml with `solver: amg`
-  /// (Hex20, 1,464 unknowns) 6.3 s with the ladder against 1.8 s (docs/performance.md, issue 20
-  /// section 9). False: the ladder's steps as listed above.
+  /// (Hex20, 1,464 unknowns) 10.9-12.3 s with the ladder against 1.6 s (docs/performance.md,
+  /// issue 20 section 9). False: the ladder's steps as listed above.
   bool directWhenCheaper = true;
   /// Keep the AMG hierarchy of an earlier matrix of the same sparsity pattern (Newton and contact
   /// corrections): only the fine-level values are updated, until a solve takes more than
@@ -286,8 +286,8 @@ double estimatedDirectSeconds(std::int64_t nonzeros, double choleskyFlops, bool 
 /// Fitted to the direct solver's setups (SuiteSparse 5.12, the sequential OpenBLAS, 2 cores;
 /// docs/performance.md issue 20 section 9): small and slender matrices (2D and 3D, 141k-6.5M
 /// entries, under 0.6 GFlop) took 0.7-1.6e-7 s per entry; on 2D grids of 0.1-1M unknowns the
-/// flops went at 9-18 GFlop/s; 3D cubes' factors, ordered by METIS in the factorization, took
-/// 3-25x less time than AMD's flops at this rate: there the estimate errs towards the dearer.
+/// flops went at 9-18 GFlop/s; 3D cubes of 15k-182k unknowns, ordered by METIS in the
+/// factorization, took 3.3-24x less time than the model says: there it errs towards the dearer.
 inline constexpr double kDirectSecondsPerNonzero = 1e-7;
 inline constexpr double kDirectFlopsPerSecond = 1e10;
 } // namespace detail
