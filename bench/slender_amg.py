@@ -36,13 +36,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 SETTINGS = [
     ("(a) old AMG", {"rigid_body_modes": False, "direct_fallback": False, "coarsest_size": 9}),
-    ("(b) default", {}),  # since 2026-11-29: the coarse space as the ladder's first step
-    ("(c) coarsest 500", {"coarsest_size": 500}),
-    ("(d) coarsest 2000", {"coarsest_size": 2000}),
-    ("(e) rigid-body coarse space", {"coarse_space": "rigid_body"}),
-    ("(f) separate components", {"amg_matrix": "separate_components"}),
-    ("(g) no coarse space (the default before 2026-11-29)", {"coarse_space": "none"}),
-    ("(h) hypre's V-cycle (the default before `amg_cycle`)", {"amg_cycle": "hypre"}),
+    ("(b) default", {}),  # since 2026-12-01: the direct solver where estimated cheaper, then the
+    # coarse space; (c)-(h) keep the ladder without the estimate (direct_when_cheaper: false)
+    ("(c) coarsest 500", {"coarsest_size": 500, "direct_when_cheaper": False}),
+    ("(d) coarsest 2000", {"coarsest_size": 2000, "direct_when_cheaper": False}),
+    ("(e) rigid-body coarse space", {"coarse_space": "rigid_body", "direct_when_cheaper": False}),
+    ("(f) separate components", {"amg_matrix": "separate_components", "direct_when_cheaper": False}),
+    ("(g) no coarse space (the default before 2026-11-29)", {"coarse_space": "none", "direct_when_cheaper": False}),
+    ("(h) hypre's V-cycle (the default before `amg_cycle`)", {"amg_cycle": "hypre", "direct_when_cheaper": False}),
     ("(i) the ladder without the direct solver's estimate (the default before 2026-12-01)",
      {"direct_when_cheaper": False}),
 ]
@@ -122,6 +123,8 @@ def linear(args):
                     continue  # (i): the mixed models' AMG is a preconditioner; the key is refused
                 out = os.path.join(args.out, f"linear{args.dim}d", f"{formulation}_{lh}_{name[1]}")
                 keys = dict(s, **({"tolerance": args.tolerance} if args.tolerance else {}))
+                if formulation == "mixed":  # the linear mixed model has no direct fall back
+                    keys.pop("direct_when_cheaper", None)
                 r = run(args.mixcon, strip(lh, formulation, keys, args.dim), out, args.timeout)
                 m = re.search(r"(\d+) unknowns", r["text"])
                 st = r["steps"][-1] if r["steps"] else None
@@ -164,7 +167,9 @@ def nonlinear(args):
     print("| file | solver | converged (rc) | last load factor | Newton its | linear its | wall s "
           "| w/L (elastica 0.70020) | solver notes |")
     print("|---|---|---|---|---|---|---|---|---|")
-    none = {"type": "amg", "coarse_space": "none"}  # the ladder before 2026-11-29
+    # the ladder before 2026-11-29, and before 2026-12-01 (no direct solver's estimate)
+    none = {"type": "amg", "coarse_space": "none", "direct_when_cheaper": False}
+    ladder = {"type": "amg", "direct_when_cheaper": False}
     cases = [("slender_displacement.yaml", {"type": "amg"}, None),
              ("slender_displacement.yaml", none, None),
              ("slender_displacement.yaml", {"type": "direct"}, None),
@@ -173,7 +178,10 @@ def nonlinear(args):
              ("slender_mixed.yaml", {"type": "direct"}, None),
              ("slender_mixed.yaml", {"type": "amg"}, 0.05),
              ("slender_mixed.yaml", none, 0.05),
-             ("slender_mixed.yaml", {"type": "direct"}, 0.05)]
+             ("slender_mixed.yaml", {"type": "direct"}, 0.05),
+             ("slender_displacement.yaml", ladder, None),
+             ("slender_mixed.yaml", ladder, None),
+             ("slender_mixed.yaml", ladder, 0.05)]
     if args.cases:
         cases = [cases[int(k)] for k in args.cases.split(",")]
     for name, solver, stab in cases:
@@ -183,6 +191,7 @@ def nonlinear(args):
         if stab is not None:
             p["model"]["stabilization"] = stab
         label = (f"{name[:-5]}_{solver['type']}" + ("_nocoarse" if "coarse_space" in solver else "") +
+                 ("_noestimate" if "direct_when_cheaper" in solver else "") +
                  (f"_stab{stab}" if stab is not None else ""))
         out = os.path.join(args.out, "nonlinear", label)
         r = run(args.mixcon, p, out, args.timeout, hdf5=True)
@@ -192,6 +201,7 @@ def nonlinear(args):
                                      for n in r["notes"])))
         print(f"| {name}" + (f" stabilization {stab}" if stab is not None else "") +
               f" | {solver['type']}" + (", coarse_space: none" if "coarse_space" in solver else "") +
+              (", direct_when_cheaper: false" if "direct_when_cheaper" in solver else "") +
               f" | {r['summary'].get('converged')} ({r['rc']}) | {lam} | {newton} "
               f"| {lin} | {r['wall']:.2f} | {w if w is None else f'{w:.5f}'} | {notes or 'none'} |",
               flush=True)

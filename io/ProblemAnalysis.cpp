@@ -228,6 +228,7 @@ void readSolver(const YamlItem &top, Problem &p) {
                    "max_iterations",
                    "stress_block_tolerance",
                    "direct_fallback",
+                   "direct_when_cheaper",
                    "strong_threshold",
                    "aggressive_levels",
                    "interpolation_max_elements",
@@ -403,10 +404,11 @@ void readSolver(const YamlItem &top, Problem &p) {
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
       p.solver.directFallbackUnknowns = 0;
     if (s.has("direct_when_cheaper")) {
-      if (mixed)
+      if (mixed && !drivenMixed)
         s["direct_when_cheaper"].fail(
-            "direct_when_cheaper applies to the displacement model's AMG solve; the mixed "
-            "model's AMG is a preconditioner inside its Krylov method");
+            "direct_when_cheaper applies to the displacement models, the geometrically nonlinear "
+            "2D mixed model (or the linear one with stages or contact) and the 3D mixed models, "
+            "which have a direct fall back; the linear 2D mixed model's AMG solve has none");
       p.solver.directWhenCheaper = s["direct_when_cheaper"].boolean();
     }
   }

@@ -323,6 +323,10 @@ public:
     const auto start = std::chrono::steady_clock::now();
     std::string note;
     solveStart_ = start;
+    struct Ended { // solveStart_ is set only while solve() runs, however it ends
+      std::optional<std::chrono::steady_clock::time_point> &start;
+      ~Ended() { start.reset(); }
+    } ended{solveStart_};
     LinearSolveStats s = direct_ ? direct_->solve(b, x) : iterate(b, x);
     int total = s.iterations;
     // A kept hierarchy that no longer converges: redo the solve with a fresh one.
@@ -366,7 +370,6 @@ public:
       appendNote(note, setupNote_);
       setupNote_.clear();
     }
-    solveStart_.reset();
     s.iterations = total;
     s.note = note;
     s.solveSeconds = seconds(start);
@@ -432,12 +435,12 @@ public:
       std::string why;
       if (makeCoarseSpace(why)) {
         coarseOn_ = true;
-        note = "AMG stalled: a rigid-body coarse space of " + std::to_string(coarse_->size()) +
-               " unknowns added";
+        appendNote(note, "AMG stalled: a rigid-body coarse space of " +
+                             std::to_string(coarse_->size()) + " unknowns added");
         return true;
       }
       coarseRefused_ = true;
-      note = "no rigid-body coarse space: " + why;
+      appendNote(note, "no rigid-body coarse space: " + why);
     }
     // A step whose coarsest level would hold the whole problem is a dense direct solve behind
     // a hierarchy that hypre still coarsens once: the sparse direct solver instead, where allowed.
@@ -1149,26 +1152,9 @@ private:
   /// pattern's analysis, done once per pattern) to take less than the AMG's seconds on this solve
   /// so far, its hierarchy's setup included. `why` gets both figures.
   bool directCheaper(std::string &why) {
-    if (!options_.directWhenCheaper || !solveStart_ || !directFallbackAllowed())
-      return false;
-    if (estimatePattern_ != patterns_) {
-      Kokkos::fence();
-      const auto ro = hostReadable(matrix_.rowOffsets);
-      const auto co = hostReadable(matrix_.columns);
-      const HostCsr csr{matrix_.numRows, ro.data(), co.data(), nullptr};
-      estimate_ = SparseDirect::estimateCholesky(csr);
-      estimatePattern_ = patterns_;
-    }
-    const double direct =
-        detail::estimatedDirectSeconds(matrix_.numNonzeros(), estimate_.flops, options_.symmetric);
-    const double amg = setupSeconds_ + seconds(*solveStart_);
-    if (!(direct < amg))
-      return false;
-    std::ostringstream o;
-    o.precision(2);
-    o << amg << " s; the direct solver's factorization is estimated at " << direct << " s";
-    why = o.str();
-    return true;
+    return options_.directWhenCheaper && solveStart_ && directFallbackAllowed() &&
+           directCost_.cheaperThan(matrix_, options_.symmetric,
+                                   setupSeconds_ + seconds(*solveStart_), why);
   }
 
   /// One rank, few enough unknowns, and no singular matrix found by an earlier attempt.
@@ -1445,9 +1431,8 @@ private:
   bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
   /// When the solve() under way began (none outside it): directCheaper()'s measure of the AMG.
   std::optional<std::chrono::steady_clock::time_point> solveStart_;
-  SparseDirect::Estimate estimate_; ///< directCheaper()'s analysis of the pattern numbered
-  int estimatePattern_ = -1;        ///< estimatePattern_ (-1: none yet)
-  int freshIterations_ = 1;         ///< iterations of the last solve with a fresh hierarchy
+  DirectCostEstimate directCost_; ///< directCheaper()'s estimate
+  int freshIterations_ = 1;       ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;
   double setupSeconds_ = 0.0;
   double normInf_ = 0.0;
@@ -1475,6 +1460,8 @@ std::string coarseSpacePhrase(const LinearSolver *solver) {
 }
 
 void appendNote(std::string &note, const std::string &more) {
+  if (more.empty())
+    return;
   if (!note.empty())
     note += "; ";
   note += more;
@@ -1497,14 +1484,70 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
 }
 
 LinearSolveStats solveOnLadder(LinearSolver &solver,
-                               const std::function<LinearSolveStats()> &attempt) {
+                               const std::function<LinearSolveStats()> &attempt,
+                               const DirectInstead &directInstead) {
   LinearSolveStats s = attempt();
   std::string note;
   int iterations = s.iterations;
-  s = climbLadder(solver, s, attempt, note, iterations);
+  if (!directInstead) {
+    s = climbLadder(solver, s, attempt, note, iterations);
+  } else {
+    while (!s.converged) {
+      if (std::string why; directInstead(why)) {
+        appendNote(note, why);
+        break;
+      }
+      std::string step;
+      const bool stronger = solver.strengthen(step);
+      if (!step.empty())
+        appendNote(note, step);
+      if (!stronger)
+        break;
+      s = attempt();
+      iterations += s.iterations;
+    }
+  }
   s.iterations = iterations;
   s.note = note;
   return s;
+}
+
+bool DirectCostEstimate::cheaperThan(const CsrMatrix<DeviceSpace> &a, bool symmetric,
+                                     double spentSeconds, std::string &why) {
+  const HostLibraryStaging staging;
+  Kokkos::fence();
+  const auto ro = hostReadable(a.rowOffsets);
+  const auto co = hostReadable(a.columns);
+  // The pattern's identity: FNV-1a over its row offsets and columns (a contact correction can
+  // change the pattern and keep its size).
+  std::uint64_t hash = 14695981039346656037ull;
+  const auto mix = [&](std::uint64_t v) {
+    hash ^= v;
+    hash *= 1099511628211ull;
+  };
+  for (std::size_t i = 0; i < ro.extent(0); ++i)
+    mix(static_cast<std::uint64_t>(ro(i)));
+  for (std::size_t k = 0; k < co.extent(0); ++k)
+    mix(static_cast<std::uint64_t>(co(k)));
+  if (!analysed_ || hash != pattern_) {
+    try {
+      flops_ =
+          SparseDirect::estimateCholesky(HostCsr{a.numRows, ro.data(), co.data(), nullptr}).flops;
+    } catch (const std::runtime_error &) { // no estimate (out of memory): the ladder as it was
+      flops_ = std::numeric_limits<double>::infinity();
+    }
+    pattern_ = hash;
+    analysed_ = true;
+  }
+  entries_ = a.numNonzeros();
+  const double direct = detail::estimatedDirectSeconds(entries_, flops_, symmetric);
+  if (!(direct < spentSeconds))
+    return false;
+  std::ostringstream o;
+  o.precision(2);
+  o << spentSeconds << " s; the direct solver's factorization is estimated at " << direct << " s";
+  why = o.str();
+  return true;
 }
 
 double detail::estimatedDirectSeconds(std::int64_t nonzeros, double choleskyFlops, bool symmetric) {

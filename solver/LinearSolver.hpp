@@ -102,17 +102,18 @@ struct LinearSolverOptions {
   int coarsestSize = 9;
   /// Robustness ladder of the AMG solver, in this order, whenever a solve does not converge within
   /// `escalationIterations` (or, for the AMG used as a preconditioner, when the method around it
-  /// asks through strengthen()): the rigid-body coarse space (`coarseSpace` OnStall, where it can
-  /// be built: slender parts, whose bending the hierarchy loses, are what makes BoomerAMG stall);
-  /// then a rebuild with the next coarsest size of `escalationCoarsestSizes` (coarse levels of
-  /// long, thin elements lock in bending, so the hierarchy must stop while the elements are still
-  /// short: L/h = 100 needs about 400, L/h = 1000 about 3000 unknowns; the ladder stops at 2000:
-  /// the coarsest level is a dense inverse), then the direct solver where the system has at most
-  /// `directFallbackUnknowns` unknowns on one rank. A step whose coarsest size is not below the
-  /// system's unknowns goes to that direct solver instead (hypre would still coarsen once; the
-  /// dense coarsest level would be no cheaper). Every step is taken both when a solve fails and
-  /// when it converges slowly (more than half of `escalationIterations`; then from the next
-  /// setup on). Each step is reported (LinearSolveStats::note) and kept for the run.
+  /// asks through strengthen()): within solve(), first the direct solver where it is estimated
+  /// cheaper (`directWhenCheaper`, below); the rigid-body coarse space (`coarseSpace` OnStall,
+  /// where it can be built: slender parts, whose bending the hierarchy loses, are what makes
+  /// BoomerAMG stall); then a rebuild with the next coarsest size of `escalationCoarsestSizes`
+  /// (coarse levels of long, thin elements lock in bending, so the hierarchy must stop while the
+  /// elements are still short: L/h = 100 needs about 400, L/h = 1000 about 3000 unknowns; the
+  /// ladder stops at 2000: the coarsest level is a dense inverse), then the direct solver where the
+  /// system has at most `directFallbackUnknowns` unknowns on one rank. A step whose coarsest size
+  /// is not below the system's unknowns goes to that direct solver instead (hypre would still
+  /// coarsen once; the dense coarsest level would be no cheaper). Every step is taken both when a
+  /// solve fails and when it converges slowly (more than half of `escalationIterations`; then from
+  /// the next setup on). Each step is reported (LinearSolveStats::note) and kept for the run.
   int escalationIterations = 200;
   std::vector<int> escalationCoarsestSizes = {500, 2000};
   long directFallbackUnknowns = 200000; ///< 0: never fall back to the direct solver
@@ -236,7 +237,7 @@ std::unique_ptr<LinearSolver> makeLinearSolver(const LinearSolverOptions &option
 /// mixed models, which use its V-cycle through precondition().
 std::string coarseSpacePhrase(const LinearSolver *solver);
 
-/// Appends `more` to a LinearSolveStats::note, "; "-separated.
+/// Appends `more` (if any) to a LinearSolveStats::note, "; "-separated.
 void appendNote(std::string &note, const std::string &more);
 
 /// The escalation ladder around a solve whose method only calls precondition() (or the AMG's own
@@ -247,11 +248,37 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
                              const std::function<LinearSolveStats()> &attempt, std::string &note,
                              int &total);
 
+/// Whether the caller's direct solver should take over a system now (filling `why` when so); see
+/// solveOnLadder and DirectCostEstimate.
+using DirectInstead = std::function<bool(std::string &why)>;
+
 /// A solve whose method only calls solver.precondition(): attempt() and, while it has not
 /// converged, the solver's escalation ladder (climbLadder). Returns the last attempt with the
-/// iterations of all of them and the steps taken as its note.
+/// iterations of all of them and the steps taken as its note. Where `directInstead` is given,
+/// it is asked before each step of the ladder; when it says so the ladder stops there (its
+/// `why` in the note) and the last attempt, not converged, is returned for the caller's direct
+/// fall back.
 LinearSolveStats solveOnLadder(LinearSolver &solver,
-                               const std::function<LinearSolveStats()> &attempt);
+                               const std::function<LinearSolveStats()> &attempt,
+                               const DirectInstead &directInstead = {});
+
+/// LinearSolverOptions::directWhenCheaper's estimate of a direct factorization, kept for the last
+/// matrix pattern it was asked about (another pattern is analysed anew).
+class DirectCostEstimate {
+public:
+  /// When the factorization of `a` (an LU where `symmetric` is false) is estimated
+  /// (detail::estimatedDirectSeconds) to take less than `spentSeconds`: true, with both figures in
+  /// `why` ("<spent> s; the direct solver's factorization is estimated at <t> s"). One rank.
+  /// Where the analysis fails (out of memory), false.
+  bool cheaperThan(const CsrMatrix<DeviceSpace> &a, bool symmetric, double spentSeconds,
+                   std::string &why);
+
+private:
+  double flops_ = 0.0;
+  std::int64_t entries_ = 0;
+  std::uint64_t pattern_ = 0; ///< a hash of the pattern analysed
+  bool analysed_ = false;
+};
 
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();

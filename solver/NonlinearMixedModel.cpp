@@ -1,6 +1,7 @@
 // The mixed model (solver/NonlinearMixedModel.hpp): setup, evaluation, correction, stress
 // update, commit and roll back; the iterative solves of its Jacobian are in
 // solver/MixedNewtonSolvers.cpp. Layer: solver.
+#include <chrono>
 #include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
@@ -134,17 +135,30 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
   const auto once = [&] {
     return mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur() : solveBlockTriangular();
   };
-  // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
-  // escalation ladder (its coarse space, a larger coarsest level, then the direct solver) is
-  // taken step by step.
-  LinearSolveStats s = solveOnLadder(*solver_, once);
-  std::string note = s.note;
-  int iterations = s.iterations;
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kMixed) * mesh_.numNodes();
-  if (!s.converged && !matrixFree_ && ranks == 1 &&
-      unknowns <= linearOptions_.directFallbackUnknowns) {
+  const bool fallback =
+      !matrixFree_ && ranks == 1 && unknowns <= linearOptions_.directFallbackUnknowns;
+  // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
+  // escalation ladder (its coarse space, a larger coarsest level, then the direct solver) is
+  // taken step by step; before each step, the LU of the Jacobian where it is estimated to take
+  // less time than this solve has so far (LinearSolverOptions::directWhenCheaper).
+  const auto start = std::chrono::steady_clock::now();
+  DirectInstead luInstead;
+  if (fallback && linearOptions_.directWhenCheaper)
+    luInstead = [&](std::string &why) {
+      const double spent =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!jacobianCost_.cheaperThan(tangent_, false, spent, why))
+        return false;
+      why = "the iterative solve stalled (" + why + ")";
+      return true;
+    };
+  LinearSolveStats s = solveOnLadder(*solver_, once, luInstead);
+  std::string note = s.note;
+  int iterations = s.iterations;
+  if (!s.converged && fallback) {
     LinearSolverOptions o = linearOptions_;
     o.type = LinearSolverType::Direct;
     o.symmetric = false;

@@ -122,6 +122,8 @@ private:
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
   CsrMatrix<Memory> tangent_, work_, mass_;
+  /// The Jacobian's LU estimated for LinearSolverOptions::directWhenCheaper (solveIterative).
+  DirectCostEstimate jacobianCost_;
   Kokkos::View<double *, Memory> tau_, x_, g_, committed_, dx_, rhs_, target_, diag_;
   StressUpdate stressUpdate_ = StressUpdate::Projected;
   double stabilization_ = 0.0;

@@ -168,14 +168,27 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
   LinearSolveStats s;
   std::string note;
   if (iterative_ && !solver_) {
-    s = iterative_->solve(flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
-                          scaledCopy(target_, loadFactor), x_);
-    note = s.note; // the AMG's ladder steps
     int ranks = 1;
     MPI_Comm_size(comm_, &ranks);
     const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
-    if (!s.converged && !matrixFree_ && ranks == 1 &&
-        unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
+    const bool fallback =
+        !matrixFree_ && ranks == 1 &&
+        unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback);
+    const auto start = std::chrono::steady_clock::now();
+    DirectInstead luInstead; // LinearSolverOptions::directWhenCheaper: the LU before a ladder step
+    if (fallback && options_.directWhenCheaper)
+      luInstead = [&](std::string &why) {
+        const double spent =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!operatorCost_.cheaperThan(operator_, false, spent, why))
+          return false;
+        why = "the block-triangular solve stalled (" + why + ")";
+        return true;
+      };
+    s = iterative_->solve(flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
+                          scaledCopy(target_, loadFactor), x_, luInstead);
+    note = s.note; // the AMG's ladder steps
+    if (!s.converged && fallback) {
       appendNote(note, "the block-triangular solve did not converge (relative residual " +
                            std::to_string(s.relativeResidual) +
                            "): falling back to the direct LU (" + std::to_string(unknowns) +

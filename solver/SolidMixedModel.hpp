@@ -74,6 +74,8 @@ private:
   double stabilization_;
   std::vector<SolidMatrix> compliance_; ///< D = C^-1 per material (host)
   CsrMatrix<Memory> operator_, constrained_;
+  /// The operator's LU estimated for LinearSolverOptions::directWhenCheaper (solve()).
+  DirectCostEstimate operatorCost_;
   Kokkos::View<int *, Memory> flags_; ///< constrained unknowns, 9 per node
   Kokkos::View<double *, Memory> x_;  ///< the unknowns, 9 per node
   /// The LU of the constrained operator and its right-hand side for lambda = 1 (solver: direct,

@@ -254,7 +254,8 @@ void SolidMixedSolve::finishRefresh(const Kokkos::View<const int *, Memory> &fla
 
 LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> &flags9,
                                         const Kokkos::View<const int *, Memory> &flags3,
-                                        const ConstVec &f, const ConstVec &target, const Vec &x) {
+                                        const ConstVec &f, const ConstVec &target, const Vec &x,
+                                        const DirectInstead &directInstead) {
   const auto start = std::chrono::steady_clock::now();
   // M z = w: CG on M (SPD: the compliance mass of the current configuration) preconditioned by
   // the inverses of its nodal 6 x 6 blocks.
@@ -290,7 +291,7 @@ LinearSolveStats SolidMixedSolve::solve(const Kokkos::View<const int *, Memory> 
   // The AMG on K^L is a preconditioner here: where the method around it fails, the AMG's
   // escalation ladder (its coarse space, larger coarsest levels, its direct solver) is climbed
   // step by step, each step reported, as in the 2D mixed models.
-  LinearSolveStats s = solveOnLadder(*amg_, once);
+  LinearSolveStats s = solveOnLadder(*amg_, once, directInstead);
   s.solveSeconds = seconds(start);
   return s;
 }

@@ -125,12 +125,14 @@ public:
   void refresh(const SolidMixedOperators &jacobian,
                const Kokkos::View<const int *, Memory> &flags3);
   /// J x = f for the J of the last refresh(), with x = target on the constrained unknowns (flags9,
-  /// flags3: 9 and 3 per node), from x = 0 (f's constrained entries are ignored).
+  /// flags3: 9 and 3 per node), from x = 0 (f's constrained entries are ignored). Where the AMG's
+  /// ladder would step, `directInstead` (if given) may stop it for the caller's LU (solveOnLadder).
   LinearSolveStats solve(const Kokkos::View<const int *, Memory> &flags9,
                          const Kokkos::View<const int *, Memory> &flags3,
                          const Kokkos::View<const double *, Memory> &f,
                          const Kokkos::View<const double *, Memory> &target,
-                         const Kokkos::View<double *, Memory> &x);
+                         const Kokkos::View<double *, Memory> &x,
+                         const DirectInstead &directInstead = {});
   std::string name() const;
   double setupSeconds() const { return setupSeconds_; }
   /// CG iterations on M in the last solve().

@@ -266,13 +266,24 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
   Vec f(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::nonlinear3d::negativeResidual"),
         g_.extent(0));
   axpby(-1.0, g_, 0.0, f);
-  LinearSolveStats s =
-      iterative_->solve(flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_);
   int ranks = 1;
   MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
-  if (!s.converged && !matrixFree_ && ranks == 1 &&
-      unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback)) {
+  const bool fallback =
+      !matrixFree_ && ranks == 1 &&
+      unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback);
+  const auto start = std::chrono::steady_clock::now();
+  DirectInstead luInstead; // LinearSolverOptions::directWhenCheaper: the LU before a ladder step
+  if (fallback && linearOptions_.directWhenCheaper)
+    luInstead = [&](std::string &why) {
+      if (!jacobianCost_.cheaperThan(tangent_, false, seconds(start), why))
+        return false;
+      why = "the block-triangular solve stalled (" + why + ")";
+      return true;
+    };
+  LinearSolveStats s =
+      iterative_->solve(flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_, luInstead);
+  if (!s.converged && fallback) {
     LinearSolverOptions o = linearOptions_;
     o.type = LinearSolverType::Direct;
     solver_ = makeLinearSolver(o, DofMap::serial(mesh_.numNodes(), kUnknowns), comm_);

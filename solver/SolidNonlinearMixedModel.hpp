@@ -104,6 +104,8 @@ private:
   NodeGraph graph_;
   Kokkos::View<int ***, Kokkos::LayoutRight, Memory> map_;
   CsrMatrix<Memory> tangent_, work_;
+  /// The Jacobian's LU estimated for LinearSolverOptions::directWhenCheaper.
+  DirectCostEstimate jacobianCost_;
   Kokkos::View<int *, Memory> flags_; ///< constrained unknowns, 9 per node
   /// The unknowns, the last committed ones, the residual and the correction's work vectors.
   Kokkos::View<double *, Memory> x_, committed_, g_, dx_, rhs_, target_, diag_;

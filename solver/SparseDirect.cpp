@@ -206,13 +206,16 @@ SparseDirect::Estimate SparseDirect::estimateCholesky(const HostCsr &a) {
   common.nmethods = 1;
   common.method[0].ordering = CHOLMOD_AMD;
   common.postorder = 1;
+  common.supernodal = CHOLMOD_SIMPLICIAL; // the counts need no supernodal symbolic factor
   cholmod_factor *f = cholmod_l_analyze(&view, &common);
   const Estimate e{common.fl, common.lnz};
-  const bool ok = f != nullptr && common.status >= CHOLMOD_OK;
+  const int status = common.status;
+  const bool ok = f != nullptr && status >= CHOLMOD_OK;
   cholmod_l_free_factor(&f, &common);
   cholmod_l_finish(&common);
   if (!ok)
-    throw std::runtime_error("CHOLMOD: the analysis failed (out of memory?)");
+    throw std::runtime_error("CHOLMOD: the analysis failed (status " + std::to_string(status) +
+                             ", out of memory?)");
   return e;
 }
 

@@ -80,9 +80,10 @@ public:
   static bool isSymmetric(const HostCsr &a, double relative, double absolute);
 
   /// What a Cholesky factorization of a matrix of `a`'s pattern would cost, from CHOLMOD's
-  /// symbolic analysis with its default orderings (the values are not read; the pattern is
-  /// taken as symmetric, its upper triangle read): the floating-point operations of the
-  /// numeric factorization and the entries of the factor L. The analysis is not kept.
+  /// symbolic analysis with AMD's ordering (the values are not read; the pattern is taken as
+  /// symmetric, its lower triangle read): the floating-point operations of the numeric
+  /// factorization and the entries of the factor L. The analysis is not kept. Throws
+  /// std::runtime_error when CHOLMOD fails (out of memory).
   struct Estimate {
     double flops = 0.0;
     double factorEntries = 0.0;

@@ -328,7 +328,7 @@ TEST(SlenderStrip, StalledAmgTakesTheCoarseSpaceFirst) {
   LinearSolverOptions o; // the defaults, coarse_space: auto
   o.tolerance = 1e-5;
   o.escalationIterations = 50;
-  o.directWhenCheaper = false; // the strip's factorization would be (the ladder's steps here)
+  o.directWhenCheaper = false; // the strip's factorization would be estimated cheaper
   const Solved r = solveStrip(100.0, o);
   EXPECT_TRUE(r.stats.converged) << r.stats.relativeResidual;
   EXPECT_NE(r.stats.note.find("AMG stalled: a rigid-body coarse space of "), std::string::npos)
