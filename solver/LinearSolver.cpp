@@ -1469,8 +1469,12 @@ void appendNote(std::string &note, const std::string &more) {
 
 LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
                              const std::function<LinearSolveStats()> &attempt, std::string &note,
-                             int &total) {
+                             int &total, const DirectInstead &directInstead) {
   while (!s.converged) {
+    if (std::string why; directInstead && directInstead(why)) {
+      appendNote(note, why);
+      break;
+    }
     std::string step;
     const bool stronger = solver.strengthen(step);
     if (!step.empty())
@@ -1489,27 +1493,23 @@ LinearSolveStats solveOnLadder(LinearSolver &solver,
   LinearSolveStats s = attempt();
   std::string note;
   int iterations = s.iterations;
-  if (!directInstead) {
-    s = climbLadder(solver, s, attempt, note, iterations);
-  } else {
-    while (!s.converged) {
-      if (std::string why; directInstead(why)) {
-        appendNote(note, why);
-        break;
-      }
-      std::string step;
-      const bool stronger = solver.strengthen(step);
-      if (!step.empty())
-        appendNote(note, step);
-      if (!stronger)
-        break;
-      s = attempt();
-      iterations += s.iterations;
-    }
-  }
+  s = climbLadder(solver, s, attempt, note, iterations, directInstead);
   s.iterations = iterations;
   s.note = note;
   return s;
+}
+
+DirectInstead luWhenCheaper(bool allowed, DirectCostEstimate &cost,
+                            const CsrMatrix<DeviceSpace> &matrix,
+                            std::chrono::steady_clock::time_point start, const std::string &what) {
+  if (!allowed)
+    return {};
+  return [&cost, &matrix, start, what](std::string &why) {
+    if (!cost.cheaperThan(matrix, false, seconds(start), why))
+      return false;
+    why = what + " stalled (" + why + ")";
+    return true;
+  };
 }
 
 bool DirectCostEstimate::cheaperThan(const CsrMatrix<DeviceSpace> &a, bool symmetric,

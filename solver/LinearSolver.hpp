@@ -8,6 +8,7 @@
 #include <kernels/SparseMatrix.hpp>
 #include <solver/DofMap.hpp>
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -240,24 +241,24 @@ std::string coarseSpacePhrase(const LinearSolver *solver);
 /// Appends `more` (if any) to a LinearSolveStats::note, "; "-separated.
 void appendNote(std::string &note, const std::string &more);
 
-/// The escalation ladder around a solve whose method only calls precondition() (or the AMG's own
-/// Krylov solve): while `s`, the last attempt, has not converged and solver.strengthen() takes a
-/// step, `attempt` runs again. Returns the last attempt; every step taken, or why none was left,
-/// is appended to `note`, and `total` accumulates the iterations of the attempts after `s`.
-LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
-                             const std::function<LinearSolveStats()> &attempt, std::string &note,
-                             int &total);
-
 /// Whether the caller's direct solver should take over a system now (filling `why` when so); see
 /// solveOnLadder and DirectCostEstimate.
 using DirectInstead = std::function<bool(std::string &why)>;
 
+/// The escalation ladder around a solve whose method only calls precondition() (or the AMG's own
+/// Krylov solve): while `s`, the last attempt, has not converged and solver.strengthen() takes a
+/// step, `attempt` runs again. Returns the last attempt; every step taken, or why none was left,
+/// is appended to `note`, and `total` accumulates the iterations of the attempts after `s`.
+/// Where `directInstead` is given, it is asked before each step; when it says so the ladder
+/// stops there (its `why` in the note) and the last attempt, not converged, is returned for the
+/// caller's direct fall back.
+LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
+                             const std::function<LinearSolveStats()> &attempt, std::string &note,
+                             int &total, const DirectInstead &directInstead = {});
+
 /// A solve whose method only calls solver.precondition(): attempt() and, while it has not
-/// converged, the solver's escalation ladder (climbLadder). Returns the last attempt with the
-/// iterations of all of them and the steps taken as its note. Where `directInstead` is given,
-/// it is asked before each step of the ladder; when it says so the ladder stops there (its
-/// `why` in the note) and the last attempt, not converged, is returned for the caller's direct
-/// fall back.
+/// converged, the solver's escalation ladder (climbLadder, with `directInstead`). Returns the last
+/// attempt with the iterations of all of them and the steps taken as its note.
 LinearSolveStats solveOnLadder(LinearSolver &solver,
                                const std::function<LinearSolveStats()> &attempt,
                                const DirectInstead &directInstead = {});
@@ -279,6 +280,14 @@ private:
   std::uint64_t pattern_ = 0; ///< a hash of the pattern analysed
   bool analysed_ = false;
 };
+
+/// The mixed models' DirectInstead (none where `allowed`, their LU fall back's conditions and
+/// LinearSolverOptions::directWhenCheaper, is false): the LU of `matrix` (the Jacobian) where
+/// `cost` estimates it below the seconds since `start`; the note says "<what> stalled (...)".
+/// `cost` and `matrix` are referenced: they must outlive the result.
+DirectInstead luWhenCheaper(bool allowed, DirectCostEstimate &cost,
+                            const CsrMatrix<DeviceSpace> &matrix,
+                            std::chrono::steady_clock::time_point start, const std::string &what);
 
 /// "hypre X.Y.Z" for benchmark contexts and summaries.
 std::string hypreVersion();

@@ -144,18 +144,10 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
   // escalation ladder (its coarse space, a larger coarsest level, then the direct solver) is
   // taken step by step; before each step, the LU of the Jacobian where it is estimated to take
   // less time than this solve has so far (LinearSolverOptions::directWhenCheaper).
-  const auto start = std::chrono::steady_clock::now();
-  DirectInstead luInstead;
-  if (fallback && linearOptions_.directWhenCheaper)
-    luInstead = [&](std::string &why) {
-      const double spent =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (!jacobianCost_.cheaperThan(tangent_, false, spent, why))
-        return false;
-      why = "the iterative solve stalled (" + why + ")";
-      return true;
-    };
-  LinearSolveStats s = solveOnLadder(*solver_, once, luInstead);
+  LinearSolveStats s = solveOnLadder(
+      *solver_, once,
+      luWhenCheaper(fallback && linearOptions_.directWhenCheaper, jacobianCost_, tangent_,
+                    std::chrono::steady_clock::now(), "the iterative solve"));
   std::string note = s.note;
   int iterations = s.iterations;
   if (!s.converged && fallback) {

@@ -174,19 +174,10 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
     const bool fallback =
         !matrixFree_ && ranks == 1 &&
         unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback);
-    const auto start = std::chrono::steady_clock::now();
-    DirectInstead luInstead; // LinearSolverOptions::directWhenCheaper: the LU before a ladder step
-    if (fallback && options_.directWhenCheaper)
-      luInstead = [&](std::string &why) {
-        const double spent =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (!operatorCost_.cheaperThan(operator_, false, spent, why))
-          return false;
-        why = "the block-triangular solve stalled (" + why + ")";
-        return true;
-      };
-    s = iterative_->solve(flags_, isConstrained_, scaledCopy(rhs_, loadFactor),
-                          scaledCopy(target_, loadFactor), x_, luInstead);
+    s = iterative_->solve(
+        flags_, isConstrained_, scaledCopy(rhs_, loadFactor), scaledCopy(target_, loadFactor), x_,
+        luWhenCheaper(fallback && options_.directWhenCheaper, operatorCost_, operator_,
+                      std::chrono::steady_clock::now(), "the block-triangular solve"));
     note = s.note; // the AMG's ladder steps
     if (!s.converged && fallback) {
       appendNote(note, "the block-triangular solve did not converge (relative residual " +

@@ -272,17 +272,10 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
   const bool fallback =
       !matrixFree_ && ranks == 1 &&
       unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback);
-  const auto start = std::chrono::steady_clock::now();
-  DirectInstead luInstead; // LinearSolverOptions::directWhenCheaper: the LU before a ladder step
-  if (fallback && linearOptions_.directWhenCheaper)
-    luInstead = [&](std::string &why) {
-      if (!jacobianCost_.cheaperThan(tangent_, false, seconds(start), why))
-        return false;
-      why = "the block-triangular solve stalled (" + why + ")";
-      return true;
-    };
-  LinearSolveStats s =
-      iterative_->solve(flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_, luInstead);
+  LinearSolveStats s = iterative_->solve(
+      flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_,
+      luWhenCheaper(fallback && linearOptions_.directWhenCheaper, jacobianCost_, tangent_,
+                    std::chrono::steady_clock::now(), "the block-triangular solve"));
   if (!s.converged && fallback) {
     LinearSolverOptions o = linearOptions_;
     o.type = LinearSolverType::Direct;
