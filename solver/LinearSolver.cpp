@@ -1539,8 +1539,7 @@ bool DirectCostEstimate::cheaperThan(const CsrMatrix<DeviceSpace> &a, bool symme
     pattern_ = hash;
     analysed_ = true;
   }
-  entries_ = a.numNonzeros();
-  const double direct = detail::estimatedDirectSeconds(entries_, flops_, symmetric);
+  const double direct = detail::estimatedDirectSeconds(a.numNonzeros(), flops_, symmetric);
   if (!(direct < spentSeconds))
     return false;
   std::ostringstream o;

@@ -276,7 +276,6 @@ public:
 
 private:
   double flops_ = 0.0;
-  std::int64_t entries_ = 0;
   std::uint64_t pattern_ = 0; ///< a hash of the pattern analysed
   bool analysed_ = false;
 };
