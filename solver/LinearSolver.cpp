@@ -322,11 +322,6 @@ public:
     const HostLibraryStaging staging;
     const auto start = std::chrono::steady_clock::now();
     std::string note;
-    solveStart_ = start;
-    struct Ended { // solveStart_ is set only while solve() runs, however it ends
-      std::optional<std::chrono::steady_clock::time_point> &start;
-      ~Ended() { start.reset(); }
-    } ended{solveStart_};
     LinearSolveStats s = direct_ ? direct_->solve(b, x) : iterate(b, x);
     int total = s.iterations;
     // A kept hierarchy that no longer converges: redo the solve with a fresh one.
@@ -337,9 +332,28 @@ public:
       s = iterate(b, x);
       total += s.iterations;
     }
-    // The escalation ladder: the coarse space, a stronger AMG, then the direct solver.
-    s = climbLadder(
-        *this, s, [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); }, note, total);
+    // The escalation ladder: the coarse space, a stronger AMG, then the direct solver. Before
+    // each step, the direct solver where it is estimated to factor the system in less time than
+    // the AMG has spent on it: no step would pay then (small and slender parts, whose factors
+    // are almost banded). A refused factorization (singular) leaves the ladder to go on.
+    bool directTaken = false;
+    const DirectInstead directInstead = [&](std::string &why) {
+      if (direct_ || !directCheaper(start, why))
+        return false;
+      std::string step;
+      directTaken = fallBackToDirect(step);
+      why = "AMG stalled (" + why + ")";
+      appendNote(why, step);
+      if (!directTaken)
+        appendNote(note, why);
+      return directTaken;
+    };
+    const auto attempt = [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); };
+    s = climbLadder(*this, s, attempt, note, total, directInstead);
+    if (directTaken) { // the ladder stopped for the direct solver
+      s = attempt();
+      total += s.iterations;
+    }
     if (!direct_ && kept_ && s.iterations > options_.reuseIterationGrowth * freshIterations_)
       rebuild_ = true; // the next setup builds a fresh hierarchy
     // Converged, but slowly: the next setups take the next step of the ladder (the coarse space,
@@ -347,7 +361,7 @@ public:
     if (!direct_ && s.converged && 2 * s.iterations > options_.escalationIterations) {
       const std::string took = "AMG took " + std::to_string(s.iterations) + " iterations";
       std::string cheaper;
-      if (directCheaper(cheaper)) {
+      if (directCheaper(start, cheaper)) {
         directNext_ = true;
         appendNote(note, took + " (" + cheaper + "): the next setups use the direct solver");
       } else if (coarseStepLeft()) {
@@ -419,16 +433,6 @@ public:
     const HostLibraryStaging staging;
     if (direct_ || matrix_.numRows == 0)
       return false;
-    // A system the direct solver factors in less time than the AMG has spent on it: no step
-    // of the ladder would pay (small and slender parts, whose factors are almost banded).
-    if (std::string cheaper; directCheaper(cheaper)) {
-      std::string step;
-      const bool taken = fallBackToDirect(step);
-      note = "AMG stalled (" + cheaper + ")";
-      appendNote(note, step);
-      if (taken)
-        return true;
-    }
     // First the rigid-body coarse space, the remedy for what stalls BoomerAMG most (slender
     // parts); where it cannot be built, why, and the next step.
     if (coarseStepLeft()) {
@@ -1146,15 +1150,15 @@ private:
     return coarsest_;
   }
 
-  /// Inside solve() (a method around the AMG as a preconditioner has its own measure), where
-  /// the direct fall back is allowed (LinearSolverOptions::directWhenCheaper): whether the direct
+  /// For solve() (a method around the AMG as a preconditioner has its own measure), where the
+  /// direct fall back is allowed (LinearSolverOptions::directWhenCheaper): whether the direct
   /// solver's factorization of matrix_ is estimated (detail::estimatedDirectSeconds, from the
-  /// pattern's analysis, done once per pattern) to take less than the AMG's seconds on this solve
-  /// so far, its hierarchy's setup included. `why` gets both figures.
-  bool directCheaper(std::string &why) {
-    return options_.directWhenCheaper && solveStart_ && directFallbackAllowed() &&
-           directCost_.cheaperThan(matrix_, options_.symmetric,
-                                   setupSeconds_ + seconds(*solveStart_), why);
+  /// pattern's analysis, done once per pattern) to take less than the AMG's seconds on the solve
+  /// that began at `start`, its hierarchy's setup included. `why` gets both figures.
+  bool directCheaper(std::chrono::steady_clock::time_point start, std::string &why) {
+    return options_.directWhenCheaper && directFallbackAllowed() &&
+           directCost_.cheaperThan(matrix_, options_.symmetric, setupSeconds_ + seconds(start),
+                                   why);
   }
 
   /// One rank, few enough unknowns, and no singular matrix found by an earlier attempt.
@@ -1429,8 +1433,6 @@ private:
   bool kept_ = false;            ///< the hierarchy was built on an earlier matrix
   bool rebuild_ = false;         ///< the kept hierarchy slowed down: build afresh at the next setup
   bool directNext_ = false; ///< the ladder's next step holds the problem: direct at the next setup
-  /// When the solve() under way began (none outside it): directCheaper()'s measure of the AMG.
-  std::optional<std::chrono::steady_clock::time_point> solveStart_;
   DirectCostEstimate directCost_; ///< directCheaper()'s estimate
   int freshIterations_ = 1;       ///< iterations of the last solve with a fresh hierarchy
   int builds_ = 0, reuses_ = 0;

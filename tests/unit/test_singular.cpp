@@ -136,6 +136,38 @@ TEST(SingularSystem, AmgReportsNotConvergedWithTheTrueResidual) {
   }
 }
 
+// The AMG stalls on the singular system, the direct solver is estimated cheaper than the stalled
+// attempt and refuses the matrix: the note says so once (the refusal holds for the run), and the
+// ladder goes on to its next steps instead of ending there.
+TEST(SingularSystem, StalledAmgWhoseDirectFallBackIsRefusedClimbsOnAndSaysWhy) {
+  const SingularLame s;
+  LinearSolverOptions o;
+  // The stalled attempt's 400 iterations took 18x (OpenMP's active wait policy) and 600x (the
+  // passive one) the estimated factorization, 0.001 s, on the 2-core CI machine.
+  o.tolerance = 1e-10;
+  o.maxIterations = 800;
+  o.directWhenCheaper = true;
+  o.escalationIterations = 400;
+  auto solver = makeLinearSolver(o, s.dofs, MPI_COMM_WORLD);
+  solver->setup(s.matrix);
+  Kokkos::View<double *, DeviceSpace> x("x", s.dofs.numOwned());
+  const LinearSolveStats st = solver->solve(s.rhs, x);
+  EXPECT_FALSE(st.converged);
+  const std::string &note = st.note;
+  const auto stalled = note.find("AMG stalled (");
+  const auto refused = note.find("no fall back to the direct solver: ");
+  ASSERT_NE(stalled, std::string::npos) << note;
+  ASSERT_NE(refused, std::string::npos) << note;
+  EXPECT_LT(stalled, refused) << note;
+  EXPECT_NE(note.find("singular", refused), std::string::npos) << note;
+  EXPECT_EQ(note.find("no fall back to the direct solver", refused + 1), std::string::npos) << note;
+  // A step after the refusal: a larger coarsest level.
+  EXPECT_NE(note.find("AMG rebuilt with a coarsest level of up to", refused), std::string::npos)
+      << note;
+  EXPECT_GT(st.iterations, o.escalationIterations) << note;
+  EXPECT_EQ(solver->name().find("fallen back"), std::string::npos) << solver->name();
+}
+
 TEST(SingularSystem, DirectSolverNamesTheSingularStiffness) {
   const SingularLame s;
   LinearSolverOptions o;
