@@ -9,7 +9,7 @@
              with `coarse_space: rigid_body`, and more (--settings picks them by letter; (b), the
              default, takes the direct solver where it is estimated cheaper, (i) does not). With --dim 3:
              the strips as solids of square section h x h (Hex20, 2 x 2 through the section,
-             clamped face xmin, traction on ymax), displacement model.
+             clamped face xmin, traction on ymax), both models (--models).
   nonlinear  examples/cantilever/slender_{displacement,mixed}.yaml at divisions [200, 2] with
              solver amg and direct (and the mixed one with stabilization 0.05): Newton and linear
              iterations, wall time, the solver's notes, tip deflection w/L against the elastica.
@@ -86,6 +86,7 @@ def strip(lh, formulation, solver, dim=2):
             "title": f"solid strip L/h = {lh}",
             "mesh": {"generator": {"type": "box", "size": [float(lh), 1.0, 1.0],
                                    "divisions": [2 * lh, 2, 2], "element": "hex20"}},
+            "model": {"formulation": formulation},
             "materials": [{"region": "body", "type": "isotropic", "E": 1.0e4, "nu": 0.3}],
             "boundary_conditions": [{"boundary": "xmin", "ux": 0, "uy": 0, "uz": 0}],
             "loads": [{"boundary": "ymax", "traction": [0, -1.0e-3, 0]}],
@@ -115,15 +116,15 @@ def short(note):
 def linear(args):
     print("| model | L/h | unknowns | setting | linear its | converged | residual | s | ladder |")
     print("|---|---|---|---|---|---|---|---|---|")
-    models = ["displacement"] if args.dim == 3 else args.models  # 3D: the displacement model
-    for formulation in models:
+    for formulation in args.models:
         for lh in args.lh:
             for name, s in SETTINGS:
                 if name[1] not in args.settings or (name[1] == "i" and formulation == "mixed"):
                     continue  # (i): the mixed models' AMG is a preconditioner; the key is refused
                 out = os.path.join(args.out, f"linear{args.dim}d", f"{formulation}_{lh}_{name[1]}")
                 keys = dict(s, **({"tolerance": args.tolerance} if args.tolerance else {}))
-                if formulation == "mixed":  # the linear mixed model has no direct fall back
+                if formulation == "mixed" and args.dim == 2:  # the linear 2D mixed model has no
+                    # direct fall back, and refuses the key
                     keys.pop("direct_when_cheaper", None)
                 r = run(args.mixcon, strip(lh, formulation, keys, args.dim), out, args.timeout)
                 m = re.search(r"(\d+) unknowns", r["text"])

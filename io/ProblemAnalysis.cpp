@@ -404,7 +404,7 @@ void readSolver(const YamlItem &top, Problem &p) {
     if (s.has("direct_fallback") && !s["direct_fallback"].boolean())
       p.solver.directFallbackUnknowns = 0;
     if (s.has("direct_when_cheaper")) {
-      if (mixed && !drivenMixed)
+      if (mixed && !drivenMixed && !solidMixed)
         s["direct_when_cheaper"].fail(
             "direct_when_cheaper applies to the displacement models, the geometrically nonlinear "
             "2D mixed model (or the linear one with stages or contact) and the 3D mixed models, "

@@ -344,8 +344,6 @@ public:
       directTaken = fallBackToDirect(step);
       why = "AMG stalled (" + why + ")";
       appendNote(why, step);
-      if (!directTaken)
-        appendNote(note, why);
       return directTaken;
     };
     const auto attempt = [&] { return direct_ ? direct_->solve(b, x) : iterate(b, x); };
@@ -1473,9 +1471,12 @@ LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
                              const std::function<LinearSolveStats()> &attempt, std::string &note,
                              int &total, const DirectInstead &directInstead) {
   while (!s.converged) {
-    if (std::string why; directInstead && directInstead(why)) {
-      appendNote(note, why);
-      break;
+    if (directInstead) {
+      std::string why;
+      const bool instead = directInstead(why);
+      appendNote(note, why); // also a refusal: why the ladder goes on
+      if (instead)
+        break;
     }
     std::string step;
     const bool stronger = solver.strengthen(step);

@@ -241,7 +241,8 @@ std::string coarseSpacePhrase(const LinearSolver *solver);
 /// Appends `more` (if any) to a LinearSolveStats::note, "; "-separated.
 void appendNote(std::string &note, const std::string &more);
 
-/// Whether the caller's direct solver should take over a system now (filling `why` when so); see
+/// Whether the caller's direct solver should take over a system now, or has taken it over itself
+/// (filling `why` when so, or with why a direct solver it tried refused the system); see
 /// solveOnLadder and DirectCostEstimate.
 using DirectInstead = std::function<bool(std::string &why)>;
 
@@ -249,9 +250,9 @@ using DirectInstead = std::function<bool(std::string &why)>;
 /// Krylov solve): while `s`, the last attempt, has not converged and solver.strengthen() takes a
 /// step, `attempt` runs again. Returns the last attempt; every step taken, or why none was left,
 /// is appended to `note`, and `total` accumulates the iterations of the attempts after `s`.
-/// Where `directInstead` is given, it is asked before each step; when it says so the ladder
-/// stops there (its `why` in the note) and the last attempt, not converged, is returned for the
-/// caller's direct fall back.
+/// Where `directInstead` is given, it is asked before each step (a non-empty `why` goes to the
+/// note whatever it answers); when it says so the ladder stops there and the last attempt, not
+/// converged, is returned for the caller's direct fall back (or the one it took itself).
 LinearSolveStats climbLadder(LinearSolver &solver, LinearSolveStats s,
                              const std::function<LinearSolveStats()> &attempt, std::string &note,
                              int &total, const DirectInstead &directInstead = {});

@@ -530,6 +530,17 @@ TEST(Problem, DirectWhenCheaperKey) {
       replace(off, "formulation: displacement", "formulation: mixed, geometric_nonlinearity: true");
   nonlinear = replace(nonlinear, "pressure: 2.0}", "pressure: 2.0, follower: false}");
   EXPECT_FALSE(parseProblem(nonlinear, "m.yaml", "").solver.directWhenCheaper);
+  // So does the linear 3D mixed model, to the LU of its operator.
+  const std::string solid =
+      "mesh:\n  generator: {type: box, size: [4, 1, 1], divisions: [4, 1, 1], element: hex8}\n"
+      "model: {formulation: mixed}\n"
+      "materials:\n  - {region: body, type: isotropic, E: 1.0e4, nu: 0.3}\n"
+      "boundary_conditions:\n  - {boundary: xmin, ux: 0, uy: 0, uz: 0}\n"
+      "loads:\n  - {boundary: xmax, traction: [0, -1, 0]}\n"
+      "solver: {type: amg, direct_when_cheaper: false}\n";
+  EXPECT_FALSE(parseProblem(solid, "s.yaml", "").solver.directWhenCheaper);
+  EXPECT_TRUE(parseProblem(replace(solid, ", direct_when_cheaper: false", ""), "s.yaml", "")
+                  .solver.directWhenCheaper);
 }
 
 TEST(Problem, ParsesNonlinearSteps) {

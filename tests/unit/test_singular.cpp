@@ -1,5 +1,6 @@
 // Singular and degenerate systems: a solve reports success only when the true residual of the
-// system as posed meets the tolerance (AMG on a singular stiffness, a zero right-hand side), the
+// system as posed meets the tolerance (AMG on a singular stiffness, a zero right-hand side), a
+// stalled AMG whose direct fall back finds the matrix singular says so and climbs on, the
 // supports that leave a rigid-body mode free are named before the solve (and by the program, for
 // every solver and thread count), a node used by no element is an input error naming it, and an
 // iteration limit below 1 is refused by the solvers themselves.
@@ -142,11 +143,11 @@ TEST(SingularSystem, AmgReportsNotConvergedWithTheTrueResidual) {
 TEST(SingularSystem, StalledAmgWhoseDirectFallBackIsRefusedClimbsOnAndSaysWhy) {
   const SingularLame s;
   LinearSolverOptions o;
-  // The stalled attempt's 400 iterations took 18x (OpenMP's active wait policy) and 600x (the
-  // passive one) the estimated factorization, 0.001 s, on the 2-core CI machine.
   o.tolerance = 1e-10;
-  o.maxIterations = 800;
+  o.maxIterations = 800; // above escalationIterations, which then caps each attempt
   o.directWhenCheaper = true;
+  // The setup and the stalled attempt's 400 iterations took 18x (OpenMP's active wait policy)
+  // and 600x (the passive one) the estimated factorization, 0.001 s, on the 2-core CI machine.
   o.escalationIterations = 400;
   auto solver = makeLinearSolver(o, s.dofs, MPI_COMM_WORLD);
   solver->setup(s.matrix);
@@ -156,7 +157,7 @@ TEST(SingularSystem, StalledAmgWhoseDirectFallBackIsRefusedClimbsOnAndSaysWhy) {
   const std::string &note = st.note;
   const auto stalled = note.find("AMG stalled (");
   const auto refused = note.find("no fall back to the direct solver: ");
-  ASSERT_NE(stalled, std::string::npos) << note;
+  ASSERT_NE(stalled, std::string::npos) << "the estimate did not fire: " << note;
   ASSERT_NE(refused, std::string::npos) << note;
   EXPECT_LT(stalled, refused) << note;
   EXPECT_NE(note.find("singular", refused), std::string::npos) << note;
