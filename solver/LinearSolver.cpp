@@ -1502,6 +1502,12 @@ LinearSolveStats solveOnLadder(LinearSolver &solver,
   return s;
 }
 
+bool directFallbackFits(MPI_Comm comm, long unknowns, long limit) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  return ranks == 1 && unknowns <= limit;
+}
+
 DirectInstead luWhenCheaper(bool allowed, DirectCostEstimate &cost,
                             const CsrMatrix<DeviceSpace> &matrix,
                             std::chrono::steady_clock::time_point start, const std::string &what) {

@@ -281,6 +281,10 @@ private:
   bool analysed_ = false;
 };
 
+/// The direct fall back's own conditions (LinearSolverOptions::directFallbackUnknowns): one rank
+/// and at most `limit` unknowns.
+bool directFallbackFits(MPI_Comm comm, long unknowns, long limit);
+
 /// The mixed models' DirectInstead (none where `allowed`, their LU fall back's conditions and
 /// LinearSolverOptions::directWhenCheaper, is false): the LU of `matrix` (the Jacobian) where
 /// `cost` estimates it below the seconds since `start`; the note says "<what> stalled (...)".

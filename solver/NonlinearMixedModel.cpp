@@ -1,7 +1,6 @@
 // The mixed model (solver/NonlinearMixedModel.hpp): setup, evaluation, correction, stress
 // update, commit and roll back; the iterative solves of its Jacobian are in
 // solver/MixedNewtonSolvers.cpp. Layer: solver.
-#include <chrono>
 #include <core/Transfer.hpp>
 #include <solver/Dirichlet.hpp>
 #include <solver/FieldOps.hpp>
@@ -14,6 +13,7 @@
 #include <kernels/Nonlinear.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -135,11 +135,9 @@ LinearSolveStats NonlinearMixedModel::solveIterative() {
   const auto once = [&] {
     return mixedOptions_.method == MixedNewtonSolver::Schur ? solveSchur() : solveBlockTriangular();
   };
-  int ranks = 1;
-  MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kMixed) * mesh_.numNodes();
   const bool fallback =
-      !matrixFree_ && ranks == 1 && unknowns <= linearOptions_.directFallbackUnknowns;
+      !matrixFree_ && directFallbackFits(comm_, unknowns, linearOptions_.directFallbackUnknowns);
   // The AMG on K^L is a preconditioner here: where the method around it fails, the solver's
   // escalation ladder (its coarse space, a larger coarsest level, then the direct solver) is
   // taken step by step; before each step, the LU of the Jacobian where it is estimated to take

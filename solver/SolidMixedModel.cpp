@@ -168,12 +168,11 @@ LinearSolveStats SolidMixedModel::solve(double loadFactor) {
   LinearSolveStats s;
   std::string note;
   if (iterative_ && !solver_) {
-    int ranks = 1;
-    MPI_Comm_size(comm_, &ranks);
     const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
     const bool fallback =
-        !matrixFree_ && ranks == 1 &&
-        unknowns <= std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback);
+        !matrixFree_ &&
+        directFallbackFits(comm_, unknowns,
+                           std::min(options_.directFallbackUnknowns, kSolidMixedDirectFallback));
     s = iterative_->solve(
         flags_, isConstrained_, scaledCopy(rhs_, loadFactor), scaledCopy(target_, loadFactor), x_,
         luWhenCheaper(fallback && options_.directWhenCheaper, operatorCost_, operator_,

@@ -266,12 +266,11 @@ LinearSolveStats SolidNonlinearMixedModel::solveIterative() {
   Vec f(Kokkos::view_alloc(Kokkos::WithoutInitializing, "mixcon::nonlinear3d::negativeResidual"),
         g_.extent(0));
   axpby(-1.0, g_, 0.0, f);
-  int ranks = 1;
-  MPI_Comm_size(comm_, &ranks);
   const long unknowns = static_cast<long>(kUnknowns) * mesh_.numNodes();
   const bool fallback =
-      !matrixFree_ && ranks == 1 &&
-      unknowns <= std::min(linearOptions_.directFallbackUnknowns, kSolidMixedDirectFallback);
+      !matrixFree_ && directFallbackFits(comm_, unknowns,
+                                         std::min(linearOptions_.directFallbackUnknowns,
+                                                  kSolidMixedDirectFallback));
   LinearSolveStats s = iterative_->solve(
       flags_, isConstrained_, ConstVec(f), ConstVec(target_), dx_,
       luWhenCheaper(fallback && linearOptions_.directWhenCheaper, jacobianCost_, tangent_,
